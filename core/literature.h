@@ -1,0 +1,55 @@
+// hipfai — numbers taken from the literature, each with its source, in one place.
+//
+// Units: millimetres, degrees at interfaces (radians inside), MPa, N. Nothing else in the
+// code base should spell these values as literals; include this header instead.
+#pragma once
+
+namespace hipfai::literature {
+
+// --- Hip geometry (thesis §4.3.2.2: Arbabi 2009, after Chegini, Beck & Ferguson 2008) ---------
+// Articulating surfaces are portions of spheres with a common radius of 25 mm
+// (femoral and acetabular cartilage sphericity deviations < 100 um: Macirowski, Tepic & Mann 1994).
+inline constexpr double kArticularRadiusMm = 25.0;
+// Acetabular cartilage: horseshoe shaped, constant 2 mm thickness.
+inline constexpr double kAcetabularCartilageThicknessMm = 2.0;
+// Femoral head cartilage: 2 mm at its thickest point, thinning to zero towards the edge
+// (Eckstein et al. 1997).
+inline constexpr double kFemoralCartilageMaxThicknessMm = 2.0;
+// Labrum: triangular cross-section, 7 mm from the acetabular rim to its tip (Won et al. 2003).
+inline constexpr double kLabrumHeightMm = 7.0;
+// Study grid: CE 0-40 deg, alpha 40-80 deg, 10 deg steps -> 25 models (thesis §4.3.2.2).
+inline constexpr double kStudyCeMinDeg = 0.0;
+inline constexpr double kStudyCeMaxDeg = 40.0;
+inline constexpr double kStudyAlphaMinDeg = 40.0;
+inline constexpr double kStudyAlphaMaxDeg = 80.0;
+inline constexpr double kStudyStepDeg = 10.0;
+// Femoral neck-shaft (CCD) angle ~ 125-130 deg and femoral anteversion ~ 10-15 deg are the usual
+// adult values (e.g. Tannast, Siebenrock & Anderson 2007, AJR 188:1540).
+inline constexpr double kNeckShaftAngleDeg = 130.0;
+inline constexpr double kFemoralAnteversionDeg = 12.0;
+
+// --- Materials (thesis §4.3.2.3) --------------------------------------------------------------
+// Articular cartilage, linear elastic (Moglo & Shirazi-Adl 2003).
+inline constexpr double kCartilageYoungsModulusMPa = 12.0;
+inline constexpr double kCartilagePoissonRatio = 0.45;
+// Labrum, linear elastic (Ferguson, Bryant & Ito 2001).
+inline constexpr double kLabrumYoungsModulusMPa = 20.0;
+inline constexpr double kLabrumPoissonRatio = 0.4;
+
+// --- Motion (thesis §4.3.2.3, after Bergmann et al. 2001) ------------------------------------
+// Standing-to-sitting: the pose of largest contact stress, (flexion, adduction, internal
+// rotation) = (59.6, 13.6, 10.9) deg, reached in 30 equal sub-motions from neutral.
+inline constexpr double kStandToSitFlexionDeg = 59.6;
+inline constexpr double kStandToSitAdductionDeg = 13.6;
+inline constexpr double kStandToSitInternalRotationDeg = 10.9;
+inline constexpr int kStandToSitSubMotions = 30;
+// Peak resultant hip force during sitting down, average patient: about 156 % body weight
+// (Bergmann et al. 2001, J Biomech 34:859).
+inline constexpr double kStandToSitPeakForcePercentBW = 156.0;
+
+// --- Statistics (thesis §4.3.2.5, after Chan 2003) --------------------------------------------
+// Pearson r bands: poor < 0.3, fair 0.31-0.5, moderate 0.51-0.6, moderately strong 0.61-0.8,
+// very strong 0.81-1.0; significance p < 0.05.
+inline constexpr double kSignificanceLevel = 0.05;
+
+}  // namespace hipfai::literature

@@ -1,0 +1,54 @@
+// hipfai — the hip frame, written once.
+//
+// Notation (FCL / Drake style): p_HX is point X measured in frame H; R_HF rotates femur-fixed
+// vectors into H. Every hip model, generated or user-supplied, is expressed in its hip frame H:
+//
+//   origin  the hip joint centre (HJC), the centre of the femoral head;
+//   +X      from the left femoral head towards the right one (for a right hip: lateral);
+//   +Y      anterior;
+//   +Z      superior.
+//
+// This is the frame of thesis §4.3.2.3 (after Bergmann et al. 2001) and, for a right hip, the ISB
+// pelvic frame of Wu et al. (2002) with its axes relabelled. Motions are right-hand rotations of
+// the femur about axes through the HJC; for a RIGHT hip:
+//
+//   flexion            +  about +X (the knee moves anteriorly),
+//   adduction          +  about +Y (the knee moves medially),
+//   internal rotation  +  about +Z (the anterior femur turns medially).
+//
+// A pose (flexion, adduction, internal rotation) is the intrinsic X-Y'-Z'' Cardan sequence
+// R = Rx(flexion) * Ry(adduction) * Rz(internal_rotation), following the joint coordinate system
+// order of Wu et al. (2002). Generated hips are right hips.
+#pragma once
+
+#include <Eigen/Geometry>
+
+#include <cmath>
+#include <numbers>
+
+namespace hipfai::geometry {
+
+inline constexpr double kDegToRad = std::numbers::pi / 180.0;
+inline constexpr double kRadToDeg = 180.0 / std::numbers::pi;
+
+struct HipFrameAxes {
+  Eigen::Vector3d flexion_axis{1.0, 0.0, 0.0};
+  Eigen::Vector3d adduction_axis{0.0, 1.0, 0.0};
+  Eigen::Vector3d internal_rotation_axis{0.0, 0.0, 1.0};
+};
+
+struct HipPoseDeg {
+  double flexion_deg = 0.0;
+  double adduction_deg = 0.0;
+  double internal_rotation_deg = 0.0;
+};
+
+// Rotation of the femur, in the hip frame, for a pose given as Cardan angles (degrees).
+inline Eigen::Matrix3d femur_rotation(const HipPoseDeg& pose, const HipFrameAxes& axes = {}) {
+  return (Eigen::AngleAxisd(pose.flexion_deg * kDegToRad, axes.flexion_axis) *
+          Eigen::AngleAxisd(pose.adduction_deg * kDegToRad, axes.adduction_axis) *
+          Eigen::AngleAxisd(pose.internal_rotation_deg * kDegToRad, axes.internal_rotation_axis))
+      .toRotationMatrix();
+}
+
+}  // namespace hipfai::geometry

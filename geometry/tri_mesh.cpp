@@ -1,0 +1,130 @@
+#include "geometry/tri_mesh.h"
+
+#include "core/error.h"
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_set>
+
+namespace hipfai::geometry {
+
+BoundingBox bounding_box(const TriMesh& mesh) {
+  BoundingBox box;
+  if (mesh.vertices.empty()) return box;
+  box.min = box.max = mesh.vertices.front();
+  for (const Vec3& p : mesh.vertices) {
+    box.min = box.min.cwiseMin(p);
+    box.max = box.max.cwiseMax(p);
+  }
+  return box;
+}
+
+Vec3 triangle_area_normal(const TriMesh& mesh, std::size_t t) {
+  const Triangle& tri = mesh.triangles[t];
+  const Vec3& a = mesh.vertices[tri[0]];
+  return (mesh.vertices[tri[1]] - a).cross(mesh.vertices[tri[2]] - a);
+}
+
+Vec3 triangle_unit_normal(const TriMesh& mesh, std::size_t t) {
+  const Vec3 n = triangle_area_normal(mesh, t);
+  const double length = n.norm();
+  return length > 0.0 ? Vec3(n / length) : Vec3::Zero();
+}
+
+double triangle_area(const TriMesh& mesh, std::size_t t) {
+  return 0.5 * triangle_area_normal(mesh, t).norm();
+}
+
+double mean_edge_length(const TriMesh& mesh) {
+  std::unordered_set<std::uint64_t> seen;
+  seen.reserve(mesh.triangles.size() * 2);
+  double total = 0.0;
+  std::size_t count = 0;
+  for (const Triangle& tri : mesh.triangles) {
+    for (int e = 0; e < 3; ++e) {
+      const auto a = static_cast<std::uint32_t>(tri[e]);
+      const auto b = static_cast<std::uint32_t>(tri[(e + 1) % 3]);
+      const std::uint64_t key =
+          (static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
+      if (!seen.insert(key).second) continue;
+      total += (mesh.vertices[a] - mesh.vertices[b]).norm();
+      ++count;
+    }
+  }
+  return count ? total / static_cast<double>(count) : 0.0;
+}
+
+double surface_area(const TriMesh& mesh) {
+  double area = 0.0;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) area += triangle_area(mesh, t);
+  return area;
+}
+
+double signed_volume(const TriMesh& mesh) {
+  double six_volume = 0.0;
+  for (const Triangle& tri : mesh.triangles) {
+    six_volume += mesh.vertices[tri[0]].dot(mesh.vertices[tri[1]].cross(mesh.vertices[tri[2]]));
+  }
+  return six_volume / 6.0;
+}
+
+void apply_transform(TriMesh& mesh, const Eigen::Isometry3d& transform) {
+  for (Vec3& p : mesh.vertices) p = transform * p;
+}
+
+void rotate_about_axis(TriMesh& mesh, const Vec3& centre, const Vec3& axis_unit,
+                       double angle_rad) {
+  const Eigen::Matrix3d rotation = Eigen::AngleAxisd(angle_rad, axis_unit).toRotationMatrix();
+  for (Vec3& p : mesh.vertices) p = centre + rotation * (p - centre);
+}
+
+TriMesh merge_meshes(const std::vector<const TriMesh*>& parts) {
+  TriMesh out;
+  for (const TriMesh* part : parts) {
+    const auto offset = static_cast<std::int32_t>(out.vertices.size());
+    out.vertices.insert(out.vertices.end(), part->vertices.begin(), part->vertices.end());
+    for (const Triangle& tri : part->triangles) {
+      out.triangles.push_back({tri[0] + offset, tri[1] + offset, tri[2] + offset});
+    }
+  }
+  if (parts.empty()) return out;
+  for (const auto& [name, values] : parts.front()->vertex_fields) {
+    const bool everywhere = std::all_of(parts.begin(), parts.end(), [&](const TriMesh* part) {
+      return part->vertex_fields.count(name) != 0;
+    });
+    if (!everywhere) continue;
+    std::vector<double>& merged = out.vertex_fields[name];
+    for (const TriMesh* part : parts) {
+      const auto& field = part->vertex_fields.at(name);
+      merged.insert(merged.end(), field.begin(), field.end());
+    }
+  }
+  return out;
+}
+
+void validate_mesh(const TriMesh& mesh, const std::string& what) {
+  if (mesh.vertices.empty()) throw_error(what, ": mesh has no vertices");
+  if (mesh.triangles.empty()) throw_error(what, ": mesh has no triangles");
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+    if (!mesh.vertices[i].allFinite()) {
+      throw_error(what, ": vertex ", i, " has a non-finite coordinate (NaN or Inf)");
+    }
+  }
+  const auto n = static_cast<std::int64_t>(mesh.vertices.size());
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    for (const std::int32_t index : mesh.triangles[t]) {
+      if (index < 0 || index >= n) {
+        throw_error(what, ": triangle ", t, " refers to vertex ", index, " but the mesh has ", n,
+                    " vertices");
+      }
+    }
+  }
+  for (const auto& [name, values] : mesh.vertex_fields) {
+    if (values.size() != mesh.vertices.size()) {
+      throw_error(what, ": field '", name, "' has ", values.size(), " values for ", n,
+                  " vertices");
+    }
+  }
+}
+
+}  // namespace hipfai::geometry

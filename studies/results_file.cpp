@@ -1,0 +1,223 @@
+#include "studies/results_file.h"
+
+#include "core/error.h"
+
+#include <hdf5.h>
+
+#include <system_error>
+
+namespace hipfai::studies {
+
+namespace {
+
+// Silences HDF5's own error stack printing; failures are reported through hipfai::Error.
+struct QuietHdf5 {
+  QuietHdf5() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
+};
+const QuietHdf5 quiet_hdf5;
+
+void check(herr_t status, const std::string& what) {
+  if (status < 0) throw_error("HDF5: ", what, " failed");
+}
+
+hid_t check_id(hid_t id, const std::string& what) {
+  if (id < 0) throw_error("HDF5: ", what, " failed");
+  return id;
+}
+
+template <typename T>
+void write_numeric(hid_t file, const std::string& path, const std::vector<T>& values,
+                   std::size_t cols, hid_t mem_type, hid_t file_type) {
+  if (cols == 0 || values.size() % cols != 0) {
+    throw_error("HDF5: dataset ", path, ": ", values.size(), " values do not fill ", cols,
+                " columns");
+  }
+  const hsize_t dims[2] = {values.size() / cols, cols};
+  const hid_t space = check_id(H5Screate_simple(cols == 1 ? 1 : 2, dims, nullptr), path);
+  const hid_t set = H5Dcreate2(file, path.c_str(), file_type, space, H5P_DEFAULT, H5P_DEFAULT,
+                               H5P_DEFAULT);
+  H5Sclose(space);
+  check_id(set, "creating dataset " + path);
+  const herr_t status =
+      values.empty() ? 0 : H5Dwrite(set, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data());
+  H5Dclose(set);
+  check(status, "writing dataset " + path);
+}
+
+void write_string_attribute(hid_t object, const std::string& name, const std::string& value) {
+  const hid_t type = H5Tcopy(H5T_C_S1);
+  H5Tset_size(type, value.empty() ? 1 : value.size());
+  H5Tset_strpad(type, H5T_STR_NULLTERM);
+  const hid_t space = H5Screate(H5S_SCALAR);
+  if (H5Aexists(object, name.c_str()) > 0) H5Adelete(object, name.c_str());
+  const hid_t attribute = H5Acreate2(object, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT);
+  herr_t status = -1;
+  if (attribute >= 0) {
+    status = H5Awrite(attribute, type, value.c_str());
+    H5Aclose(attribute);
+  }
+  H5Sclose(space);
+  H5Tclose(type);
+  check(status, "writing attribute " + name);
+}
+
+}  // namespace
+
+ResultsFile::ResultsFile(std::filesystem::path path)
+    : final_path_(std::move(path)), partial_path_(final_path_.string() + ".partial") {
+  if (final_path_.has_parent_path()) {
+    std::error_code ignored;
+    std::filesystem::create_directories(final_path_.parent_path(), ignored);
+  }
+  file_ = H5Fcreate(partial_path_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  if (file_ < 0) throw_error(final_path_.string(), ": cannot create HDF5 file");
+}
+
+ResultsFile::~ResultsFile() {
+  if (file_ >= 0) H5Fclose(static_cast<hid_t>(file_));
+  if (!committed_) {
+    std::error_code ignored;
+    std::filesystem::remove(partial_path_, ignored);
+  }
+}
+
+void ResultsFile::ensure_parent_groups(const std::string& path) {
+  for (std::size_t slash = path.find('/', 1); slash != std::string::npos;
+       slash = path.find('/', slash + 1)) {
+    create_group(path.substr(0, slash));
+  }
+}
+
+void ResultsFile::create_group(const std::string& path) {
+  if (path.empty() || path == "/") return;
+  if (H5Lexists(file_, path.c_str(), H5P_DEFAULT) > 0) return;
+  ensure_parent_groups(path);
+  const hid_t group = check_id(
+      H5Gcreate2(file_, path.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), "group " + path);
+  H5Gclose(group);
+}
+
+void ResultsFile::write(const std::string& path, const std::vector<double>& values,
+                        std::size_t cols, const std::string& units) {
+  ensure_parent_groups(path);
+  write_numeric(file_, path, values, cols, H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE);
+  set_attribute(path, "units", units);
+}
+
+void ResultsFile::write_integers(const std::string& path, const std::vector<std::int64_t>& values,
+                        std::size_t cols, const std::string& units) {
+  ensure_parent_groups(path);
+  write_numeric(file_, path, values, cols, H5T_NATIVE_INT64, H5T_STD_I64LE);
+  set_attribute(path, "units", units);
+}
+
+void ResultsFile::write_strings(const std::string& path, const std::vector<std::string>& values) {
+  ensure_parent_groups(path);
+  std::vector<const char*> pointers;
+  for (const auto& value : values) pointers.push_back(value.c_str());
+  const hid_t type = H5Tcopy(H5T_C_S1);
+  H5Tset_size(type, H5T_VARIABLE);
+  const hsize_t dims[1] = {values.size()};
+  const hid_t space = H5Screate_simple(1, dims, nullptr);
+  const hid_t set =
+      H5Dcreate2(file_, path.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  herr_t status = -1;
+  if (set >= 0) {
+    status = values.empty() ? 0
+                            : H5Dwrite(set, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, pointers.data());
+    H5Dclose(set);
+  }
+  H5Sclose(space);
+  H5Tclose(type);
+  check(status, "writing strings " + path);
+}
+
+void ResultsFile::set_attribute(const std::string& object, const std::string& name,
+                                const std::string& value) {
+  const hid_t handle = check_id(H5Oopen(file_, object.c_str(), H5P_DEFAULT), "opening " + object);
+  try {
+    write_string_attribute(handle, name, value);
+  } catch (...) {
+    H5Oclose(handle);
+    throw;
+  }
+  H5Oclose(handle);
+}
+
+void ResultsFile::set_attribute(const std::string& object, const std::string& name,
+                                double value) {
+  const hid_t handle = check_id(H5Oopen(file_, object.c_str(), H5P_DEFAULT), "opening " + object);
+  const hid_t space = H5Screate(H5S_SCALAR);
+  if (H5Aexists(handle, name.c_str()) > 0) H5Adelete(handle, name.c_str());
+  const hid_t attribute =
+      H5Acreate2(handle, name.c_str(), H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT);
+  herr_t status = -1;
+  if (attribute >= 0) {
+    status = H5Awrite(attribute, H5T_NATIVE_DOUBLE, &value);
+    H5Aclose(attribute);
+  }
+  H5Sclose(space);
+  H5Oclose(handle);
+  check(status, "writing attribute " + name);
+}
+
+void ResultsFile::commit() {
+  if (committed_) return;
+  H5Fclose(static_cast<hid_t>(file_));
+  file_ = -1;
+  std::error_code error;
+  std::filesystem::rename(partial_path_, final_path_, error);
+  if (error) throw_error(final_path_.string(), ": cannot move results into place: ", error.message());
+  committed_ = true;
+}
+
+std::vector<double> read_dataset(const std::filesystem::path& file, const std::string& path,
+                                 std::size_t* rows, std::size_t* cols) {
+  const hid_t handle = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (handle < 0) throw_error(file.string(), ": cannot open HDF5 file");
+  const hid_t set = H5Dopen2(handle, path.c_str(), H5P_DEFAULT);
+  if (set < 0) {
+    H5Fclose(handle);
+    throw_error(file.string(), ": no dataset ", path);
+  }
+  const hid_t space = H5Dget_space(set);
+  hsize_t dims[2] = {0, 1};
+  const int rank = H5Sget_simple_extent_dims(space, dims, nullptr);
+  H5Sclose(space);
+  if (rank == 1) dims[1] = 1;
+  std::vector<double> values(dims[0] * dims[1]);
+  const herr_t status = values.empty() ? 0
+                                       : H5Dread(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL,
+                                                 H5P_DEFAULT, values.data());
+  H5Dclose(set);
+  H5Fclose(handle);
+  check(status, "reading " + path);
+  if (rows) *rows = dims[0];
+  if (cols) *cols = dims[1];
+  return values;
+}
+
+std::string read_string_attribute(const std::filesystem::path& file, const std::string& object,
+                                  const std::string& name) {
+  const hid_t handle = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (handle < 0) throw_error(file.string(), ": cannot open HDF5 file");
+  const hid_t attribute = H5Aopen_by_name(handle, object.c_str(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT);
+  if (attribute < 0) {
+    H5Fclose(handle);
+    throw_error(file.string(), ": no attribute ", name, " on ", object);
+  }
+  const hid_t type = H5Aget_type(attribute);
+  std::string value(H5Tget_size(type), '\0');
+  const hid_t memory = H5Tcopy(H5T_C_S1);
+  H5Tset_size(memory, value.size());
+  const herr_t status = H5Aread(attribute, memory, value.data());
+  H5Tclose(memory);
+  H5Tclose(type);
+  H5Aclose(attribute);
+  H5Fclose(handle);
+  check(status, "reading attribute " + name);
+  while (!value.empty() && value.back() == '\0') value.pop_back();
+  return value;
+}
+
+}  // namespace hipfai::studies

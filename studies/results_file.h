@@ -1,0 +1,56 @@
+// hipfai — the HDF5 results file every study writes.
+//
+// A thin RAII wrapper over the HDF5 C API: datasets of doubles or integers with a `units`
+// attribute, string attributes for provenance (scene, mesh hashes, code version). The file is
+// written under a temporary name and renamed into place by commit(), so an interrupted run never
+// leaves a half-written results file behind.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace hipfai::studies {
+
+class ResultsFile {
+ public:
+  // Creates `<path>.partial`; commit() renames it to `path`. Without commit() the partial file is
+  // removed by the destructor.
+  explicit ResultsFile(std::filesystem::path path);
+  ~ResultsFile();
+  ResultsFile(const ResultsFile&) = delete;
+  ResultsFile& operator=(const ResultsFile&) = delete;
+
+  // Creates group `path` (and its parents) if missing, e.g. "/models/ce20_alpha40".
+  void create_group(const std::string& path);
+
+  // Writes a dataset of rows x cols doubles (cols = 1 for a vector) with a `units` attribute.
+  void write(const std::string& path, const std::vector<double>& values, std::size_t cols,
+             const std::string& units);
+  void write_integers(const std::string& path, const std::vector<std::int64_t>& values, std::size_t cols,
+             const std::string& units);
+  void write_strings(const std::string& path, const std::vector<std::string>& values);
+
+  // String / numeric attribute on an existing object ("/" for the file).
+  void set_attribute(const std::string& object, const std::string& name, const std::string& value);
+  void set_attribute(const std::string& object, const std::string& name, double value);
+
+  void commit();
+
+ private:
+  void ensure_parent_groups(const std::string& path);
+
+  std::filesystem::path final_path_;
+  std::filesystem::path partial_path_;
+  std::int64_t file_ = -1;
+  bool committed_ = false;
+};
+
+// Reads back a double dataset (for tests and reports): values row-major, shape in `rows`/`cols`.
+std::vector<double> read_dataset(const std::filesystem::path& file, const std::string& path,
+                                 std::size_t* rows = nullptr, std::size_t* cols = nullptr);
+std::string read_string_attribute(const std::filesystem::path& file, const std::string& object,
+                                  const std::string& name);
+
+}  // namespace hipfai::studies

@@ -1,0 +1,51 @@
+#include "studies/results_file.h"
+
+#include "core/error.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+namespace hipfai::studies {
+namespace {
+
+std::filesystem::path temp_path(const std::string& name) {
+  return std::filesystem::temp_directory_path() / ("hipfai_" + name);
+}
+
+TEST(ResultsFile, RoundTripsDatasetsAndAttributes) {
+  const auto path = temp_path("roundtrip.h5");
+  std::filesystem::remove(path);
+  {
+    ResultsFile file(path);
+    file.write("/models/a/depth", {1.5, 2.5, 3.5, 4.5}, 2, "mm");
+    file.set_attribute("/", "code_version", "test");
+    file.commit();
+  }
+  std::size_t rows = 0, cols = 0;
+  const auto values = read_dataset(path, "/models/a/depth", &rows, &cols);
+  EXPECT_EQ(rows, 2u);
+  EXPECT_EQ(cols, 2u);
+  EXPECT_DOUBLE_EQ(values[3], 4.5);
+  EXPECT_EQ(read_string_attribute(path, "/models/a/depth", "units"), "mm");
+  EXPECT_EQ(read_string_attribute(path, "/", "code_version"), "test");
+}
+
+TEST(ResultsFile, UncommittedFileLeavesNothingBehind) {
+  const auto path = temp_path("uncommitted.h5");
+  std::filesystem::remove(path);
+  {
+    ResultsFile file(path);
+    file.write("/x", {1.0}, 1, "mm");
+  }
+  EXPECT_FALSE(std::filesystem::exists(path));
+  EXPECT_FALSE(std::filesystem::exists(path.string() + ".partial"));
+}
+
+TEST(ResultsFile, RaggedDatasetIsAnError) {
+  ResultsFile file(temp_path("ragged.h5"));
+  EXPECT_THROW(file.write("/x", {1.0, 2.0, 3.0}, 2, "mm"), hipfai::Error);
+}
+
+}  // namespace
+}  // namespace hipfai::studies
