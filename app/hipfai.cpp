@@ -12,6 +12,11 @@ int main(int argc, char** argv) {
       "hipfai: fast collision detection, penetration depth, range of motion and FE contact "
       "for the human hip (after Arbabi 2009)"};
   app.require_subcommand(1);
+  // Parse errors in one line, like every other hipfai error.
+  app.failure_message([](const CLI::App* failed, const CLI::Error& e) {
+    return "hipfai: error: " + std::string(e.what()) + " (see '" + failed->get_name() +
+           " --help')\n";
+  });
   app.set_version_flag("--version", std::string(hipfai::kVersion) + " (" + hipfai::kGitSha + ")");
 
   auto& registry = hipfai::app::command_registry();
