@@ -1,0 +1,152 @@
+#include "studies/motion.h"
+
+#include "core/error.h"
+#include "core/literature.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace hipfai::studies {
+
+namespace {
+
+void set_axis_angle(MotionStep& step) {
+  const Eigen::AngleAxisd axis_angle(step.rotation);
+  step.angle_deg = axis_angle.angle() * geometry::kRadToDeg;
+  // The neutral pose has no axis; keep +X (flexion) so downstream code always has a unit vector.
+  step.axis = step.angle_deg > 1e-12 ? Eigen::Vector3d(axis_angle.axis()) : Eigen::Vector3d::UnitX();
+}
+
+std::vector<std::string> split_csv_line(const std::string& line) {
+  std::vector<std::string> cells;
+  std::stringstream stream(line);
+  std::string cell;
+  while (std::getline(stream, cell, ',')) {
+    const auto first = cell.find_first_not_of(" \t\r");
+    const auto last = cell.find_last_not_of(" \t\r");
+    cells.push_back(first == std::string::npos ? "" : cell.substr(first, last - first + 1));
+  }
+  return cells;
+}
+
+}  // namespace
+
+MotionStep make_step(const geometry::HipPoseDeg& pose) {
+  MotionStep step;
+  step.pose = pose;
+  step.rotation = geometry::femur_rotation(pose);
+  set_axis_angle(step);
+  return step;
+}
+
+Motion standing_to_sitting(int sub_motions) {
+  if (sub_motions < 1) throw_error("standing_to_sitting: sub_motions must be >= 1, got ", sub_motions);
+  const MotionStep end = make_step({literature::kStandToSitFlexionDeg,
+                                    literature::kStandToSitAdductionDeg,
+                                    literature::kStandToSitInternalRotationDeg});
+  Motion motion;
+  motion.name = "standing_to_sitting";
+  for (int k = 1; k <= sub_motions; ++k) {
+    MotionStep step;
+    step.axis = end.axis;
+    step.angle_deg = end.angle_deg * k / sub_motions;
+    step.rotation =
+        Eigen::AngleAxisd(step.angle_deg * geometry::kDegToRad, step.axis).toRotationMatrix();
+    // Cardan angles of the intermediate pose, X-Y'-Z'' (inverse of femur_rotation).
+    const Eigen::Vector3d xyz = step.rotation.eulerAngles(0, 1, 2) * geometry::kRadToDeg;
+    step.pose = {xyz.x(), xyz.y(), xyz.z()};
+    motion.steps.push_back(step);
+  }
+  return motion;
+}
+
+const std::vector<std::string>& medical_rotation_names() {
+  static const std::vector<std::string> names{"flexion",   "extension",         "abduction",
+                                              "adduction", "internal_rotation", "external_rotation"};
+  return names;
+}
+
+Motion medical_rotation(const std::string& which, double max_deg, int steps) {
+  if (steps < 1) throw_error("medical rotation: steps must be >= 1, got ", steps);
+  if (!(max_deg > 0.0 && max_deg <= 180.0)) {
+    throw_error("medical rotation: max angle must be in (0, 180] deg, got ", max_deg);
+  }
+  Motion motion;
+  motion.name = which;
+  for (int k = 1; k <= steps; ++k) {
+    const double angle = max_deg * k / steps;
+    geometry::HipPoseDeg pose;
+    if (which == "flexion") pose.flexion_deg = angle;
+    else if (which == "extension") pose.flexion_deg = -angle;
+    else if (which == "adduction") pose.adduction_deg = angle;
+    else if (which == "abduction") pose.adduction_deg = -angle;
+    else if (which == "internal_rotation") pose.internal_rotation_deg = angle;
+    else if (which == "external_rotation") pose.internal_rotation_deg = -angle;
+    else throw_error("unknown medical rotation '", which, "'");
+    motion.steps.push_back(make_step(pose));
+  }
+  return motion;
+}
+
+Motion read_motion_csv(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  if (!in) throw_error(path.string(), ": cannot open motion file");
+  std::string line;
+  int line_number = 0;
+  std::vector<std::string> header;
+  while (header.empty() && std::getline(in, line)) {
+    ++line_number;
+    if (line.find_first_not_of(" \t\r") == std::string::npos || line[0] == '#') continue;
+    header = split_csv_line(line);
+  }
+  const std::vector<std::string> required{"step", "flexion_deg", "adduction_deg",
+                                          "internal_rotation_deg"};
+  const std::vector<std::string> force{"Fx_N", "Fy_N", "Fz_N"};
+  if (header.size() < 4 || !std::equal(required.begin(), required.end(), header.begin())) {
+    throw_error(path.string(), ":", line_number,
+                ": header must start with step,flexion_deg,adduction_deg,internal_rotation_deg");
+  }
+  const bool has_force = header.size() >= 7 && std::equal(force.begin(), force.end(), header.begin() + 4);
+  if (header.size() != 4 && !has_force) {
+    throw_error(path.string(), ":", line_number, ": optional force columns must be Fx_N,Fy_N,Fz_N");
+  }
+  Motion motion;
+  motion.name = path.stem().string();
+  while (std::getline(in, line)) {
+    ++line_number;
+    if (line.find_first_not_of(" \t\r") == std::string::npos || line[0] == '#') continue;
+    const auto cells = split_csv_line(line);
+    if (cells.size() != header.size()) {
+      throw_error(path.string(), ":", line_number, ": expected ", header.size(), " values, found ",
+                  cells.size());
+    }
+    std::vector<double> values;
+    for (const auto& cell : cells) {
+      double value = 0.0;
+      const auto [end, error] = std::from_chars(cell.data(), cell.data() + cell.size(), value);
+      if (cell.empty() || error != std::errc() || end != cell.data() + cell.size() ||
+          !std::isfinite(value)) {
+        throw_error(path.string(), ":", line_number, ": '", cell, "' is not a finite number");
+      }
+      values.push_back(value);
+    }
+    for (int a = 1; a <= 3; ++a) {
+      if (std::abs(values[a]) > 180.0) {
+        throw_error(path.string(), ":", line_number, ": ", header[a], " = ", values[a],
+                    " is outside [-180, 180] deg (angles are in degrees)");
+      }
+    }
+    MotionStep step = make_step({values[1], values[2], values[3]});
+    if (has_force) step.force_N = Eigen::Vector3d(values[4], values[5], values[6]);
+    motion.steps.push_back(step);
+  }
+  if (motion.steps.empty()) throw_error(path.string(), ": motion file has no steps");
+  return motion;
+}
+
+}  // namespace hipfai::studies
