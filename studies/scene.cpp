@@ -1,0 +1,261 @@
+#include "studies/scene.h"
+
+#include "core/error.h"
+#include "studies/motion.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <fstream>
+#include <sstream>
+
+namespace hipfai::studies {
+
+namespace {
+
+struct Context {
+  std::string file;
+  [[noreturn]] void fail(const YAML::Node& node, const std::string& key,
+                         const std::string& problem) const {
+    const int line = node.Mark().line >= 0 ? node.Mark().line + 1 : 0;
+    throw_error(file, ":", line, ": ", key, ": ", problem);
+  }
+
+  void only_keys(const YAML::Node& map, const std::string& where,
+                 const std::vector<std::string>& allowed) const {
+    if (!map.IsMap()) fail(map, where, "expected a mapping");
+    for (const auto& entry : map) {
+      const auto key = entry.first.as<std::string>();
+      if (std::find(allowed.begin(), allowed.end(), key) == allowed.end()) {
+        std::string list;
+        for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+        fail(entry.first, where.empty() ? key : where + "." + key,
+             "unknown key (expected one of: " + list + ")");
+      }
+    }
+  }
+
+  double number(const YAML::Node& node, const std::string& key, double min, double max) const {
+    double value = 0.0;
+    try {
+      value = node.as<double>();
+    } catch (const YAML::Exception&) {
+      fail(node, key, "expected a number, got '" + node.Scalar() + "'");
+    }
+    if (!(value >= min && value <= max)) {
+      std::ostringstream range;
+      range << value << " is outside [" << min << ", " << max << "]";
+      fail(node, key, range.str());
+    }
+    return value;
+  }
+
+  std::string text(const YAML::Node& node, const std::string& key) const {
+    if (!node.IsScalar()) fail(node, key, "expected a string");
+    return node.as<std::string>();
+  }
+};
+
+std::filesystem::path resolve(const std::filesystem::path& origin, const std::string& relative) {
+  const std::filesystem::path path(relative);
+  return path.is_absolute() ? path : origin.parent_path() / path;
+}
+
+}  // namespace
+
+const char* output_name(Output output) {
+  switch (output) {
+    case Output::kCurvilinearDepth: return "curvilinear_depth";
+    case Output::kRadialDepth: return "radial_depth";
+    case Output::kRom: return "rom";
+    case Output::kVonMises: return "von_mises";
+    case Output::kContactPressure: return "contact_pressure";
+  }
+  return "?";
+}
+
+std::optional<Output> parse_output(const std::string& name) {
+  for (Output o : {Output::kCurvilinearDepth, Output::kRadialDepth, Output::kRom,
+                   Output::kVonMises, Output::kContactPressure}) {
+    if (name == output_name(o)) return o;
+  }
+  return std::nullopt;
+}
+
+const std::vector<std::string>& tissue_names() {
+  static const std::vector<std::string> names{"femur_bone", "femoral_cartilage", "acetabular_bone",
+                                              "acetabular_cartilage", "labrum"};
+  return names;
+}
+
+std::set<std::string> tissues_for(Output output) {
+  switch (output) {
+    case Output::kCurvilinearDepth: return {"femur_bone", "labrum"};
+    case Output::kRadialDepth: return {"femoral_cartilage", "acetabular_cartilage", "labrum"};
+    case Output::kRom: return {"femur_bone", "acetabular_bone"};
+    case Output::kVonMises:
+    case Output::kContactPressure:
+      return {tissue_names().begin(), tissue_names().end()};
+  }
+  return {};
+}
+
+Scene parse_scene(const std::string& text, const std::filesystem::path& origin) {
+  const Context ctx{origin.string()};
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::ParserException& e) {
+    throw_error(origin.string(), ":", e.mark.line + 1, ": YAML syntax error: ", e.msg);
+  }
+  if (!root.IsMap()) throw_error(origin.string(), ":1: a scene must be a YAML mapping");
+  ctx.only_keys(root, "", {"schema_version", "units", "name", "hip", "tissues", "motion", "outputs",
+                           "options"});
+  Scene scene;
+  scene.file = origin;
+
+  if (!root["schema_version"]) ctx.fail(root, "schema_version", "missing (this reader knows 1)");
+  if (ctx.number(root["schema_version"], "schema_version", 1, 1) != 1) {
+    ctx.fail(root["schema_version"], "schema_version", "unsupported");
+  }
+  const YAML::Node units = root["units"];
+  if (!units) ctx.fail(root, "units", "missing: declare {length: mm, angle: deg}");
+  ctx.only_keys(units, "units", {"length", "angle"});
+  if (!units["length"] || ctx.text(units["length"], "units.length") != "mm") {
+    ctx.fail(units, "units.length", "must be 'mm' (hipfai works in millimetres)");
+  }
+  if (!units["angle"] || ctx.text(units["angle"], "units.angle") != "deg") {
+    ctx.fail(units, "units.angle", "must be 'deg' (angles at interfaces are in degrees)");
+  }
+  scene.name = root["name"] ? ctx.text(root["name"], "name") : origin.stem().string();
+
+  const YAML::Node hip = root["hip"];
+  if (!hip) ctx.fail(root, "hip", "missing: give parametric: {...} or model_dir: path");
+  ctx.only_keys(hip, "hip", {"parametric", "model_dir"});
+  if (hip["parametric"] && hip["model_dir"]) {
+    ctx.fail(hip, "hip", "give either parametric or model_dir, not both");
+  }
+  if (const YAML::Node p = hip["parametric"]) {
+    ctx.only_keys(p, "hip.parametric", {"ce_deg", "alpha_deg", "edge_mm"});
+    ParametricHip parametric;
+    if (p["ce_deg"]) parametric.ce_deg = ctx.number(p["ce_deg"], "hip.parametric.ce_deg", 0, 45);
+    if (p["alpha_deg"]) {
+      parametric.alpha_deg = ctx.number(p["alpha_deg"], "hip.parametric.alpha_deg", 35, 90);
+    }
+    if (p["edge_mm"]) parametric.edge_mm = ctx.number(p["edge_mm"], "hip.parametric.edge_mm", 0.2, 10);
+    scene.parametric = parametric;
+  } else if (const YAML::Node dir = hip["model_dir"]) {
+    scene.model_dir = resolve(origin, ctx.text(dir, "hip.model_dir"));
+    if (!std::filesystem::exists(scene.model_dir / "model.json")) {
+      ctx.fail(dir, "hip.model_dir", "no model.json in " + scene.model_dir.string());
+    }
+  } else {
+    ctx.fail(hip, "hip", "give parametric: {...} or model_dir: path");
+  }
+
+  const YAML::Node outputs = root["outputs"];
+  if (!outputs || !outputs.IsSequence() || outputs.size() == 0) {
+    ctx.fail(outputs ? outputs : root, "outputs", "expected a non-empty list");
+  }
+  for (const auto& item : outputs) {
+    const auto name = ctx.text(item, "outputs");
+    const auto output = parse_output(name);
+    if (!output) {
+      ctx.fail(item, "outputs", "unknown output '" + name +
+                                    "' (expected curvilinear_depth, radial_depth, rom, von_mises, "
+                                    "contact_pressure)");
+    }
+    scene.outputs.insert(*output);
+  }
+
+  if (const YAML::Node tissues = root["tissues"]) {
+    if (!tissues.IsSequence()) ctx.fail(tissues, "tissues", "expected a list");
+    for (const auto& item : tissues) {
+      const auto name = ctx.text(item, "tissues");
+      if (std::find(tissue_names().begin(), tissue_names().end(), name) == tissue_names().end()) {
+        ctx.fail(item, "tissues", "unknown tissue '" + name + "'");
+      }
+      scene.tissues.insert(name);
+    }
+    for (Output output : scene.outputs) {
+      for (const auto& needed : tissues_for(output)) {
+        if (!scene.tissues.count(needed)) {
+          ctx.fail(tissues, "tissues", std::string("output ") + output_name(output) + " needs '" +
+                                           needed + "', which the list leaves out");
+        }
+      }
+    }
+  } else {
+    for (Output output : scene.outputs) {
+      const auto needed = tissues_for(output);
+      scene.tissues.insert(needed.begin(), needed.end());
+    }
+  }
+
+  const YAML::Node motion = root["motion"];
+  if (!motion) ctx.fail(root, "motion", "missing");
+  ctx.only_keys(motion, "motion", {"builtin", "sub_motions", "medical", "max_deg", "steps", "csv"});
+  const int kinds = (motion["builtin"] ? 1 : 0) + (motion["medical"] ? 1 : 0) + (motion["csv"] ? 1 : 0);
+  if (kinds != 1) ctx.fail(motion, "motion", "give exactly one of builtin, medical, csv");
+  if (motion["builtin"]) {
+    if (ctx.text(motion["builtin"], "motion.builtin") != "standing_to_sitting") {
+      ctx.fail(motion["builtin"], "motion.builtin", "unknown (expected standing_to_sitting)");
+    }
+    scene.motion.kind = MotionSpec::Kind::kStandingToSitting;
+    if (motion["sub_motions"]) {
+      scene.motion.sub_motions =
+          static_cast<int>(ctx.number(motion["sub_motions"], "motion.sub_motions", 1, 1000));
+    }
+  } else if (motion["medical"]) {
+    scene.motion.kind = MotionSpec::Kind::kMedical;
+    scene.motion.medical = ctx.text(motion["medical"], "motion.medical");
+    const auto& names = medical_rotation_names();
+    if (std::find(names.begin(), names.end(), scene.motion.medical) == names.end()) {
+      ctx.fail(motion["medical"], "motion.medical", "unknown rotation '" + scene.motion.medical + "'");
+    }
+    if (!motion["max_deg"] || !motion["steps"]) {
+      ctx.fail(motion, "motion", "medical rotation needs max_deg and steps");
+    }
+    scene.motion.max_deg = ctx.number(motion["max_deg"], "motion.max_deg", 1e-6, 180);
+    scene.motion.steps = static_cast<int>(ctx.number(motion["steps"], "motion.steps", 1, 1000));
+  } else {
+    scene.motion.kind = MotionSpec::Kind::kCsv;
+    scene.motion.csv = resolve(origin, ctx.text(motion["csv"], "motion.csv"));
+    if (!std::filesystem::exists(scene.motion.csv)) {
+      ctx.fail(motion["csv"], "motion.csv", "file not found: " + scene.motion.csv.string());
+    }
+  }
+
+  if (const YAML::Node options = root["options"]) {
+    ctx.only_keys(options, "options", {"mapping", "table_size", "swap_roles"});
+    if (options["mapping"]) {
+      scene.options.mapping = ctx.text(options["mapping"], "options.mapping");
+      if (scene.options.mapping != "spherical" && scene.options.mapping != "cartesian" &&
+          scene.options.mapping != "cube") {
+        ctx.fail(options["mapping"], "options.mapping", "expected spherical, cartesian or cube");
+      }
+    }
+    if (options["table_size"]) {
+      scene.options.table_size =
+          static_cast<int>(ctx.number(options["table_size"], "options.table_size", 6, 1e8));
+    }
+    if (options["swap_roles"]) {
+      try {
+        scene.options.swap_roles = options["swap_roles"].as<bool>();
+      } catch (const YAML::Exception&) {
+        ctx.fail(options["swap_roles"], "options.swap_roles", "expected true or false");
+      }
+    }
+  }
+  return scene;
+}
+
+Scene read_scene(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  if (!in) throw_error(path.string(), ": cannot open scene file");
+  std::stringstream text;
+  text << in.rdbuf();
+  return parse_scene(text.str(), path);
+}
+
+}  // namespace hipfai::studies

@@ -1,0 +1,83 @@
+// hipfai — scene files: what to simulate and which outputs are wanted.
+//
+// A scene is a YAML file (schema_version 1, units declared) naming the hip, the tissues taking
+// part, the motion and the outputs. Example (meshes/scenes/normal_hip.yaml):
+//
+//   schema_version: 1
+//   units: {length: mm, angle: deg}
+//   name: normal-hip
+//   hip:
+//     parametric: {ce_deg: 20, alpha_deg: 40, edge_mm: 2.0}   # or  model_dir: path/with/model.json
+//   tissues: [femur_bone, labrum, femoral_cartilage, acetabular_cartilage]
+//   motion: {builtin: standing_to_sitting, sub_motions: 30}  # or {medical: flexion, max_deg: 90,
+//                                                            #      steps: 18}  or  {csv: file.csv}
+//   outputs: [curvilinear_depth, radial_depth]
+//   options: {mapping: cube, table_size: 20000, swap_roles: true}
+//
+// Every problem (unknown key, missing file, wrong unit, angle out of range) is reported before any
+// work starts, as "<file>:<line>: <key>: <problem>". Relative paths are relative to the scene file.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace hipfai::studies {
+
+enum class Output {
+  kCurvilinearDepth,  // cylindrical segmenting, femur bone vs labrum (thesis §4.3.2.1)
+  kRadialDepth,       // radial segmenting, femoral cartilage vs acetabular cartilage + labrum
+  kRom,               // exact range of motion about each motion axis, femur vs acetabular bone
+  kVonMises,          // FE ground truth (fem/)
+  kContactPressure,   // FE ground truth (fem/)
+};
+
+const char* output_name(Output output);
+std::optional<Output> parse_output(const std::string& name);
+
+// Tissue names shared with the generator and model.json.
+const std::vector<std::string>& tissue_names();
+
+struct ParametricHip {
+  double ce_deg = 20.0;
+  double alpha_deg = 40.0;
+  double edge_mm = 2.0;
+};
+
+struct MotionSpec {
+  enum class Kind { kStandingToSitting, kMedical, kCsv } kind = Kind::kStandingToSitting;
+  int sub_motions = 30;             // standing to sitting
+  std::string medical;              // one of medical_rotation_names()
+  double max_deg = 0.0;             // medical
+  int steps = 0;                    // medical
+  std::filesystem::path csv;        // csv
+};
+
+struct SceneOptions {
+  std::string mapping = "cube";   // radial mapping: spherical | cartesian | cube
+  int table_size = 20000;         // radial table cells (thesis Eq. 8)
+  bool swap_roles = true;         // also run each method with mobile and fixed exchanged (§4.3.2.1)
+};
+
+struct Scene {
+  std::filesystem::path file;           // where it was read from (for messages)
+  std::string name;
+  std::optional<ParametricHip> parametric;
+  std::filesystem::path model_dir;      // set when the hip is a folder with model.json
+  std::set<std::string> tissues;        // as named in the scene
+  MotionSpec motion;
+  std::set<Output> outputs;
+  SceneOptions options;
+};
+
+// Parses and validates a scene; throws hipfai::Error "<file>:<line>: ..." on the first problem.
+Scene read_scene(const std::filesystem::path& path);
+// Same from text (for tests); `origin` is used in messages and to resolve relative paths.
+Scene parse_scene(const std::string& text, const std::filesystem::path& origin);
+
+// Tissues an output needs (thesis §4.3.2.1 pairs).
+std::set<std::string> tissues_for(Output output);
+
+}  // namespace hipfai::studies

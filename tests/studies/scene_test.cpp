@@ -1,0 +1,93 @@
+#include "studies/scene.h"
+
+#include "core/error.h"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+namespace hipfai::studies {
+namespace {
+
+const std::string kGood = R"(schema_version: 1
+units: {length: mm, angle: deg}
+name: normal
+hip:
+  parametric: {ce_deg: 20, alpha_deg: 40, edge_mm: 2.0}
+motion: {builtin: standing_to_sitting, sub_motions: 30}
+outputs: [radial_depth]
+)";
+
+// `text` with the first `from` replaced by `to` (built by concatenation: g++ 12 warns spuriously
+// about std::string::replace with -Wrestrict).
+std::string replaced(const std::string& text, const std::string& from, const std::string& to) {
+  const auto at = text.find(from);
+  return text.substr(0, at) + to + text.substr(at + from.size());
+}
+
+// Returns the error message of parsing `text`, or "" if it parsed.
+std::string error_of(const std::string& text) {
+  try {
+    parse_scene(text, "scene.yaml");
+  } catch (const hipfai::Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Scene, ParsesAndDerivesTissuesFromOutputs) {
+  const Scene scene = parse_scene(kGood, "scene.yaml");
+  ASSERT_TRUE(scene.parametric.has_value());
+  EXPECT_DOUBLE_EQ(scene.parametric->ce_deg, 20.0);
+  EXPECT_EQ(scene.outputs.size(), 1u);
+  // Radial depth needs the femoral cartilage and the acetabular soft tissues, nothing else.
+  EXPECT_EQ(scene.tissues, (std::set<std::string>{"femoral_cartilage", "acetabular_cartilage", "labrum"}));
+}
+
+TEST(Scene, UnknownKeyIsNamedWithItsLine) {
+  std::string text = kGood;
+  text = replaced(text, "outputs", "outptus");
+  const std::string message = error_of(text);
+  EXPECT_NE(message.find("scene.yaml:7: outptus: unknown key"), std::string::npos) << message;
+}
+
+TEST(Scene, WrongUnitsAreRejected) {
+  std::string text = kGood;
+  text = replaced(text, "mm,", "m,");
+  EXPECT_NE(error_of(text).find("units.length"), std::string::npos);
+  text = kGood;
+  text = replaced(text, "deg}", "rad}");
+  EXPECT_NE(error_of(text).find("units.angle"), std::string::npos);
+}
+
+TEST(Scene, AngleOutOfRangeNamesKeyAndLine) {
+  std::string text = kGood;
+  text = replaced(text, "ce_deg: 20", "ce_deg: 75");
+  const std::string message = error_of(text);
+  EXPECT_NE(message.find(":5: hip.parametric.ce_deg: 75 is outside"), std::string::npos) << message;
+}
+
+TEST(Scene, MissingTissueForAnOutputIsAnError) {
+  std::string text = kGood + "tissues: [femoral_cartilage, labrum]\n";
+  EXPECT_NE(error_of(text).find("needs 'acetabular_cartilage'"), std::string::npos);
+}
+
+TEST(Scene, MissingFilesAreReportedBeforeWork) {
+  std::string text = kGood;
+  text = replaced(text, "builtin: standing_to_sitting, sub_motions: 30", "csv: nowhere.csv");
+  EXPECT_NE(error_of(text).find("motion.csv: file not found"), std::string::npos);
+  text = kGood;
+  text = replaced(text, "parametric: {ce_deg: 20, alpha_deg: 40, edge_mm: 2.0}",
+                  "model_dir: /no/such/dir");
+  EXPECT_NE(error_of(text).find("hip.model_dir: no model.json"), std::string::npos);
+}
+
+TEST(Scene, UnknownOutputAndBadYaml) {
+  std::string text = kGood;
+  text = replaced(text, "[radial_depth]", "[stress]");
+  EXPECT_NE(error_of(text).find("unknown output 'stress'"), std::string::npos);
+  EXPECT_NE(error_of("schema_version: [1\n").find("YAML syntax error"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace hipfai::studies
