@@ -1,0 +1,194 @@
+#include "contact/cylindrical_segmenting.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace hipfai::contact {
+namespace {
+
+constexpr double kDegPerRad = 180.0 / std::numbers::pi;
+
+bool finite_vertices(const geometry::TriMesh& mesh) {
+  return std::all_of(mesh.vertices.begin(), mesh.vertices.end(),
+                     [](const Vec3& p) { return p.allFinite(); });
+}
+
+PenetrationResult invalid(std::string message) {
+  PenetrationResult result;
+  result.status = QueryStatus::kInvalidInput;
+  result.message = std::move(message);
+  return result;
+}
+
+// Joins per-chunk outputs in chunk order: chunks are contiguous vertex ranges, so the result is
+// sorted by mobile vertex without a sort.
+PenetrationResult join_chunks(std::vector<std::vector<PenetrationPair>>& chunks) {
+  PenetrationResult result;
+  std::size_t total = 0;
+  for (const auto& chunk : chunks) total += chunk.size();
+  result.pairs.reserve(total);
+  for (auto& chunk : chunks) result.pairs.insert(result.pairs.end(), chunk.begin(), chunk.end());
+  return result;
+}
+
+}  // namespace
+
+PenetrationResult cylindrical_segmenting(const CylindricalTable& table,
+                                         const geometry::TriMesh& posed_mobile,
+                                         const CylindricalQueryOptions& options) {
+  if (table.status() == QueryStatus::kInvalidInput) return invalid(table.message());
+  if (!finite_vertices(posed_mobile)) return invalid("mobile mesh has a non-finite coordinate");
+  if (table.status() == QueryStatus::kNoOverlap) {
+    PenetrationResult result;
+    result.status = QueryStatus::kNoOverlap;
+    return result;
+  }
+  const AxisFrame& frame = table.frame();
+  const int threads = detail::resolve_threads(options.num_threads);
+  std::vector<std::vector<PenetrationPair>> chunks(static_cast<std::size_t>(threads));
+  detail::parallel_chunks(posed_mobile.vertices.size(), threads,
+                          [&](std::size_t begin, std::size_t end, int chunk) {
+    auto& out = chunks[static_cast<std::size_t>(chunk)];
+    std::array<double, 2> angles{};
+    for (std::size_t v = begin; v < end; ++v) {
+      const Vec3 local = frame.to_local(posed_mobile.vertices[v]);
+      if (!table.distance_may_touch(local.norm())) continue;
+      const Cylindrical cyl = to_cylindrical(local);
+      NearestCrossing nearest;
+      table.for_each_candidate(cyl.r, cyl.z, [&](std::int32_t t) {
+        const auto& tri = table.triangle(t);
+        const int n = circle_triangle_crossings(cyl.r, cyl.z, table.local_vertex(tri[0]),
+                                                table.local_vertex(tri[1]),
+                                                table.local_vertex(tri[2]), angles);
+        for (int i = 0; i < n; ++i) nearest.offer(cyl.theta, angles[static_cast<std::size_t>(i)], t);
+      });
+      if (!nearest.found()) continue;
+      if (arc_verdict(cyl.r, cyl.z, cyl.theta, nearest.crossing_theta_rad,
+                      table.local_normal(nearest.triangle), options.touching_mm) !=
+          ArcVerdict::kPenetrating) {
+        continue;
+      }
+      out.push_back({static_cast<std::int32_t>(v), nearest.triangle,
+                     cyl.r * nearest.abs_delta_rad, nearest.abs_delta_rad * kDegPerRad});
+    }
+  });
+  return join_chunks(chunks);
+}
+
+PenetrationResult cylindrical_segmenting(const geometry::TriMesh& fixed,
+                                         const geometry::TriMesh& posed_mobile,
+                                         const Vec3& centre, const Vec3& axis,
+                                         const CylindricalQueryOptions& options,
+                                         const CylindricalTableOptions& table_options) {
+  if (!finite_vertices(posed_mobile)) return invalid("mobile mesh has a non-finite coordinate");
+  if (posed_mobile.vertices.empty()) return invalid("mobile mesh is empty");
+  const CylindricalTable table =
+      CylindricalTable::build(fixed, centre, axis, table_options, &posed_mobile);
+  return cylindrical_segmenting(table, posed_mobile, options);
+}
+
+CylindricalPoseCache::CylindricalPoseCache(const CylindricalTable& table,
+                                           const geometry::TriMesh& mobile,
+                                           const CylindricalQueryOptions& options)
+    : options_(options) {
+  if (table.status() == QueryStatus::kInvalidInput) {
+    message_ = table.message();
+    return;
+  }
+  if (!finite_vertices(mobile)) {
+    message_ = "mobile mesh has a non-finite coordinate";
+    return;
+  }
+  status_ = table.status();
+  message_.clear();
+  normals_.resize(table.num_triangles());
+  for (std::size_t t = 0; t < table.num_triangles(); ++t) {
+    normals_[t] = table.local_normal(static_cast<std::int32_t>(t));
+  }
+  if (status_ == QueryStatus::kNoOverlap) return;
+
+  const AxisFrame& frame = table.frame();
+  const int threads = detail::resolve_threads(options.num_threads);
+  struct Chunk {
+    std::vector<TrackedVertex> tracked;
+    std::vector<double> theta;
+    std::vector<std::int32_t> triangle;
+  };
+  std::vector<Chunk> chunks(static_cast<std::size_t>(threads));
+  detail::parallel_chunks(mobile.vertices.size(), threads,
+                          [&](std::size_t begin, std::size_t end, int chunk_id) {
+    Chunk& chunk = chunks[static_cast<std::size_t>(chunk_id)];
+    std::array<double, 2> angles{};
+    std::vector<std::pair<std::int32_t, double>> found;
+    for (std::size_t v = begin; v < end; ++v) {
+      const Vec3 local = frame.to_local(mobile.vertices[v]);
+      if (!table.distance_may_touch(local.norm())) continue;
+      const Cylindrical cyl = to_cylindrical(local);
+      found.clear();
+      table.for_each_candidate(cyl.r, cyl.z, [&](std::int32_t t) {
+        const auto& tri = table.triangle(t);
+        const int n = circle_triangle_crossings(cyl.r, cyl.z, table.local_vertex(tri[0]),
+                                                table.local_vertex(tri[1]),
+                                                table.local_vertex(tri[2]), angles);
+        for (int i = 0; i < n; ++i) found.emplace_back(t, angles[static_cast<std::size_t>(i)]);
+      });
+      if (found.empty()) continue;
+      // neighbour_cells > 0 offers a triangle several times: keep each crossing once.
+      std::sort(found.begin(), found.end());
+      found.erase(std::unique(found.begin(), found.end()), found.end());
+      TrackedVertex tracked{static_cast<std::int32_t>(v), cyl.r, cyl.z, cyl.theta,
+                            chunk.theta.size(), chunk.theta.size() + found.size()};
+      for (const auto& [t, theta] : found) {
+        chunk.theta.push_back(theta);
+        chunk.triangle.push_back(t);
+      }
+      chunk.tracked.push_back(tracked);
+    }
+  });
+  for (Chunk& chunk : chunks) {
+    const std::size_t offset = crossing_theta_.size();
+    for (TrackedVertex tracked : chunk.tracked) {
+      tracked.first += offset;
+      tracked.last += offset;
+      tracked_.push_back(tracked);
+    }
+    crossing_theta_.insert(crossing_theta_.end(), chunk.theta.begin(), chunk.theta.end());
+    crossing_triangle_.insert(crossing_triangle_.end(), chunk.triangle.begin(), chunk.triangle.end());
+  }
+}
+
+PenetrationResult CylindricalPoseCache::query(double angle_deg) const {
+  if (status_ == QueryStatus::kInvalidInput) return invalid(message_);
+  if (!std::isfinite(angle_deg)) return invalid("pose angle must be finite");
+  if (status_ == QueryStatus::kNoOverlap) {
+    PenetrationResult result;
+    result.status = QueryStatus::kNoOverlap;
+    return result;
+  }
+  const double angle_rad = angle_deg / kDegPerRad;
+  const int threads = detail::resolve_threads(options_.num_threads);
+  std::vector<std::vector<PenetrationPair>> chunks(static_cast<std::size_t>(threads));
+  detail::parallel_chunks(tracked_.size(), threads,
+                          [&](std::size_t begin, std::size_t end, int chunk) {
+    auto& out = chunks[static_cast<std::size_t>(chunk)];
+    for (std::size_t i = begin; i < end; ++i) {
+      const TrackedVertex& vertex = tracked_[i];
+      const double theta = wrap_angle(vertex.theta0_rad + angle_rad);
+      NearestCrossing nearest;
+      for (std::size_t k = vertex.first; k < vertex.last; ++k) {
+        nearest.offer(theta, crossing_theta_[k], crossing_triangle_[k]);
+      }
+      if (arc_verdict(vertex.r, vertex.z, theta, nearest.crossing_theta_rad,
+                      normals_[static_cast<std::size_t>(nearest.triangle)],
+                      options_.touching_mm) != ArcVerdict::kPenetrating) {
+        continue;
+      }
+      out.push_back({vertex.vertex, nearest.triangle, vertex.r * nearest.abs_delta_rad,
+                     nearest.abs_delta_rad * kDegPerRad});
+    }
+  });
+  return join_chunks(chunks);
+}
+
+}  // namespace hipfai::contact

@@ -1,0 +1,266 @@
+#include "contact/cylindrical_table.h"
+
+#include "core/error.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <thread>
+
+namespace hipfai::contact {
+namespace {
+
+// Relative widening of every bound: rounding in r_min / r / cell arithmetic is ~1e-16 relative,
+// so 1e-9 of the table's extent is far above it and far below any mesh feature.
+constexpr double kRelativePad = 1e-9;
+
+bool all_finite(const geometry::TriMesh& mesh) {
+  for (const Vec3& p : mesh.vertices) {
+    if (!p.allFinite()) return false;
+  }
+  const auto n = static_cast<std::int32_t>(mesh.vertices.size());
+  for (const auto& tri : mesh.triangles) {
+    for (std::int32_t v : tri) {
+      if (v < 0 || v >= n) return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+namespace detail {
+
+int resolve_threads(int requested) {
+  if (requested > 0) return requested;
+  const unsigned hardware = std::thread::hardware_concurrency();
+  return hardware == 0 ? 1 : static_cast<int>(hardware);
+}
+
+void parallel_chunks(std::size_t n, int threads,
+                     const std::function<void(std::size_t, std::size_t, int)>& fn) {
+  const int chunks = static_cast<int>(std::min<std::size_t>(
+      static_cast<std::size_t>(std::max(threads, 1)), std::max<std::size_t>(n, 1)));
+  if (chunks <= 1) {
+    fn(0, n, 0);
+    return;
+  }
+  std::vector<std::thread> workers;
+  workers.reserve(static_cast<std::size_t>(chunks - 1));
+  const std::size_t step = (n + static_cast<std::size_t>(chunks) - 1) / static_cast<std::size_t>(chunks);
+  for (int c = 1; c < chunks; ++c) {
+    const std::size_t begin = std::min(n, static_cast<std::size_t>(c) * step);
+    const std::size_t end = std::min(n, begin + step);
+    workers.emplace_back([&fn, begin, end, c] { fn(begin, end, c); });
+  }
+  fn(0, std::min(n, step), 0);
+  for (auto& worker : workers) worker.join();
+}
+
+}  // namespace detail
+
+void CylindricalTable::refresh_geometry(const geometry::TriMesh& fixed) {
+  local_vertices_.resize(fixed.vertices.size());
+  for (std::size_t v = 0; v < fixed.vertices.size(); ++v) {
+    local_vertices_[v] = frame_.to_local(fixed.vertices[v]);
+  }
+  triangles_ = fixed.triangles;
+}
+
+void CylindricalTable::refresh_triangle_normal(std::int32_t t) {
+  const auto& tri = triangles_[static_cast<std::size_t>(t)];
+  const Vec3 n = (local_vertex(tri[1]) - local_vertex(tri[0]))
+                     .cross(local_vertex(tri[2]) - local_vertex(tri[0]));
+  const double length = n.norm();
+  local_normals_[static_cast<std::size_t>(t)] = length > 0.0 ? Vec3(n / length) : Vec3::Zero();
+}
+
+void CylindricalTable::bin_triangle(std::int32_t t, bool allow_overflow) {
+  const auto& tri = triangles_[static_cast<std::size_t>(t)];
+  const Vec3& a = local_vertex(tri[0]);
+  const Vec3& b = local_vertex(tri[1]);
+  const Vec3& c = local_vertex(tri[2]);
+  const CylindricalBounds bounds = triangle_cylindrical_bounds(a, b, c);
+  CellRange& range = ranges_[static_cast<std::size_t>(t)];
+  range = CellRange{};
+  const double r_min = bounds.r_min - pad_, r_max = bounds.r_max + pad_;
+  const double z_min = bounds.z_min - pad_, z_max = bounds.z_max + pad_;
+  if (allow_overflow && (r_min < r_lo_ || r_max > r_hi_ || z_min < z_lo_ || z_max > z_hi_)) {
+    range.overflow = true;
+    overflow_.push_back(t);
+  }
+  if (num_r_ == 0 || num_z_ == 0) return;
+  const long long r0 = std::max<long long>(cell_index(r_min, r_lo_, res_r_), 0);
+  const long long r1 = std::min<long long>(cell_index(r_max, r_lo_, res_r_), num_r_ - 1);
+  const long long z0 = std::max<long long>(cell_index(z_min, z_lo_, res_z_), 0);
+  const long long z1 = std::min<long long>(cell_index(z_max, z_lo_, res_z_), num_z_ - 1);
+  if (r1 < r0 || z1 < z0) return;  // entirely outside the grid (restricted table)
+  range.r0 = r0;
+  range.r1 = r1;
+  range.z0 = z0;
+  range.z1 = z1;
+  for (long long iz = z0; iz <= z1; ++iz) {
+    for (long long ir = r0; ir <= r1; ++ir) {
+      cells_[static_cast<std::size_t>(iz * num_r_ + ir)].push_back(t);
+    }
+  }
+}
+
+void CylindricalTable::unbin_triangle(std::int32_t t) {
+  CellRange& range = ranges_[static_cast<std::size_t>(t)];
+  for (long long iz = range.z0; iz <= range.z1; ++iz) {
+    for (long long ir = range.r0; ir <= range.r1; ++ir) {
+      auto& list = cells_[static_cast<std::size_t>(iz * num_r_ + ir)];
+      list.erase(std::remove(list.begin(), list.end(), t), list.end());
+    }
+  }
+  if (range.overflow) overflow_.erase(std::remove(overflow_.begin(), overflow_.end(), t), overflow_.end());
+  range = CellRange{};
+}
+
+CylindricalTable CylindricalTable::build(const geometry::TriMesh& fixed, const Vec3& centre,
+                                         const Vec3& axis, const CylindricalTableOptions& options,
+                                         const geometry::TriMesh* restrict_to_mobile) {
+  CylindricalTable table;
+  const AxisFrameResult frame = make_axis_frame(centre, axis);
+  if (!frame.valid) {
+    table.message_ = "rotation axis must be finite and non-zero, centre finite";
+    return table;
+  }
+  if (fixed.empty() || !all_finite(fixed)) {
+    table.message_ = "fixed mesh is empty, has a non-finite coordinate or an index out of range";
+    return table;
+  }
+  if (restrict_to_mobile != nullptr &&
+      (restrict_to_mobile->vertices.empty() || !all_finite(*restrict_to_mobile))) {
+    table.message_ = "mobile mesh is empty, has a non-finite coordinate or an index out of range";
+    return table;
+  }
+  if (!(options.resolution_r_mm >= 0.0) || !(options.resolution_z_mm >= 0.0) ||
+      !std::isfinite(options.resolution_r_mm) || !std::isfinite(options.resolution_z_mm)) {
+    table.message_ = "table resolution must be finite and >= 0";
+    return table;
+  }
+  table.frame_ = frame.frame;
+  table.status_ = QueryStatus::kOk;
+  table.message_.clear();
+  table.neighbour_cells_ = std::max(options.neighbour_cells, 0);
+  table.refresh_geometry(fixed);
+  const std::size_t num_triangles = fixed.triangles.size();
+  table.local_normals_.resize(num_triangles);
+  table.ranges_.resize(num_triangles);
+
+  // Fixed ranges: exact cylindrical bounds (App. A) and distances to the centre.
+  double r_lo = std::numeric_limits<double>::infinity(), r_hi = -r_lo;
+  double z_lo = r_lo, z_hi = -r_lo;
+  double l_min = r_lo, l_max = 0.0;
+  double scale = 0.0;
+  for (std::size_t t = 0; t < num_triangles; ++t) {
+    table.refresh_triangle_normal(static_cast<std::int32_t>(t));
+    const auto& tri = table.triangles_[t];
+    const Vec3& a = table.local_vertex(tri[0]);
+    const Vec3& b = table.local_vertex(tri[1]);
+    const Vec3& c = table.local_vertex(tri[2]);
+    const CylindricalBounds bounds = triangle_cylindrical_bounds(a, b, c);
+    r_lo = std::min(r_lo, bounds.r_min);
+    r_hi = std::max(r_hi, bounds.r_max);
+    z_lo = std::min(z_lo, bounds.z_min);
+    z_hi = std::max(z_hi, bounds.z_max);
+    l_min = std::min(l_min, point_triangle_distance(Vec3::Zero(), a, b, c));
+    l_max = std::max({l_max, a.norm(), b.norm(), c.norm()});
+  }
+  scale = std::max({1.0, r_hi, std::abs(z_lo), std::abs(z_hi)});
+  table.pad_ = kRelativePad * scale;
+  table.l_min_ = l_min - table.pad_;
+  table.l_max_ = l_max + table.pad_;
+
+  if (restrict_to_mobile != nullptr) {
+    // Eq. 2-3: intersect with the mobile ranges (rotation-invariant r, z, |x - c|).
+    double mr_lo = std::numeric_limits<double>::infinity(), mr_hi = -mr_lo;
+    double mz_lo = mr_lo, mz_hi = -mr_lo, ml_lo = mr_lo, ml_hi = 0.0;
+    for (const Vec3& p : restrict_to_mobile->vertices) {
+      const Vec3 local = table.frame_.to_local(p);
+      const double r = std::hypot(local.x(), local.y());
+      mr_lo = std::min(mr_lo, r);
+      mr_hi = std::max(mr_hi, r);
+      mz_lo = std::min(mz_lo, local.z());
+      mz_hi = std::max(mz_hi, local.z());
+      ml_lo = std::min(ml_lo, local.norm());
+      ml_hi = std::max(ml_hi, local.norm());
+    }
+    r_lo = std::max(r_lo, mr_lo);
+    r_hi = std::min(r_hi, mr_hi);
+    z_lo = std::max(z_lo, mz_lo);
+    z_hi = std::min(z_hi, mz_hi);
+    if (r_lo > r_hi + 2.0 * table.pad_ || z_lo > z_hi + 2.0 * table.pad_ ||
+        ml_lo > table.l_max_ || ml_hi < table.l_min_) {
+      table.status_ = QueryStatus::kNoOverlap;
+      table.num_r_ = table.num_z_ = 0;
+      return table;
+    }
+  }
+  table.r_lo_ = r_lo - table.pad_;
+  table.r_hi_ = r_hi + table.pad_;
+  table.z_lo_ = z_lo - table.pad_;
+  table.z_hi_ = z_hi + table.pad_;
+
+  const double edge = geometry::mean_edge_length(fixed);
+  double res_r = options.resolution_r_mm > 0.0 ? options.resolution_r_mm : edge;
+  double res_z = options.resolution_z_mm > 0.0 ? options.resolution_z_mm : edge;
+  if (!(res_r > 0.0)) res_r = 1.0;
+  if (!(res_z > 0.0)) res_z = 1.0;
+  const auto count = [](double extent, double res) {
+    return static_cast<long long>(std::floor(extent / res)) + 1;
+  };
+  const double r_extent = table.r_hi_ - table.r_lo_, z_extent = table.z_hi_ - table.z_lo_;
+  const double max_cells = static_cast<double>(std::max<std::size_t>(options.max_cells, 1));
+  while (static_cast<double>(count(r_extent, res_r)) * static_cast<double>(count(z_extent, res_z)) >
+         max_cells) {
+    res_r *= 2.0;
+    res_z *= 2.0;
+  }
+  table.res_r_ = res_r;
+  table.res_z_ = res_z;
+  table.num_r_ = count(r_extent, res_r);
+  table.num_z_ = count(z_extent, res_z);
+  table.cells_.assign(static_cast<std::size_t>(table.num_r_ * table.num_z_), {});
+  for (std::size_t t = 0; t < num_triangles; ++t) {
+    table.bin_triangle(static_cast<std::int32_t>(t), /*allow_overflow=*/false);
+  }
+  return table;
+}
+
+void update_triangles(CylindricalTable& table, const geometry::TriMesh& fixed_now,
+                      std::span<const std::int32_t> changed_triangles, TableUpdate mode) {
+  if (table.status_ == QueryStatus::kInvalidInput) throw_error("update_triangles: the table is not valid");
+  if (fixed_now.vertices.size() != table.local_vertices_.size() ||
+      fixed_now.triangles.size() != table.triangles_.size() || !all_finite(fixed_now)) {
+    throw_error("update_triangles: the deformed mesh must keep the vertex and triangle counts (",
+                table.local_vertices_.size(), ", ", table.triangles_.size(),
+                ") and finite coordinates");
+  }
+  const auto num_triangles = static_cast<std::int32_t>(table.triangles_.size());
+  for (std::int32_t t : changed_triangles) {
+    if (t < 0 || t >= num_triangles) {
+      throw_error("update_triangles: triangle id ", t, " out of range [0, ", num_triangles, ")");
+    }
+  }
+  table.refresh_geometry(fixed_now);
+  for (std::int32_t t : changed_triangles) {
+    table.refresh_triangle_normal(t);
+    const auto& tri = table.triangles_[static_cast<std::size_t>(t)];
+    const Vec3& a = table.local_vertex(tri[0]);
+    const Vec3& b = table.local_vertex(tri[1]);
+    const Vec3& c = table.local_vertex(tri[2]);
+    // The L filter only widens, so it stays conservative.
+    table.l_min_ = std::min(table.l_min_, point_triangle_distance(Vec3::Zero(), a, b, c) - table.pad_);
+    table.l_max_ = std::max({table.l_max_, a.norm() + table.pad_, b.norm() + table.pad_,
+                             c.norm() + table.pad_});
+    if (mode == TableUpdate::kRebin) {
+      table.unbin_triangle(t);
+      table.bin_triangle(t, /*allow_overflow=*/true);
+    }
+  }
+}
+
+}  // namespace hipfai::contact

@@ -1,0 +1,176 @@
+// hipfai — the ring table of cylindrical segmenting (thesis §3.2.2.2, Eq. 2-4, App. A).
+//
+// Space around the rotation axis is cut into rings: cell (i_z, i_r) holds every point whose
+// cylindrical coordinates (axis frame of arc_triangle.h) satisfy
+//   i_r = floor((r - r_lo) / res_r),  i_z = floor((z - z_lo) / res_z).
+// A rotation about the axis keeps r and z, so a mobile vertex can only meet the fixed triangles
+// stored in its own cell. Each fixed triangle is stored in every cell its exact cylindrical
+// bounding volume [r_min, r_max] x [z_min, z_max] covers (r_min is the exact axis-to-triangle
+// distance of App. A), widened by a relative 1e-9 of the table's extent so that rounding can never
+// put a vertex that lies on a cell border, or exactly on the bound, outside the triangle's cells.
+// Since the cell index is a monotone function of r (and z), r_min <= r <= r_max implies the
+// vertex's cell is among the triangle's cells: no candidate is ever missed.
+//
+// Search intervals (Eq. 2-3): the table spans the fixed mesh's r and z ranges, intersected with a
+// mobile mesh's ranges when one is given (then the table is valid only for vertices of that
+// mobile mesh, in any pose about this axis). The rotation-invariant distance |x - c| (L in the
+// thesis) gives a second filter: a mobile vertex whose distance to the centre lies outside the
+// fixed mesh's [min, max] distance to the centre cannot touch it in any pose.
+//
+// Resolution defaults to the fixed mesh's mean edge length (both r and z), coarsened if the grid
+// would exceed `max_cells`.
+//
+// Deformation (§3.2.3): update_triangles() re-bins only the triangles that changed; a triangle
+// that moved beyond the grid is also kept in an overflow list that vertices outside the grid
+// check, so an updated table answers exactly like a fresh one. Alternatively keep the bins and
+// refresh only the geometry (TableUpdate::kGeometryOnly), and search +-k neighbour cells: exact
+// while every vertex of the fixed mesh moved by at most k * min(res_r, res_z) since its triangles
+// were binned (the bounds are 1-Lipschitz in the vertex positions).
+//
+// A built table is immutable under queries: const member functions are thread-safe.
+#pragma once
+
+#include "contact/arc_triangle.h"
+#include "contact/penetration.h"
+#include "geometry/tri_mesh.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace hipfai::contact {
+
+struct CylindricalTableOptions {
+  double resolution_r_mm = 0.0;     // ring width; 0 = mean edge length of the fixed mesh
+  double resolution_z_mm = 0.0;     // ring height; 0 = mean edge length of the fixed mesh
+  int neighbour_cells = 0;          // queries also search +-k cells in r and z
+  std::size_t max_cells = 1u << 22; // the resolution is coarsened to stay below this
+};
+
+enum class TableUpdate {
+  kRebin,         // refresh geometry and re-bin the changed triangles (exact for any motion)
+  kGeometryOnly,  // refresh geometry, keep the bins: use with neighbour_cells (see above)
+};
+
+class CylindricalTable {
+ public:
+  CylindricalTable() = default;
+
+  // Builds the table of `fixed` for rotations about `axis` through `centre`. With
+  // `restrict_to_mobile`, the grid covers only the ranges that mobile mesh can reach.
+  // Invalid input (zero axis, non-finite data, empty mesh) gives status() == kInvalidInput;
+  // disjoint ranges give kNoOverlap (an empty table that finds no candidates).
+  static CylindricalTable build(const geometry::TriMesh& fixed, const Vec3& centre,
+                                const Vec3& axis, const CylindricalTableOptions& options = {},
+                                const geometry::TriMesh* restrict_to_mobile = nullptr);
+
+  QueryStatus status() const { return status_; }
+  const std::string& message() const { return message_; }
+  const AxisFrame& frame() const { return frame_; }
+
+  // False when a point at this distance from the centre can meet no fixed triangle in any pose.
+  bool distance_may_touch(double distance_to_centre_mm) const {
+    return distance_to_centre_mm >= l_min_ && distance_to_centre_mm <= l_max_;
+  }
+
+  // Calls fn(triangle) for every candidate triangle of the circle (r, z). A triangle may be
+  // offered more than once when neighbour_cells > 0.
+  template <typename Fn>
+  void for_each_candidate(double r, double z, Fn&& fn) const {
+    if (num_r_ == 0 || num_z_ == 0) return;
+    const long long cell_r = cell_index(r, r_lo_, res_r_);
+    const long long cell_z = cell_index(z, z_lo_, res_z_);
+    const bool outside = cell_r < 0 || cell_r >= num_r_ || cell_z < 0 || cell_z >= num_z_;
+    if (outside) {
+      for (std::int32_t t : overflow_) fn(t);
+    }
+    const long long k = neighbour_cells_;
+    const long long r0 = std::max<long long>(cell_r - k, 0);
+    const long long r1 = std::min<long long>(cell_r + k, num_r_ - 1);
+    const long long z0 = std::max<long long>(cell_z - k, 0);
+    const long long z1 = std::min<long long>(cell_z + k, num_z_ - 1);
+    for (long long iz = z0; iz <= z1; ++iz) {
+      for (long long ir = r0; ir <= r1; ++ir) {
+        for (std::int32_t t : cells_[static_cast<std::size_t>(iz * num_r_ + ir)]) fn(t);
+      }
+    }
+  }
+
+  const Vec3& local_vertex(std::int32_t v) const { return local_vertices_[static_cast<std::size_t>(v)]; }
+  const geometry::Triangle& triangle(std::int32_t t) const { return triangles_[static_cast<std::size_t>(t)]; }
+  const Vec3& local_normal(std::int32_t t) const { return local_normals_[static_cast<std::size_t>(t)]; }
+  std::size_t num_triangles() const { return triangles_.size(); }
+  std::size_t num_vertices() const { return local_vertices_.size(); }
+
+  // Grid description (for reports and tests).
+  long long num_r_cells() const { return num_r_; }
+  long long num_z_cells() const { return num_z_; }
+  double resolution_r_mm() const { return res_r_; }
+  double resolution_z_mm() const { return res_z_; }
+  double r_lo_mm() const { return r_lo_; }
+  double z_lo_mm() const { return z_lo_; }
+  int neighbour_cells() const { return neighbour_cells_; }
+  void set_neighbour_cells(int k) { neighbour_cells_ = k < 0 ? 0 : k; }
+  std::size_t num_overflow_triangles() const { return overflow_.size(); }
+  // Triangle ids stored in cell (i_z, i_r), for tests.
+  const std::vector<std::int32_t>& cell(long long i_z, long long i_r) const {
+    return cells_[static_cast<std::size_t>(i_z * num_r_ + i_r)];
+  }
+
+  friend void update_triangles(CylindricalTable& table, const geometry::TriMesh& fixed_now,
+                               std::span<const std::int32_t> changed_triangles,
+                               TableUpdate mode);
+
+ private:
+  struct CellRange {
+    long long r0 = 0, r1 = -1, z0 = 0, z1 = -1;  // empty when r1 < r0
+    bool overflow = false;
+  };
+
+  static long long cell_index(double value, double lo, double resolution) {
+    const double cell = std::floor((value - lo) / resolution);
+    if (!(cell > -1e15)) return -1;  // also NaN
+    if (cell > 1e15) return static_cast<long long>(1e15);
+    return static_cast<long long>(cell);
+  }
+  void refresh_geometry(const geometry::TriMesh& fixed);
+  void refresh_triangle_normal(std::int32_t t);
+  void bin_triangle(std::int32_t t, bool allow_overflow);
+  void unbin_triangle(std::int32_t t);
+
+  QueryStatus status_ = QueryStatus::kInvalidInput;
+  std::string message_ = "table not built";
+  AxisFrame frame_;
+  std::vector<Vec3> local_vertices_;
+  std::vector<geometry::Triangle> triangles_;
+  std::vector<Vec3> local_normals_;  // unit outward normals in the axis frame (zero if degenerate)
+  std::vector<CellRange> ranges_;
+  std::vector<std::vector<std::int32_t>> cells_;  // num_z_ x num_r_, row-major in z
+  std::vector<std::int32_t> overflow_;
+  double r_lo_ = 0.0, r_hi_ = 0.0, z_lo_ = 0.0, z_hi_ = 0.0;
+  double res_r_ = 1.0, res_z_ = 1.0;
+  double pad_ = 0.0;
+  double l_min_ = 0.0, l_max_ = -1.0;
+  long long num_r_ = 0, num_z_ = 0;
+  int neighbour_cells_ = 0;
+};
+
+// Refreshes the table after the fixed mesh deformed (same vertex and triangle counts; throws
+// hipfai::Error otherwise). `changed_triangles` must list every triangle with a moved vertex.
+void update_triangles(CylindricalTable& table, const geometry::TriMesh& fixed_now,
+                      std::span<const std::int32_t> changed_triangles,
+                      TableUpdate mode = TableUpdate::kRebin);
+
+namespace detail {
+// Number of worker threads for `requested` (0 = all hardware threads, at least 1).
+int resolve_threads(int requested);
+// Runs fn(begin, end, chunk) over [0, n) split in `threads` contiguous chunks, in parallel.
+void parallel_chunks(std::size_t n, int threads,
+                     const std::function<void(std::size_t, std::size_t, int)>& fn);
+}  // namespace detail
+
+}  // namespace hipfai::contact
