@@ -161,20 +161,27 @@ void count_non_manifold_vertices(const TriMesh& mesh, MeshReport& report) {
   std::vector<std::pair<std::size_t, std::size_t>> link_edges;
   for (std::size_t v = 0; v < n; ++v) {
     if (start[v] == start[v + 1]) continue;
+    // The link's vertices, numbered locally (sorted, so lookups stay O(log degree) even at
+    // the pole of a fan with thousands of triangles).
     link_vertices.clear();
+    for (std::size_t k = start[v]; k < start[v + 1]; ++k) {
+      for (const std::int32_t id : mesh.triangles[incident[k]]) {
+        if (id != static_cast<std::int32_t>(v)) link_vertices.push_back(id);
+      }
+    }
+    std::sort(link_vertices.begin(), link_vertices.end());
+    link_vertices.erase(std::unique(link_vertices.begin(), link_vertices.end()), link_vertices.end());
     auto local = [&](std::int32_t id) {
-      const auto it = std::find(link_vertices.begin(), link_vertices.end(), id);
-      if (it != link_vertices.end()) return static_cast<std::size_t>(it - link_vertices.begin());
-      link_vertices.push_back(id);
-      return link_vertices.size() - 1;
+      return static_cast<std::size_t>(
+          std::lower_bound(link_vertices.begin(), link_vertices.end(), id) - link_vertices.begin());
     };
     link_edges.clear();
     for (std::size_t k = start[v]; k < start[v + 1]; ++k) {
       const Triangle& tri = mesh.triangles[incident[k]];
-      const int corner = tri[0] == static_cast<std::int32_t>(v) ? 0 : tri[1] == static_cast<std::int32_t>(v) ? 1 : 2;
-      const std::size_t a = local(tri[(corner + 1) % 3]);
-      const std::size_t b = local(tri[(corner + 2) % 3]);
-      link_edges.emplace_back(a, b);
+      const int corner = tri[0] == static_cast<std::int32_t>(v)   ? 0
+                         : tri[1] == static_cast<std::int32_t>(v) ? 1
+                                                                  : 2;
+      link_edges.emplace_back(local(tri[(corner + 1) % 3]), local(tri[(corner + 2) % 3]));
     }
     degree.assign(link_vertices.size(), 0);
     parent.resize(link_vertices.size());

@@ -961,16 +961,16 @@ std::pair<DataArray, std::size_t> read_data_array(const VtpContext& context, std
   return {array, close + 12};
 }
 
-// All DataArrays between `from` and the closing tag </section>.
-std::vector<DataArray> read_section(const VtpContext& context, std::string_view xml,
-                                    const XmlTag& open) {
+// All DataArrays of the section opened by `open`, and the position after its closing tag.
+std::pair<std::vector<DataArray>, std::size_t> read_section(const VtpContext& context,
+                                                            std::string_view xml, const XmlTag& open) {
   std::vector<DataArray> arrays;
-  if (open.self_closing) return arrays;
+  if (open.self_closing) return {std::move(arrays), open.end};
   std::size_t pos = open.end;
   for (;;) {
     const auto tag = next_tag(context.name, xml, pos);
     if (!tag) throw_error(context.name, ": <", open.name, "> is not closed");
-    if (tag->closing && tag->name == open.name) return arrays;
+    if (tag->closing && tag->name == open.name) return {std::move(arrays), tag->end};
     if (!tag->closing && tag->name == "DataArray") {
       auto [array, after] = read_data_array(context, xml, *tag);
       arrays.push_back(std::move(array));
@@ -1081,7 +1081,8 @@ TriMesh read_vtp(const std::string& name, std::string_view xml) {
                tag->name == "Strips" || tag->name == "CellData" || tag->name == "Verts" ||
                tag->name == "Lines") {
       if (!piece) throw_error(name, ": <", tag->name, "> outside a <Piece>");
-      std::vector<DataArray> arrays = read_section(context, xml, *tag);
+      auto [arrays, after] = read_section(context, xml, *tag);
+      pos = after;
       if (tag->name == "Points") {
         points = std::move(arrays);
         have_points = true;
@@ -1092,10 +1093,6 @@ TriMesh read_vtp(const std::string& name, std::string_view xml) {
       } else if (tag->name == "Strips") {
         strips = std::move(arrays);
       }  // Verts, Lines and CellData carry nothing a surface mesh keeps.
-      if (!tag->self_closing) {
-        const std::string closing = "</" + tag->name + ">";
-        pos = xml.find(closing, tag->end) + closing.size();
-      }
     }
   }
   if (!piece) throw_error(name, ": VTP file has no <Piece>");
