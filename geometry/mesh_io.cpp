@@ -878,25 +878,57 @@ struct DataArray {
   std::vector<double> values;
 };
 
-std::size_t vtk_type_size(const std::string& type) {
-  if (type == "Int8" || type == "UInt8") return 1;
-  if (type == "Int16" || type == "UInt16") return 2;
-  if (type == "Int32" || type == "UInt32" || type == "Float32") return 4;
-  if (type == "Int64" || type == "UInt64" || type == "Float64") return 8;
-  return 0;
+enum class VtkType { int8, uint8, int16, uint16, int32, uint32, int64, uint64, float32, float64 };
+
+std::optional<VtkType> vtk_type(const std::string& type) {
+  static const std::pair<std::string_view, VtkType> names[] = {
+      {"Int8", VtkType::int8},     {"UInt8", VtkType::uint8},     {"Int16", VtkType::int16},
+      {"UInt16", VtkType::uint16}, {"Int32", VtkType::int32},     {"UInt32", VtkType::uint32},
+      {"Int64", VtkType::int64},   {"UInt64", VtkType::uint64},   {"Float32", VtkType::float32},
+      {"Float64", VtkType::float64}};
+  for (const auto& [text, value] : names) {
+    if (text == type) return value;
+  }
+  return std::nullopt;
 }
 
-double vtk_load(const std::string& type, const char* p, bool little) {
-  if (type == "Int8") return static_cast<std::int8_t>(*p);
-  if (type == "UInt8") return static_cast<std::uint8_t>(*p);
-  if (type == "Int16") return load<std::int16_t>(p, little);
-  if (type == "UInt16") return load<std::uint16_t>(p, little);
-  if (type == "Int32") return load<std::int32_t>(p, little);
-  if (type == "UInt32") return load<std::uint32_t>(p, little);
-  if (type == "Int64") return static_cast<double>(load<std::int64_t>(p, little));
-  if (type == "UInt64") return static_cast<double>(load<std::uint64_t>(p, little));
-  if (type == "Float32") return load<float>(p, little);
-  return load<double>(p, little);
+std::size_t vtk_type_size(VtkType type) {
+  switch (type) {
+    case VtkType::int8:
+    case VtkType::uint8: return 1;
+    case VtkType::int16:
+    case VtkType::uint16: return 2;
+    case VtkType::int32:
+    case VtkType::uint32:
+    case VtkType::float32: return 4;
+    case VtkType::int64:
+    case VtkType::uint64:
+    case VtkType::float64: return 8;
+  }
+  return 1;
+}
+
+// Converts `count` packed values of one type to doubles (64-bit integers beyond 2^53 round,
+// which no index or count of a mesh we can hold reaches).
+template <typename T>
+void load_all(const char* data, std::size_t count, bool little, std::vector<double>& out) {
+  for (std::size_t i = 0; i < count; ++i) out[i] = static_cast<double>(load<T>(data + i * sizeof(T), little));
+}
+
+void vtk_load_all(VtkType type, const char* data, std::size_t count, bool little,
+                  std::vector<double>& out) {
+  switch (type) {
+    case VtkType::int8: load_all<std::int8_t>(data, count, little, out); break;
+    case VtkType::uint8: load_all<std::uint8_t>(data, count, little, out); break;
+    case VtkType::int16: load_all<std::int16_t>(data, count, little, out); break;
+    case VtkType::uint16: load_all<std::uint16_t>(data, count, little, out); break;
+    case VtkType::int32: load_all<std::int32_t>(data, count, little, out); break;
+    case VtkType::uint32: load_all<std::uint32_t>(data, count, little, out); break;
+    case VtkType::int64: load_all<std::int64_t>(data, count, little, out); break;
+    case VtkType::uint64: load_all<std::uint64_t>(data, count, little, out); break;
+    case VtkType::float32: load_all<float>(data, count, little, out); break;
+    case VtkType::float64: load_all<double>(data, count, little, out); break;
+  }
 }
 
 // Reads the DataArray whose opening tag is `open`; returns it and the position after it.
@@ -913,8 +945,9 @@ std::pair<DataArray, std::size_t> read_data_array(const VtpContext& context, std
   }
   array.components = static_cast<int>(*parsed_components);
   const std::string type = attribute(open, "type");
-  const std::size_t type_size = vtk_type_size(type);
-  if (type_size == 0) throw_error(name, ": DataArray '", label, "' has unsupported type '", type, "'");
+  const auto parsed_type = vtk_type(type);
+  if (!parsed_type) throw_error(name, ": DataArray '", label, "' has unsupported type '", type, "'");
+  const std::size_t type_size = vtk_type_size(*parsed_type);
   const std::string format = attribute(open, "format", "ascii");
   if (format == "appended") {
     throw_error(name, ": DataArray '", label,
@@ -954,9 +987,8 @@ std::pair<DataArray, std::size_t> read_data_array(const VtpContext& context, std
                   type, " values");
     }
     array.values.resize(block / type_size);
-    for (std::size_t i = 0; i < array.values.size(); ++i) {
-      array.values[i] = vtk_load(type, data + context.header_bytes + i * type_size, context.little_endian);
-    }
+    vtk_load_all(*parsed_type, data + context.header_bytes, array.values.size(),
+                 context.little_endian, array.values);
   }
   return {array, close + 12};
 }
