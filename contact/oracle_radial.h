@@ -1,0 +1,19 @@
+// hipfai — exhaustive oracle for radial penetration (the reference radial segmenting is tested
+// against).
+//
+// Every mobile vertex against every fixed triangle, with the crossing rule documented in
+// radial_segmenting.h (adjacent crossing, normals decide, ties to the lowest triangle index,
+// on-surface and v == O do not penetrate). Plain loops: it shares only the ray_triangle.h
+// primitive with the method under test, no table and no mapping. O(#V x #T).
+#pragma once
+
+#include "contact/penetration.h"
+#include "contact/radial_segmenting.h"
+#include "geometry/tri_mesh.h"
+
+namespace hipfai::contact {
+
+PenetrationResult oracle_radial(const geometry::TriMesh& fixed, const geometry::TriMesh& mobile,
+                                const Vec3& centre, RadialConfiguration configuration);
+
+}  // namespace hipfai::contact

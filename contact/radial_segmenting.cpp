@@ -1,0 +1,153 @@
+#include "contact/radial_segmenting.h"
+
+#include "contact/ray_triangle.h"
+#include "core/error.h"
+
+#include <algorithm>
+#include <array>
+#include <thread>
+
+namespace hipfai::contact {
+
+namespace {
+
+// The adjacent crossing found so far for one vertex (see the crossing rule in the header).
+struct Adjacent {
+  bool found = false;
+  double t = 0.0;
+  int facing = 0;
+  std::int32_t triangle = -1;
+};
+
+// Offers one candidate triangle to the running choice.
+void offer(const geometry::TriMesh& fixed, const Vec3& centre, const Vec3& direction,
+           RadialConfiguration configuration, std::int32_t t, Adjacent& adjacent) {
+  const auto& tri = fixed.triangles[static_cast<std::size_t>(t)];
+  const RayCrossing crossing = ray_triangle_crossing(
+      direction, fixed.vertices[static_cast<std::size_t>(tri[0])] - centre,
+      fixed.vertices[static_cast<std::size_t>(tri[1])] - centre,
+      fixed.vertices[static_cast<std::size_t>(tri[2])] - centre);
+  if (!crossing.hit) return;
+  if (configuration == RadialConfiguration::kMobileInsideFixed) {
+    if (crossing.t > 1.0) return;
+    const bool better = !adjacent.found || crossing.t > adjacent.t ||
+                        (crossing.t == adjacent.t && t < adjacent.triangle);
+    if (!better) return;
+  } else {
+    if (crossing.t < 1.0) return;
+    const bool better = !adjacent.found || crossing.t < adjacent.t ||
+                        (crossing.t == adjacent.t && t < adjacent.triangle);
+    if (!better) return;
+  }
+  adjacent = {true, crossing.t, crossing.facing, t};
+}
+
+void query_range(const RadialTable& table, const geometry::TriMesh& fixed,
+                 const geometry::TriMesh& mobile, const RadialQueryOptions& options,
+                 std::size_t begin, std::size_t end, std::vector<PenetrationPair>& slots,
+                 std::vector<std::uint8_t>& hits) {
+  const bool inside_fixed = options.configuration == RadialConfiguration::kMobileInsideFixed;
+  const double cap_radius = options.neighbour_cells * table.grid.nominal_cell_angle_rad();
+  std::vector<int> cap_cells;
+  for (std::size_t v = begin; v < end; ++v) {
+    const Vec3 direction = mobile.vertices[v] - table.centre;
+    if (direction.isZero(0.0)) continue;  // v == O: no ray
+    Adjacent adjacent;
+    auto visit = [&](const std::vector<std::int32_t>& candidates) {
+      for (const std::int32_t t : candidates) {
+        offer(fixed, table.centre, direction, options.configuration, t, adjacent);
+      }
+    };
+    if (options.neighbour_cells > 0) {
+      cap_cells.clear();
+      cells_of_cap(table.grid, direction, cap_radius, cap_cells);
+      for (const int id : cap_cells) visit(table.cell(id));
+    } else {
+      visit(table.cell(cell_of_direction(table.grid, direction)));
+    }
+    visit(table.always_candidates);
+    if (!adjacent.found || adjacent.t == 1.0) continue;
+    if (adjacent.facing != (inside_fixed ? -1 : 1)) continue;
+    const double depth = (inside_fixed ? 1.0 - adjacent.t : adjacent.t - 1.0) * direction.norm();
+    slots[v] = PenetrationPair{static_cast<std::int32_t>(v), adjacent.triangle, depth};
+    hits[v] = 1;
+  }
+}
+
+std::string check_inputs(const RadialTable& table, const geometry::TriMesh& fixed,
+                         const geometry::TriMesh& mobile, const RadialQueryOptions& options) {
+  if (fixed.num_triangles() != table.num_triangles) {
+    return "radial segmenting: fixed mesh has " + std::to_string(fixed.num_triangles()) +
+           " triangles, the table was built for " + std::to_string(table.num_triangles);
+  }
+  if (options.num_threads < 1 || options.num_threads > 2) {
+    return "radial segmenting: num_threads must be 1 or 2, got " +
+           std::to_string(options.num_threads);
+  }
+  if (options.neighbour_cells < 0) return "radial segmenting: neighbour_cells must be >= 0";
+  for (const auto& p : mobile.vertices) {
+    if (!p.allFinite()) return "radial segmenting: mobile mesh has a non-finite vertex";
+  }
+  for (const auto& p : fixed.vertices) {
+    if (!p.allFinite()) return "radial segmenting: fixed mesh has a non-finite vertex";
+  }
+  const auto num_fixed = static_cast<std::int32_t>(fixed.num_vertices());
+  for (const auto& tri : fixed.triangles) {
+    for (const auto index : tri) {
+      if (index < 0 || index >= num_fixed) return "radial segmenting: fixed triangle index out of range";
+    }
+  }
+  return {};
+}
+
+}  // namespace
+
+const char* to_string(RadialConfiguration configuration) {
+  return configuration == RadialConfiguration::kMobileInsideFixed ? "mobile_inside_fixed"
+                                                                  : "fixed_inside_mobile";
+}
+
+RadialConfiguration swapped(RadialConfiguration configuration) {
+  return configuration == RadialConfiguration::kMobileInsideFixed
+             ? RadialConfiguration::kFixedInsideMobile
+             : RadialConfiguration::kMobileInsideFixed;
+}
+
+PenetrationResult radial_segmenting(const RadialTable& table, const geometry::TriMesh& fixed,
+                                    const geometry::TriMesh& mobile,
+                                    const RadialQueryOptions& options) {
+  PenetrationResult result;
+  result.message = check_inputs(table, fixed, mobile, options);
+  if (!result.message.empty()) {
+    result.status = QueryStatus::kInvalidInput;
+    return result;
+  }
+  const std::size_t count = mobile.num_vertices();
+  std::vector<PenetrationPair> slots(count);
+  std::vector<std::uint8_t> hits(count, 0);
+  if (options.num_threads == 2 && count > 1) {
+    // Each thread writes its own slots: no sharing, and the output order is fixed afterwards.
+    const std::size_t half = count / 2;
+    std::thread worker([&] { query_range(table, fixed, mobile, options, 0, half, slots, hits); });
+    query_range(table, fixed, mobile, options, half, count, slots, hits);
+    worker.join();
+  } else {
+    query_range(table, fixed, mobile, options, 0, count, slots, hits);
+  }
+  for (std::size_t v = 0; v < count; ++v) {
+    if (hits[v]) result.pairs.push_back(slots[v]);
+  }
+  return result;  // built in vertex order: already sorted
+}
+
+PenetrationResult radial_swap_roles(const geometry::TriMesh& fixed,
+                                    const geometry::TriMesh& mobile, const Vec3& centre,
+                                    const RadialTableOptions& table_options,
+                                    const RadialQueryOptions& options) {
+  const RadialTable table = build_radial_table(mobile, centre, table_options);
+  RadialQueryOptions swapped_options = options;
+  swapped_options.configuration = swapped(options.configuration);
+  return radial_segmenting(table, mobile, fixed, swapped_options);
+}
+
+}  // namespace hipfai::contact

@@ -1,0 +1,76 @@
+// hipfai — radial segmenting collision detection for sliding objects (thesis §3.3, App. F).
+//
+// Inputs: the table of the FIXED mesh F around the centre O (radial_table.h, built once), the
+// fixed mesh itself (its current coordinates), and the MOBILE mesh M already posed by the caller.
+// For each mobile vertex v the ray from O through v is tested against the fixed triangles stored
+// in the cell of its direction (and the always-checked list), with the watertight test of
+// ray_triangle.h. Only mobile VERTICES are tested (the thesis' definition).
+//
+// THE CROSSING RULE (shared by radial_segmenting, oracle_radial and ray_sampling). Let
+// r = |v - O| and let the crossings of the ray be at distances t_i r (ray_triangle_crossing with
+// d = v - O, so t_i = 1 is v itself) with facing s_i (+1 exit, -1 enter, from the outward
+// normals). The crossing that matters is the one ADJACENT to v on the side the configuration
+// pushes it back to; the normals then say whether v is inside the fixed solid (thesis Fig. 40,
+// §3.6.5: between two layers of F the adjacent normals point toward v and v is outside).
+//   kMobileInsideFixed (femoral cartilage sliding inside the socket; the thesis' Fig. 27):
+//     the LAST crossing with t <= 1 (largest t; the surface between O and v nearest to v).
+//     v penetrates iff it exists, t < 1, and it ENTERS the fixed solid (s = -1).
+//     depth_mm = (1 - t) r  = | Dist - |v - O| |  (Eq. 36).
+//   kFixedInsideMobile (the fixed object inside the mobile one; inequalities reversed):
+//     the FIRST crossing with t >= 1 (smallest t; the surface beyond v nearest to v).
+//     v penetrates iff it exists, t > 1, and it EXITS the fixed solid (s = +1).
+//     depth_mm = (t - 1) r.
+// Ties (equal t, e.g. a ray through an edge or vertex shared by several triangles) are broken by
+// the lowest triangle index, so a shared edge is counted once and the answer does not depend on
+// the order triangles are visited. A vertex exactly on the fixed surface (adjacent crossing at
+// t == 1) does not penetrate (depth 0, like Fig. 27's strict Diff < 0). A vertex AT the centre
+// (v == O) has no ray and never penetrates. Only crossings strictly in front of O count (t > 0).
+// Because the rule looks only at the adjacent crossing it also works for open surfaces (a socket
+// patch whose normals face O): v beyond the patch, seen from O, penetrates.
+//
+// Output: PenetrationPair{mobile_vertex, fixed_triangle (the adjacent crossing's), depth_mm},
+// sorted by vertex, one per penetrating vertex; angle_deg is NaN.
+#pragma once
+
+#include "contact/penetration.h"
+#include "contact/radial_table.h"
+#include "geometry/tri_mesh.h"
+
+namespace hipfai::contact {
+
+enum class RadialConfiguration { kMobileInsideFixed, kFixedInsideMobile };
+
+const char* to_string(RadialConfiguration configuration);
+
+// The opposite configuration: what the nesting looks like after swapping the roles of the meshes.
+RadialConfiguration swapped(RadialConfiguration configuration);
+
+struct RadialQueryOptions {
+  RadialConfiguration configuration = RadialConfiguration::kMobileInsideFixed;
+  // 1 or 2 threads over the mobile vertices (results are identical either way).
+  int num_threads = 1;
+  // Deformation without updating the table (§3.3.4): when k > 0, each vertex also checks every
+  // cell within k nominal cell widths (RadialGrid::nominal_cell_angle_rad, measured as an angle
+  // around its direction, across seams, poles and faces). A fixed triangle whose points have
+  // turned by less than that angle since the table was built is still found.
+  int neighbour_cells = 0;
+};
+
+// The per-pose query. `fixed` must have the triangles the table was built from (coordinates may
+// have moved). Returns kInvalidInput (with a message) for a size mismatch, non-finite mobile
+// coordinates or bad options; never throws for data-dependent reasons.
+PenetrationResult radial_segmenting(const RadialTable& table, const geometry::TriMesh& fixed,
+                                    const geometry::TriMesh& mobile,
+                                    const RadialQueryOptions& options);
+
+// Role swap (thesis §3.3.1, §4.3: "repeated by exchanging the role"): the vertices of `fixed`
+// are tested against the triangles of `mobile`, with the configuration swapped (if M slides
+// inside F, F is outside M). Builds a table for the posed `mobile` (so call it per pose).
+// In the returned pairs mobile_vertex indexes `fixed`'s vertices and fixed_triangle indexes
+// `mobile`'s triangles.
+PenetrationResult radial_swap_roles(const geometry::TriMesh& fixed,
+                                    const geometry::TriMesh& mobile, const Vec3& centre,
+                                    const RadialTableOptions& table_options,
+                                    const RadialQueryOptions& options);
+
+}  // namespace hipfai::contact
