@@ -566,6 +566,7 @@ TEST_F(MeshIoTest, TruncatedAndCorruptedFilesOnlyEverThrowError) {
   mesh.vertex_fields["t"] = std::vector<double>(mesh.num_vertices(), 0.125);
   std::mt19937 random(20090101);
   std::size_t errors = 0;
+  std::size_t attempts = 0;
   for (const char* extension : {".stl", ".obj", ".ply", ".vtp"}) {
     for (const bool ascii : {false, true}) {
       const fs::path source = dir_ / (std::string("source") + extension);
@@ -573,7 +574,9 @@ TEST_F(MeshIoTest, TruncatedAndCorruptedFilesOnlyEverThrowError) {
       std::ifstream in(source, std::ios::binary);
       const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
       auto attempt = [&](const std::string& variant, const std::string& what) {
-        const fs::path path = write_bytes(std::string("variant") + extension, variant);
+        // A fresh name each time: truncating and rewriting one file makes ext4 flush it to disk
+        // on every close, which turned this millisecond test into a ten-second one under load.
+        const fs::path path = write_bytes("variant" + std::to_string(++attempts) + extension, variant);
         try {
           read_mesh(path);
         } catch (const Error&) {
@@ -581,6 +584,7 @@ TEST_F(MeshIoTest, TruncatedAndCorruptedFilesOnlyEverThrowError) {
         } catch (const std::exception& e) {
           ADD_FAILURE() << extension << (ascii ? " ascii " : " binary ") << what << ": " << e.what();
         }
+        fs::remove(path);
       };
       const std::size_t stride = std::max<std::size_t>(1, bytes.size() / 120);
       for (std::size_t length = 0; length < bytes.size(); length += stride) {
