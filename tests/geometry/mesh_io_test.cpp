@@ -293,6 +293,26 @@ TEST_F(MeshIoTest, VtpAsciiWithPointData) {
   EXPECT_EQ(mesh.vertex_fields.at("t & s"), (std::vector<double>{1, 2, 3, 4}));
 }
 
+// A triangle strip over the unit square: every other triangle swaps its first two corners so
+// all keep the winding of the first (here normal +z); Verts and Lines cells are ignored.
+TEST_F(MeshIoTest, VtpStripsKeepOneWinding) {
+  const std::string text =
+      "<VTKFile type=\"PolyData\"><PolyData><Piece NumberOfPoints=\"4\" NumberOfStrips=\"1\">"
+      "<Points><DataArray type=\"Float32\" NumberOfComponents=\"3\">0 0 0 1 0 0 0 1 0 1 1 0"
+      "</DataArray></Points>"
+      "<Lines><DataArray type=\"Int32\" Name=\"connectivity\">0 1</DataArray>"
+      "<DataArray type=\"Int32\" Name=\"offsets\">2</DataArray></Lines>"
+      "<Strips><DataArray type=\"Int32\" Name=\"connectivity\">0 1 2 3</DataArray>"
+      "<DataArray type=\"Int32\" Name=\"offsets\">4</DataArray></Strips>"
+      "</Piece></PolyData></VTKFile>";
+  const TriMesh mesh = read_mesh(write_bytes("strip.vtp", text));
+  const std::vector<Triangle> expected = {{0, 1, 2}, {2, 1, 3}};
+  EXPECT_EQ(mesh.triangles, expected);
+  for (std::size_t t = 0; t < mesh.num_triangles(); ++t) {
+    EXPECT_EQ(triangle_area_normal(mesh, t), Vec3(0, 0, 1)) << t;  // exact: unit right triangles
+  }
+}
+
 // The base64 strings were made with Python's struct + base64 modules (see each comment), so the
 // decoder is checked against an independent encoder.
 std::string vtp_tetra(const std::string& file_attributes, const std::string& points,
