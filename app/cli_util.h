@@ -1,0 +1,52 @@
+// hipfai — small helpers shared by the sub-commands: 3-vectors on the command line, atomic
+// CSV output.
+#pragma once
+
+#include "core/error.h"
+
+#include <CLI/CLI.hpp>
+#include <Eigen/Core>
+
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace hipfai::app {
+
+// Adds an option taking "x,y,z" (three finite numbers).
+inline CLI::Option* add_vec3_option(CLI::App* command, const std::string& name,
+                                    std::vector<double>& values, const std::string& help) {
+  return command->add_option(name, values, help + " (x,y,z)")
+      ->delimiter(',')
+      ->expected(3)
+      ->type_name("X,Y,Z");
+}
+
+inline Eigen::Vector3d to_vec3(const std::vector<double>& values, const std::string& name) {
+  if (values.size() != 3) throw_error(name, ": expected three numbers x,y,z");
+  const Eigen::Vector3d v(values[0], values[1], values[2]);
+  if (!v.allFinite()) throw_error(name, ": coordinates must be finite");
+  return v;
+}
+
+// Writes a text file through a temporary name, so a failure leaves no half-written file.
+inline void write_text_atomically(const std::filesystem::path& path,
+                                  const std::function<void(std::ostream&)>& write) {
+  if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
+  const std::filesystem::path partial = path.string() + ".partial";
+  {
+    std::ofstream out(partial);
+    if (!out) throw_error(path.string(), ": cannot write");
+    write(out);
+    out.flush();
+    if (!out) {
+      std::filesystem::remove(partial);
+      throw_error(path.string(), ": write failed");
+    }
+  }
+  std::filesystem::rename(partial, path);
+}
+
+}  // namespace hipfai::app
