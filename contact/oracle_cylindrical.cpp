@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 namespace hipfai::contact {
 namespace {
@@ -33,14 +34,16 @@ struct Best {
 void all_pairs(const geometry::TriMesh& still, const geometry::TriMesh& moving,
                const AxisFrame& frame, double touching_mm, ContactKind kind, Best& forward,
                Best& backward) {
+  std::vector<Vec3> local(still.vertices.size());
+  for (std::size_t i = 0; i < still.vertices.size(); ++i) local[i] = frame.to_local(still.vertices[i]);
   std::array<double, 2> angles{};
   for (std::size_t v = 0; v < moving.vertices.size(); ++v) {
     const Cylindrical cyl = to_cylindrical(frame.to_local(moving.vertices[v]));
     for (std::size_t t = 0; t < still.triangles.size(); ++t) {
       const auto& tri = still.triangles[t];
-      const Vec3 a = frame.to_local(still.vertices[static_cast<std::size_t>(tri[0])]);
-      const Vec3 b = frame.to_local(still.vertices[static_cast<std::size_t>(tri[1])]);
-      const Vec3 c = frame.to_local(still.vertices[static_cast<std::size_t>(tri[2])]);
+      const Vec3& a = local[static_cast<std::size_t>(tri[0])];
+      const Vec3& b = local[static_cast<std::size_t>(tri[1])];
+      const Vec3& c = local[static_cast<std::size_t>(tri[2])];
       const int n = circle_triangle_crossings(cyl.r, cyl.z, a, b, c, angles);
       for (int i = 0; i < n; ++i) {
         const double theta = angles[static_cast<std::size_t>(i)];
@@ -72,6 +75,9 @@ PenetrationResult oracle_cylindrical(const geometry::TriMesh& fixed,
     result.message = "rotation axis must be finite and non-zero, centre finite";
     return result;
   }
+  // Fixed geometry in the axis frame, computed once (the same arithmetic as the table's).
+  std::vector<Vec3> local(fixed.vertices.size());
+  for (std::size_t i = 0; i < fixed.vertices.size(); ++i) local[i] = frame.frame.to_local(fixed.vertices[i]);
   std::array<double, 2> angles{};
   for (std::size_t v = 0; v < posed_mobile.vertices.size(); ++v) {
     const Cylindrical cyl = to_cylindrical(frame.frame.to_local(posed_mobile.vertices[v]));
@@ -79,9 +85,9 @@ PenetrationResult oracle_cylindrical(const geometry::TriMesh& fixed,
     Vec3 nearest_normal = Vec3::Zero();
     for (std::size_t t = 0; t < fixed.triangles.size(); ++t) {
       const auto& tri = fixed.triangles[t];
-      const Vec3 a = frame.frame.to_local(fixed.vertices[static_cast<std::size_t>(tri[0])]);
-      const Vec3 b = frame.frame.to_local(fixed.vertices[static_cast<std::size_t>(tri[1])]);
-      const Vec3 c = frame.frame.to_local(fixed.vertices[static_cast<std::size_t>(tri[2])]);
+      const Vec3& a = local[static_cast<std::size_t>(tri[0])];
+      const Vec3& b = local[static_cast<std::size_t>(tri[1])];
+      const Vec3& c = local[static_cast<std::size_t>(tri[2])];
       const int n = circle_triangle_crossings(cyl.r, cyl.z, a, b, c, angles);
       for (int i = 0; i < n; ++i) {
         const std::int32_t before = nearest.triangle;
