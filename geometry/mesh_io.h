@@ -48,7 +48,8 @@ struct MeshWriteOptions {
 };
 
 // Writes `mesh` in the format named by the extension of `path`, atomically (temporary file +
-// rename). Coordinates keep full double precision except in STL, which stores float32.
+// rename). Coordinates keep full double precision (shortest exact decimal in text formats)
+// except in binary STL, which stores float32.
 // Throws hipfai::Error "<path>: <problem>" when the mesh is invalid (see validate_mesh), a field
 // name cannot be stored in the format, or the file cannot be written.
 void write_mesh(const TriMesh& mesh, const std::filesystem::path& path,
