@@ -12,7 +12,7 @@ hipfai_cli_test(NAME rom_missing_mesh EXIT nonzero STDERR "nowhere\\.ply"
 hipfai_cli_test(NAME rom_zero_axis EXIT nonzero STDERR "^hipfai: error: --axis: the axis has zero length$"
   COMMAND rom --fixed ${LHDL}/pelvis_no_sacrum.ply --mobile ${LHDL}/femur_r.ply
           --center-mm 0,0,0 --axis 0,0,0)
-hipfai_cli_test(NAME rom_no_axis EXIT nonzero STDERR "--axis: required"
+hipfai_cli_test(NAME rom_no_axis EXIT nonzero STDERR "error: --axis: required unless"
   COMMAND rom --fixed ${LHDL}/pelvis_no_sacrum.ply --mobile ${LHDL}/femur_r.ply --center-mm 0,0,0)
 hipfai_cli_test(NAME rom_axis_and_fan EXIT nonzero STDERR "excludes"
   COMMAND rom --fixed ${LHDL}/pelvis_no_sacrum.ply --mobile ${LHDL}/femur_r.ply --center-mm 0,0,0
