@@ -1,6 +1,7 @@
 #include "geometry/tri_mesh.h"
 
 #include "core/error.h"
+#include "core/hash.h"
 
 #include <algorithm>
 #include <cmath>
@@ -100,6 +101,15 @@ TriMesh merge_meshes(const std::vector<const TriMesh*>& parts) {
     }
   }
   return out;
+}
+
+std::string mesh_hash(const TriMesh& mesh) {
+  Hasher hasher;
+  hasher.add(std::string_view(reinterpret_cast<const char*>(mesh.vertices.data()),
+                              mesh.vertices.size() * sizeof(Vec3)));
+  hasher.add(std::string_view(reinterpret_cast<const char*>(mesh.triangles.data()),
+                              mesh.triangles.size() * sizeof(Triangle)));
+  return hasher.hex();
 }
 
 void validate_mesh(const TriMesh& mesh, const std::string& what) {

@@ -65,6 +65,10 @@ void rotate_about_axis(TriMesh& mesh, const Vec3& centre, const Vec3& axis_unit,
 // Concatenates meshes (indices offset); fields present in every part are concatenated, others dropped.
 TriMesh merge_meshes(const std::vector<const TriMesh*>& parts);
 
+// Content hash of the vertices and triangles (16 hex digits): names cache entries and records in
+// result files which meshes a result came from.
+std::string mesh_hash(const TriMesh& mesh);
+
 // Throws hipfai::Error "<what>: ..." when the mesh is empty, has a non-finite coordinate, an index
 // out of range, or a field whose length differs from the vertex count.
 void validate_mesh(const TriMesh& mesh, const std::string& what);

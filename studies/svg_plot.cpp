@@ -1,0 +1,269 @@
+#include "studies/svg_plot.h"
+
+#include "core/error.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <numeric>
+#include <sstream>
+
+namespace hipfai::studies {
+
+namespace {
+
+constexpr const char* kPalette[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd",
+                                    "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf"};
+
+std::string escape(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    if (c == '<') out += "&lt;";
+    else if (c == '>') out += "&gt;";
+    else if (c == '&') out += "&amp;";
+    else out += c;
+  }
+  return out;
+}
+
+std::string rgb(double r, double g, double b) {
+  char text[16];
+  std::snprintf(text, sizeof text, "#%02x%02x%02x", static_cast<int>(std::clamp(r, 0.0, 1.0) * 255),
+                static_cast<int>(std::clamp(g, 0.0, 1.0) * 255),
+                static_cast<int>(std::clamp(b, 0.0, 1.0) * 255));
+  return text;
+}
+
+// White -> yellow -> red -> dark red, t in [0, 1].
+std::string sequential(double t) {
+  t = std::clamp(t, 0.0, 1.0);
+  if (t < 0.5) return rgb(1.0, 1.0, 1.0 - 2.0 * t * 0.9);
+  return rgb(1.0 - (t - 0.5) * 0.9, 1.0 - (t - 0.5) * 2.0 * 0.95, 0.1);
+}
+
+// Blue (-1) -> white (0) -> red (+1).
+std::string diverging(double t) {
+  t = std::clamp(t, -1.0, 1.0);
+  return t < 0 ? rgb(1.0 + t * 0.8, 1.0 + t * 0.6, 1.0) : rgb(1.0, 1.0 - t * 0.6, 1.0 - t * 0.8);
+}
+
+std::string number(double value, int precision = 3) {
+  std::ostringstream out;
+  out.precision(precision);
+  out << value;
+  return out.str();
+}
+
+// Round axis ticks: about `count` values covering [lo, hi].
+std::vector<double> ticks(double lo, double hi, int count) {
+  const double span = hi - lo;
+  if (!(span > 0)) return {lo};
+  const double raw = span / count;
+  const double magnitude = std::pow(10.0, std::floor(std::log10(raw)));
+  double step = magnitude;
+  for (double factor : {1.0, 2.0, 5.0, 10.0}) {
+    step = factor * magnitude;
+    if (raw <= step) break;
+  }
+  std::vector<double> out;
+  for (double v = std::ceil(lo / step) * step; v <= hi + 1e-9 * span; v += step) out.push_back(v);
+  return out;
+}
+
+void save(const std::filesystem::path& path, const std::string& svg) {
+  if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
+  const std::filesystem::path partial = path.string() + ".partial";
+  {
+    std::ofstream out(partial);
+    if (!out) throw_error(path.string(), ": cannot write figure");
+    out << svg;
+    if (!out) throw_error(path.string(), ": write failed");
+  }
+  std::filesystem::rename(partial, path);
+}
+
+}  // namespace
+
+void write_svg(const LineChart& chart, const std::filesystem::path& path) {
+  const double width = 720, height = 440, left = 70, right = 180, top = 40, bottom = 55;
+  auto tx = [&](double v) { return chart.log_x ? std::log10(v) : v; };
+  auto ty = [&](double v) { return chart.log_y ? std::log10(v) : v; };
+  auto usable = [&](double x, double y) {
+    return std::isfinite(x) && std::isfinite(y) && (!chart.log_x || x > 0) && (!chart.log_y || y > 0);
+  };
+  double x0 = std::numeric_limits<double>::infinity(), x1 = -x0, y0 = x0, y1 = -x0;
+  for (const auto& s : chart.series) {
+    for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); ++i) {
+      if (!usable(s.x[i], s.y[i])) continue;
+      x0 = std::min(x0, tx(s.x[i])), x1 = std::max(x1, tx(s.x[i]));
+      y0 = std::min(y0, ty(s.y[i])), y1 = std::max(y1, ty(s.y[i]));
+    }
+  }
+  if (!std::isfinite(x0)) x0 = 0, x1 = 1, y0 = 0, y1 = 1;
+  if (!chart.log_y) y0 = std::min(y0, 0.0);
+  if (x1 <= x0) x1 = x0 + 1;
+  if (y1 <= y0) y1 = y0 + 1;
+  y1 += 0.05 * (y1 - y0);
+  const double plot_w = width - left - right, plot_h = height - top - bottom;
+  auto px = [&](double v) { return left + (tx(v) - x0) / (x1 - x0) * plot_w; };
+  auto py = [&](double v) { return top + plot_h - (ty(v) - y0) / (y1 - y0) * plot_h; };
+  std::ostringstream svg;
+  svg << "<svg xmlns='http://www.w3.org/2000/svg' width='" << width << "' height='" << height
+      << "' font-family='sans-serif' font-size='12'>\n<rect width='100%' height='100%' fill='white'/>\n";
+  svg << "<text x='" << width / 2 << "' y='22' text-anchor='middle' font-size='15'>" << escape(chart.title)
+      << "</text>\n";
+  svg << "<rect x='" << left << "' y='" << top << "' width='" << plot_w << "' height='" << plot_h
+      << "' fill='none' stroke='black'/>\n";
+  auto axis_value = [](double v, bool log) { return log ? std::pow(10.0, v) : v; };
+  for (double t : ticks(x0, x1, 6)) {
+    const double x = left + (t - x0) / (x1 - x0) * plot_w;
+    svg << "<line x1='" << x << "' y1='" << top + plot_h << "' x2='" << x << "' y2='" << top
+        << "' stroke='#ddd'/><text x='" << x << "' y='" << top + plot_h + 16
+        << "' text-anchor='middle'>" << number(axis_value(t, chart.log_x)) << "</text>\n";
+  }
+  for (double t : ticks(y0, y1, 6)) {
+    const double y = top + plot_h - (t - y0) / (y1 - y0) * plot_h;
+    svg << "<line x1='" << left << "' y1='" << y << "' x2='" << left + plot_w << "' y2='" << y
+        << "' stroke='#ddd'/><text x='" << left - 6 << "' y='" << y + 4 << "' text-anchor='end'>"
+        << number(axis_value(t, chart.log_y)) << "</text>\n";
+  }
+  svg << "<text x='" << left + plot_w / 2 << "' y='" << height - 15 << "' text-anchor='middle'>"
+      << escape(chart.x_label) << "</text>\n";
+  svg << "<text transform='translate(18," << top + plot_h / 2 << ") rotate(-90)' text-anchor='middle'>"
+      << escape(chart.y_label) << "</text>\n";
+  for (std::size_t s = 0; s < chart.series.size(); ++s) {
+    const auto& series = chart.series[s];
+    const char* colour = kPalette[s % std::size(kPalette)];
+    svg << "<polyline fill='none' stroke='" << colour << "' stroke-width='2'"
+        << (series.dashed ? " stroke-dasharray='6,4'" : "") << " points='";
+    for (std::size_t i = 0; i < series.x.size() && i < series.y.size(); ++i) {
+      if (usable(series.x[i], series.y[i])) svg << px(series.x[i]) << ',' << py(series.y[i]) << ' ';
+    }
+    svg << "'/>\n";
+    for (std::size_t i = 0; i < series.x.size() && i < series.y.size(); ++i) {
+      if (usable(series.x[i], series.y[i])) {
+        svg << "<circle cx='" << px(series.x[i]) << "' cy='" << py(series.y[i]) << "' r='2.5' fill='" << colour
+            << "'/>\n";
+      }
+    }
+    const double ly = top + 14 + 18 * static_cast<double>(s);
+    svg << "<line x1='" << width - right + 12 << "' y1='" << ly << "' x2='" << width - right + 36
+        << "' y2='" << ly << "' stroke='" << colour << "' stroke-width='2'"
+        << (series.dashed ? " stroke-dasharray='6,4'" : "") << "/><text x='" << width - right + 42 << "' y='"
+        << ly + 4 << "'>" << escape(series.name) << "</text>\n";
+  }
+  svg << "</svg>\n";
+  save(path, svg.str());
+}
+
+void write_svg(const HeatMap& map, const std::filesystem::path& path) {
+  const double cell_w = 90, cell_h = 50, left = 110, top = 60;
+  const double width = left + cell_w * static_cast<double>(map.column_names.size()) + 40;
+  const double height = top + cell_h * static_cast<double>(map.row_names.size()) + 60;
+  double max_abs = 0.0;
+  for (const auto& row : map.values) {
+    for (double v : row) {
+      if (std::isfinite(v)) max_abs = std::max(max_abs, std::abs(v));
+    }
+  }
+  if (max_abs == 0.0) max_abs = 1.0;
+  std::ostringstream svg;
+  svg << "<svg xmlns='http://www.w3.org/2000/svg' width='" << width << "' height='" << height
+      << "' font-family='sans-serif' font-size='12'>\n<rect width='100%' height='100%' fill='white'/>\n";
+  svg << "<text x='" << width / 2 << "' y='22' text-anchor='middle' font-size='15'>" << escape(map.title)
+      << (map.unit.empty() ? "" : " (" + escape(map.unit) + ")") << "</text>\n";
+  for (std::size_t c = 0; c < map.column_names.size(); ++c) {
+    svg << "<text x='" << left + cell_w * (static_cast<double>(c) + 0.5) << "' y='" << top - 8
+        << "' text-anchor='middle'>" << escape(map.column_names[c]) << "</text>\n";
+  }
+  for (std::size_t r = 0; r < map.row_names.size(); ++r) {
+    const double y = top + cell_h * static_cast<double>(r);
+    svg << "<text x='" << left - 8 << "' y='" << y + cell_h / 2 + 4 << "' text-anchor='end'>"
+        << escape(map.row_names[r]) << "</text>\n";
+    for (std::size_t c = 0; c < map.column_names.size(); ++c) {
+      const double v = r < map.values.size() && c < map.values[r].size()
+                           ? map.values[r][c]
+                           : std::numeric_limits<double>::quiet_NaN();
+      const double x = left + cell_w * static_cast<double>(c);
+      const std::string fill = !std::isfinite(v) ? "#cccccc"
+                               : map.diverging   ? diverging(v / max_abs)
+                                                 : sequential(v / max_abs);
+      std::string text = std::isfinite(v) ? number(v) : "n/a";
+      if (r < map.cell_text.size() && c < map.cell_text[r].size() && !map.cell_text[r][c].empty()) {
+        text = map.cell_text[r][c];
+      }
+      svg << "<rect x='" << x << "' y='" << y << "' width='" << cell_w << "' height='" << cell_h
+          << "' fill='" << fill << "' stroke='white'/><text x='" << x + cell_w / 2 << "' y='"
+          << y + cell_h / 2 + 4 << "' text-anchor='middle'>" << escape(text) << "</text>\n";
+    }
+  }
+  svg << "<text x='" << left + cell_w * static_cast<double>(map.column_names.size()) / 2 << "' y='"
+      << height - 20 << "' text-anchor='middle'>" << escape(map.column_label) << "</text>\n";
+  svg << "<text transform='translate(16," << top + cell_h * static_cast<double>(map.row_names.size()) / 2
+      << ") rotate(-90)' text-anchor='middle'>" << escape(map.row_label) << "</text>\n</svg>\n";
+  save(path, svg.str());
+}
+
+void write_mesh_svg(const std::vector<const geometry::TriMesh*>& meshes, const std::string& field,
+                    double max_value, const geometry::Vec3& view_direction, const geometry::Vec3& up,
+                    const std::string& title, const std::filesystem::path& path) {
+  const geometry::Vec3 w = view_direction.normalized();                  // looking along w
+  const geometry::Vec3 v = (up - up.dot(w) * w).normalized();              // screen up
+  const geometry::Vec3 u = w.cross(v);                                     // screen right
+  struct Face {
+    double depth;
+    double x[3], y[3];
+    std::string colour;
+  };
+  std::vector<Face> faces;
+  double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
+  for (const auto* mesh : meshes) {
+    const auto found = mesh->vertex_fields.find(field);
+    const std::vector<double>* values = found == mesh->vertex_fields.end() ? nullptr : &found->second;
+    for (std::size_t t = 0; t < mesh->num_triangles(); ++t) {
+      const geometry::Vec3 n = geometry::triangle_unit_normal(*mesh, t);
+      if (n.dot(w) >= 0.0) continue;  // back face
+      Face face{};
+      double value = 0.0;
+      for (int k = 0; k < 3; ++k) {
+        const auto index = static_cast<std::size_t>(mesh->triangles[t][k]);
+        const geometry::Vec3& p = mesh->vertices[index];
+        face.x[k] = p.dot(u);
+        face.y[k] = -p.dot(v);
+        face.depth += p.dot(w) / 3.0;
+        if (values) value = std::max(value, (*values)[index]);
+        x0 = std::min(x0, face.x[k]), x1 = std::max(x1, face.x[k]);
+        y0 = std::min(y0, face.y[k]), y1 = std::max(y1, face.y[k]);
+      }
+      const double shade = 0.45 + 0.55 * std::abs(n.dot(w));
+      if (values && value > 0.0) {
+        const double t01 = max_value > 0 ? std::clamp(value / max_value, 0.0, 1.0) : 1.0;
+        face.colour = rgb(shade, shade * (1.0 - 0.85 * t01), shade * (1.0 - t01));
+      } else {
+        face.colour = rgb(shade * 0.92, shade * 0.9, shade * 0.86);
+      }
+      faces.push_back(face);
+    }
+  }
+  std::sort(faces.begin(), faces.end(), [](const Face& a, const Face& b) { return a.depth > b.depth; });
+  const double size = 640, margin = 40;
+  const double scale = (size - 2 * margin) / std::max({x1 - x0, y1 - y0, 1e-9});
+  std::ostringstream svg;
+  svg << "<svg xmlns='http://www.w3.org/2000/svg' width='" << size << "' height='" << size + 40
+      << "' font-family='sans-serif' font-size='13'>\n<rect width='100%' height='100%' fill='white'/>\n"
+      << "<text x='" << size / 2 << "' y='22' text-anchor='middle'>" << escape(title) << "</text>\n";
+  svg.precision(5);
+  for (const Face& face : faces) {
+    svg << "<polygon points='";
+    for (int k = 0; k < 3; ++k) {
+      svg << margin + (face.x[k] - x0) * scale << ',' << 40 + margin + (face.y[k] - y0) * scale << ' ';
+    }
+    svg << "' fill='" << face.colour << "' stroke='" << face.colour << "' stroke-width='0.3'/>\n";
+  }
+  svg << "<text x='" << margin << "' y='" << size + 30 << "'>white/grey: 0 mm, red: " << number(max_value)
+      << " mm and deeper</text>\n</svg>\n";
+  save(path, svg.str());
+}
+
+}  // namespace hipfai::studies

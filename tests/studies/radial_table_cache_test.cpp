@@ -1,0 +1,58 @@
+#include "studies/radial_table_cache.h"
+
+#include "contact/radial_segmenting.h"
+#include "geometry/primitive_meshes.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+namespace hipfai::studies {
+namespace {
+
+// A table read back from disk must answer every query exactly like the table it was saved from.
+TEST(RadialTableCache, RoundTripAnswersIdentically) {
+  // A socket: spherical shell 10..12 mm (inner surface wound inward), and a ball slightly too big.
+  auto inner = geometry::make_octasphere(geometry::Vec3(0.5, 0, 0), 10.0, 4);
+  for (auto& t : inner.triangles) std::swap(t[1], t[2]);
+  const auto outer = geometry::make_octasphere(geometry::Vec3(0.5, 0, 0), 12.0, 4);
+  const auto socket = geometry::merge_meshes({&inner, &outer});
+  auto ball = geometry::make_octasphere(geometry::Vec3(0, 0.3, 0.2), 10.2, 4);
+  for (const auto mapping : {contact::RadialMapping::kSpherical, contact::RadialMapping::kCartesian,
+                             contact::RadialMapping::kCube}) {
+    contact::RadialTableOptions options;
+    options.mapping = mapping;
+    options.table_size = 1500;
+    const auto table = contact::build_radial_table(socket, geometry::Vec3::Zero(), options);
+    const auto path = std::filesystem::temp_directory_path() / "hipfai_radial_table.bin";
+    save_radial_table(table, path);
+    const auto loaded = load_radial_table(path);
+    ASSERT_TRUE(loaded.has_value());
+    EXPECT_EQ(loaded->num_entries(), table.num_entries());
+    const auto a = contact::radial_segmenting(table, socket, ball, {});
+    const auto b = contact::radial_segmenting(*loaded, socket, ball, {});
+    ASSERT_GT(a.pairs.size(), 0u);
+    ASSERT_EQ(a.pairs.size(), b.pairs.size());
+    for (std::size_t i = 0; i < a.pairs.size(); ++i) {
+      EXPECT_EQ(a.pairs[i].mobile_vertex, b.pairs[i].mobile_vertex);
+      EXPECT_EQ(a.pairs[i].fixed_triangle, b.pairs[i].fixed_triangle);
+      EXPECT_EQ(a.pairs[i].depth_mm, b.pairs[i].depth_mm);
+    }
+  }
+}
+
+TEST(RadialTableCache, DamagedFileIsRejectedNotTrusted) {
+  const auto path = std::filesystem::temp_directory_path() / "hipfai_radial_table_bad.bin";
+  const auto socket = geometry::make_octasphere(geometry::Vec3::Zero(), 10.0, 2);
+  save_radial_table(contact::build_radial_table(socket, geometry::Vec3::Zero(), {}), path);
+  const auto size = std::filesystem::file_size(path);
+  std::filesystem::resize_file(path, size / 2);
+  EXPECT_FALSE(load_radial_table(path).has_value());
+  std::ofstream(path) << "not a table";
+  EXPECT_FALSE(load_radial_table(path).has_value());
+  EXPECT_FALSE(load_radial_table(path.string() + ".missing").has_value());
+}
+
+}  // namespace
+}  // namespace hipfai::studies
