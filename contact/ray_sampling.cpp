@@ -20,8 +20,20 @@ RayCrossing cross(const geometry::TriMesh& fixed, const Vec3& centre, const Vec3
 
 RaySamplingTable build_ray_sampling_table(const geometry::TriMesh& fixed, const Vec3& centre,
                                           const RadialTableOptions& options,
-                                          RadialConfiguration configuration) {
-  const RadialTable exact = build_radial_table(fixed, centre, options);
+                                          RadialConfiguration configuration,
+                                          bool scan_all_triangles) {
+  RadialTable exact;
+  if (scan_all_triangles) {
+    geometry::validate_mesh(fixed, "ray sampling table: fixed mesh");
+    exact.grid = make_radial_grid(options.mapping, options.table_size);
+    exact.always_candidates.resize(fixed.num_triangles());
+    for (std::size_t t = 0; t < fixed.num_triangles(); ++t) {
+      exact.always_candidates[t] = static_cast<std::int32_t>(t);
+    }
+    exact.cells.resize(static_cast<std::size_t>(exact.grid.num_cells()));
+  } else {
+    exact = build_radial_table(fixed, centre, options);
+  }
   RaySamplingTable table;
   table.grid = exact.grid;
   table.centre = centre;

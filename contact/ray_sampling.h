@@ -12,9 +12,10 @@
 // Approximate by design: a vertex whose ray crosses another triangle of the same cell is missed
 // (Fig. 19); the miss rate falls as the table grows but does not reach zero for every shape.
 //
-// The per-cell search uses the exact radial table (radial_table.h) as an accelerator, so this
-// implementation's pre-processing time is NOT that of the original (which scanned every triangle
-// per cell); the stored triangles are the same.
+// By default the per-cell search uses the exact radial table (radial_table.h) as an accelerator;
+// `scan_all_triangles` = true runs the original pre-processing instead (every triangle for every
+// cell, O(cells x triangles), thesis §3.3.3.1.4), for timing comparisons. Both store the same
+// triangles.
 #pragma once
 
 #include "contact/penetration.h"
@@ -36,7 +37,8 @@ struct RaySamplingTable {
 
 RaySamplingTable build_ray_sampling_table(const geometry::TriMesh& fixed, const Vec3& centre,
                                           const RadialTableOptions& options,
-                                          RadialConfiguration configuration);
+                                          RadialConfiguration configuration,
+                                          bool scan_all_triangles = false);
 
 // Same status conventions as radial_segmenting().
 PenetrationResult ray_sampling(const RaySamplingTable& table, const geometry::TriMesh& fixed,

@@ -1,5 +1,6 @@
 #include "contact/ray_triangle.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -34,18 +35,18 @@ void grow_expansion(double* e, int& n, double b) {
   e[n++] = q;
 }
 
-// Exact sign of d . (p x q) (the orientation predicate): a floating-point filter, then exact
-// expansion arithmetic when the filter cannot decide. Exact signs are what make the ray test
-// watertight at shared vertices: a ray through a vertex gives exactly zero on all its edges.
-int triple_product_sign(const Vec3& d, const Vec3& p, const Vec3& q) {
-  const double approx = d.dot(p.cross(q));
-  const double permanent =
-      std::abs(d.x()) * (std::abs(p.y() * q.z()) + std::abs(p.z() * q.y())) +
-      std::abs(d.y()) * (std::abs(p.z() * q.x()) + std::abs(p.x() * q.z())) +
-      std::abs(d.z()) * (std::abs(p.x() * q.y()) + std::abs(p.y() * q.x()));
-  // The evaluation error is below ~6 ulps of the permanent; 1e-14 leaves a wide margin.
-  if (std::abs(approx) > 1e-14 * permanent) return approx > 0.0 ? 1 : -1;
-  if (approx == 0.0 && permanent == 0.0) return 0;
+double max_abs(const Vec3& v) {
+  return std::max({std::abs(v.x()), std::abs(v.y()), std::abs(v.z())});
+}
+
+// Exact sign of d . (p x q) (the orientation predicate) given its float evaluation `approx`:
+// a floating-point filter, then exact expansion arithmetic when the filter cannot decide. Exact
+// signs are what make the ray test watertight at shared vertices: a ray through a vertex gives
+// exactly zero on all its edges. `scale` = max|d_i| max|p_i| max|q_i| bounds each of the six
+// products, so the float evaluation errs by less than ~6 ulps x 6 scale < 1e-14 x 6 scale.
+int filtered_sign(const Vec3& d, const Vec3& p, const Vec3& q, double approx, double scale) {
+  if (std::abs(approx) > 6e-14 * scale) return approx > 0.0 ? 1 : -1;
+  if (scale == 0.0) return 0;  // a zero vector: the product is exactly zero
   const double terms[6][3] = {{d.x(), p.y(), q.z()},  {-d.x(), p.z(), q.y()},
                               {d.y(), p.z(), q.x()},  {-d.y(), p.x(), q.z()},
                               {d.z(), p.x(), q.y()},  {-d.z(), p.y(), q.x()}};
@@ -66,10 +67,22 @@ int triple_product_sign(const Vec3& d, const Vec3& p, const Vec3& q) {
   return 0;
 }
 
+// Edge function in canonical order: its float value (bit-antisymmetric) and exact sign.
+int signed_edge(const Vec3& d, const Vec3& p, const Vec3& q, double scale, double& value) {
+  const bool swap = lexicographic_less(q, p);
+  const Vec3& first = swap ? q : p;
+  const Vec3& second = swap ? p : q;
+  const double raw = d.dot(first.cross(second));
+  const int sign = filtered_sign(d, first, second, raw, scale);
+  value = swap ? -raw : raw;
+  return swap ? -sign : sign;
+}
+
 }  // namespace
 
 int edge_sign(const Vec3& direction, const Vec3& p, const Vec3& q) {
-  return triple_product_sign(direction, p, q);
+  double value = 0.0;
+  return signed_edge(direction, p, q, max_abs(direction) * max_abs(p) * max_abs(q), value);
 }
 
 double edge_function(const Vec3& direction, const Vec3& p, const Vec3& q) {
@@ -82,19 +95,20 @@ double edge_function(const Vec3& direction, const Vec3& p, const Vec3& q) {
 RayCrossing ray_triangle_crossing(const Vec3& direction, const Vec3& a, const Vec3& b,
                                   const Vec3& c) {
   RayCrossing crossing;
-  const Vec3 area_normal = (b - a).cross(c - a);
-  if (area_normal.x() == 0.0 && area_normal.y() == 0.0 && area_normal.z() == 0.0) return crossing;
-  // The decision uses exact signs; the values only give the point and weights.
-  const int s_ab = triple_product_sign(direction, a, b);
-  const int s_bc = triple_product_sign(direction, b, c);
-  const int s_ca = triple_product_sign(direction, c, a);
+  // The decision uses exact signs; the values only give the point and weights. Opposite signs
+  // on two edges already mean a miss, the common case, so it is tested first.
+  double e_ab = 0.0, e_bc = 0.0, e_ca = 0.0;
+  const double m_d = max_abs(direction), m_a = max_abs(a), m_b = max_abs(b), m_c = max_abs(c);
+  const int s_ab = signed_edge(direction, a, b, m_d * m_a * m_b, e_ab);
+  const int s_bc = signed_edge(direction, b, c, m_d * m_b * m_c, e_bc);
+  if (s_ab * s_bc < 0) return crossing;
+  const int s_ca = signed_edge(direction, c, a, m_d * m_c * m_a, e_ca);
   int facing = 0;
   if (s_ab >= 0 && s_bc >= 0 && s_ca >= 0 && (s_ab + s_bc + s_ca) > 0) facing = 1;
   if (s_ab <= 0 && s_bc <= 0 && s_ca <= 0 && (s_ab + s_bc + s_ca) < 0) facing = -1;
   if (facing == 0) return crossing;  // outside, or the ray lies in the triangle's plane
-  const double e_ab = edge_function(direction, a, b);
-  const double e_bc = edge_function(direction, b, c);
-  const double e_ca = edge_function(direction, c, a);
+  const Vec3 area_normal = (b - a).cross(c - a);
+  if (area_normal.x() == 0.0 && area_normal.y() == 0.0 && area_normal.z() == 0.0) return crossing;
   // d . N with the facing's sign: rounding may flip the float sign only for rays grazing the
   // plane, where the crossing distance is meaningless anyway (treated as no crossing below).
   const double along_normal = direction.dot(area_normal);

@@ -285,8 +285,8 @@ TEST(RadialSegmenting, InvalidInputIsAStatusNotACrash) {
 // also run on the small levels. Prints pre-processing and per-pose query times.
 TEST(RadialSegmenting, SphereVersusCubeTable2MatchesClosedFormWithTimings) {
   const double radius = 25.0, bottom = 0.66 * radius;
-  std::printf("\n%-10s %7s %7s %8s %12s %12s %8s\n", "mapping", "sphereV", "boxTri", "cells",
-              "preproc_ms", "query_ms", "pairs");
+  std::printf("\n%-10s %7s %7s %8s %11s %10s %12s %8s\n", "mapping", "sphereV", "boxTri",
+              "cells", "preproc_ms", "query_ms", "query2t_ms", "pairs");
   for (int level = 2; level <= 8; ++level) {
     const int divisions = std::min(4 << (level - 2), 64);
     const TriMesh box = geometry::make_box(Vec3(-radius, -radius, bottom),
@@ -303,6 +303,11 @@ TEST(RadialSegmenting, SphereVersusCubeTable2MatchesClosedFormWithTimings) {
       const auto t1 = std::chrono::steady_clock::now();
       const auto result = radial_segmenting(table, box, sphere, {});
       const auto t2 = std::chrono::steady_clock::now();
+      RadialQueryOptions two_threads;
+      two_threads.num_threads = 2;
+      const auto result2 = radial_segmenting(table, box, sphere, two_threads);
+      const auto t3 = std::chrono::steady_clock::now();
+      expect_same(result2, result, "two threads");
       ASSERT_EQ(result.pairs.size(), expected_count) << to_string(mapping) << " level " << level;
       for (const auto& pair : result.pairs) {
         const Vec3& v = sphere.vertices[static_cast<std::size_t>(pair.mobile_vertex)];
@@ -316,9 +321,10 @@ TEST(RadialSegmenting, SphereVersusCubeTable2MatchesClosedFormWithTimings) {
                     "sphere-cube");
       }
       using ms = std::chrono::duration<double, std::milli>;
-      std::printf("%-10s %7zu %7zu %8d %12.3f %12.3f %8zu\n", to_string(mapping),
+      std::printf("%-10s %7zu %7zu %8d %11.3f %10.3f %12.3f %8zu\n", to_string(mapping),
                   sphere.num_vertices(), box.num_triangles(), table.grid.num_cells(),
-                  ms(t1 - t0).count(), ms(t2 - t1).count(), result.pairs.size());
+                  ms(t1 - t0).count(), ms(t2 - t1).count(), ms(t3 - t2).count(),
+                  result.pairs.size());
     }
   }
 }

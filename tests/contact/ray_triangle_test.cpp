@@ -57,6 +57,25 @@ TEST(RayTriangle, EdgeFunctionIsExactlyAntisymmetric) {
   }
 }
 
+// A ray exactly through a vertex P (d = 2 P, exact) lies in the plane of every edge at P: the
+// float triple product is rounding noise, the exact predicate must say 0 on both orders.
+TEST(RayTriangle, EdgeSignIsExactThroughVertices) {
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<double> u(-30.0, 30.0);
+  int noisy = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const Vec3 p(u(rng), u(rng), u(rng)), q(u(rng), u(rng), u(rng));
+    const Vec3 d = 2.0 * p;
+    noisy += (d.dot(p.cross(q)) != 0.0);
+    ASSERT_EQ(edge_sign(d, p, q), 0);
+    ASSERT_EQ(edge_sign(d, q, p), 0);
+    // And a clearly non-degenerate case keeps the float sign.
+    const Vec3 off = d + q.cross(p).normalized();
+    ASSERT_EQ(edge_sign(off, p, q), off.dot(p.cross(q)) > 0 ? 1 : -1);
+  }
+  EXPECT_GT(noisy, 1000);  // the float evaluation alone would have decided wrongly/randomly
+}
+
 // The thesis' own test (App. F, Eq. 34-35): plane distance, then u, v in the xy projection.
 bool thesis_hit(const Vec3& d, const Vec3& a, const Vec3& b, const Vec3& c, double& dist) {
   const Vec3 unit = d.normalized();
