@@ -370,7 +370,7 @@ bool polygon_plane_clear_of_centre(const Vec3& a, const Vec3& b, const Vec3& c) 
   if (normal_length == 0.0) return false;
   const double plane_distance = std::abs(a.dot(normal)) / normal_length;
   const double size = std::max({a.norm(), b.norm(), c.norm()});
-  return plane_distance > 1e-9 * size;
+  return plane_distance > 1e-6 * size;
 }
 
 void cells_of_polygon(const RadialGrid& grid, std::span<const Vec3> polygon,

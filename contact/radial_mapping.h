@@ -89,8 +89,9 @@ Vec3 cell_centre_direction(const RadialGrid& grid, int cell);
 void cells_of_polygon(const RadialGrid& grid, std::span<const Vec3> polygon,
                       std::vector<int>& cells);
 
-// True when the triangle's plane passes clearly away from O (relative volume test), i.e. its cone
-// from O is a proper spherical triangle that cells_of_polygon can bin.
+// True when the triangle's plane passes clearly away from O, i.e. its cone from O is a proper
+// spherical triangle that cells_of_polygon can bin: plane distance > 1e-6 x the largest vertex
+// distance, and non-zero area. The others go to the table's always-checked list.
 bool polygon_plane_clear_of_centre(const Vec3& a, const Vec3& b, const Vec3& c);
 
 // Appends every cell meeting the spherical cap of angular radius `radius_rad` around `direction`

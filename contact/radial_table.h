@@ -5,8 +5,9 @@
 // conservative: see cells_of_polygon in radial_mapping.h), so a ray from O in any direction finds,
 // in the cell of that direction, every triangle it crosses. Two special lists:
 //   - zero-area triangles are stored nowhere (no ray crosses them, ray_triangle.h);
-//   - triangles whose plane passes within 1e-9 x their size of O (their cone degenerates to a
-//     fan in a plane through O) are kept in `always_candidates` and checked by every query.
+//   - triangles whose plane passes within 1e-6 x their largest vertex distance of O (their cone
+//     degenerates toward a fan in a plane through O, which direction bins cannot hold robustly)
+//     are kept in `always_candidates` and checked by every query.
 // The table stores indices only: the fixed mesh's coordinates are read at query time, so a
 // deformation along the rays (radial, §3.3.4) needs no update at all.
 //

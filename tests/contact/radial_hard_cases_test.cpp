@@ -330,6 +330,33 @@ TEST(RadialHardCases, TwoNestedLayersUseTheNormalsFig40) {
   }
 }
 
+// The centre on the fixed surface: triangles whose plane contains O (a box face through O, the
+// fan around an octasphere vertex at O) cannot be binned by direction; they go to the always
+// list, and crossings at O itself (t = 0) do not count.
+TEST(RadialHardCases, TrianglesWhosePlanePassesThroughTheCentre) {
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> g;
+  std::vector<Vec3> vertices;
+  for (int i = 0; i < 400; ++i) vertices.push_back(15.0 * Vec3(g(rng), g(rng), g(rng)));
+  const TriMesh mobile = points(vertices);
+  // O = (0, 0, 0) inside the face y = 0 of the box.
+  const TriMesh box = geometry::make_box(Vec3(-10, 0, -10), Vec3(10, 20, 10), 3);
+  const RadialTable table = build_radial_table(box, Vec3::Zero(), {RadialMapping::kCube, 500});
+  EXPECT_FALSE(table.always_candidates.empty());
+  std::size_t total = 0;
+  for (const auto configuration :
+       {RadialConfiguration::kMobileInsideFixed, RadialConfiguration::kFixedInsideMobile}) {
+    total += check_all(box, mobile, Vec3::Zero(), configuration).pairs.size();
+  }
+  // O at a vertex of a sphere (the sphere's surface passes through O).
+  const TriMesh sphere = geometry::make_octasphere(Vec3(0, 0, -20), 20.0, 3);
+  for (const auto configuration :
+       {RadialConfiguration::kMobileInsideFixed, RadialConfiguration::kFixedInsideMobile}) {
+    total += check_all(sphere, mobile, Vec3::Zero(), configuration).pairs.size();
+  }
+  EXPECT_GT(total, 100u);
+}
+
 TEST(RadialHardCases, CoordinatesFarFromTheOrigin) {
   const Vec3 far(1e4, -1e4, 1e4);
   // Exact case: integer patch moved by an integer offset: same closed form as near the origin.
