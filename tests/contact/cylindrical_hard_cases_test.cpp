@@ -325,6 +325,34 @@ TEST(CylindricalHardCases, RealFemurAgainstPelvis) {
     }
   }
   EXPECT_GT(penetrating, 0u);  // the poses really collide somewhere
+
+  // Timing report (printed, never asserted): per-pose cost of a sweep with the pose cache vs the
+  // one-shot query on a posed femur, about the flexion-like axis y.
+  const Vec3 axis(0, 1, 0);
+  for (int threads : {1, 2}) {
+    CylindricalQueryOptions options;
+    options.num_threads = threads;
+    const auto start = std::chrono::steady_clock::now();
+    const CylindricalTable table = CylindricalTable::build(pelvis, hjc, axis, {}, &femur);
+    const auto table_done = std::chrono::steady_clock::now();
+    const CylindricalPoseCache cache(table, femur, options);
+    const auto cache_done = std::chrono::steady_clock::now();
+    std::size_t pairs = 0;
+    constexpr int kPoses = 36;
+    for (int i = 0; i < kPoses; ++i) pairs += cache.query(-90.0 + 5.0 * i).pairs.size();
+    const auto sweep_done = std::chrono::steady_clock::now();
+    TriMesh posed = femur;
+    geometry::rotate_about_axis(posed, hjc, axis, -40.0 * kPi / 180);
+    const PenetrationResult one_shot = cylindrical_segmenting(table, posed, options);
+    const auto one_shot_done = std::chrono::steady_clock::now();
+    const auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
+    std::cout << "[ timing ] " << threads << " thread(s), pelvis " << pelvis.num_triangles()
+              << " triangles, femur " << femur.num_vertices() << " vertices: table "
+              << ms(start, table_done) << " ms, pose cache " << ms(table_done, cache_done)
+              << " ms, per pose " << ms(cache_done, sweep_done) / kPoses << " ms (" << pairs
+              << " pairs over " << kPoses << " poses), one-shot query on the table "
+              << ms(sweep_done, one_shot_done) << " ms (" << one_shot.pairs.size() << " pairs)\n";
+  }
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 // The joint range finder against closed forms, the exhaustive oracle, and ever finer stepping.
 #include "contact/range_finder.h"
 #include "contact/oracle_cylindrical.h"
+#include "geometry/mesh_io.h"
 #include "geometry/primitive_meshes.h"
 
 #include <gtest/gtest.h>
@@ -8,6 +9,7 @@
 #include <cmath>
 #include <numbers>
 #include <random>
+#include <set>
 #include <string>
 
 namespace hipfai::contact {
@@ -191,6 +193,55 @@ TEST(RangeFinder, FanAndSphereOfAxes) {
   const RangeOfMotion backward = range_of_motion(scene.fixed, scene.mobile, scene.centre, -scene.axis);
   EXPECT_NEAR(forward.anticlockwise_deg, backward.clockwise_deg, 1e-9);
   EXPECT_NEAR(forward.clockwise_deg, backward.anticlockwise_deg, 1e-9);
+}
+
+// Points of `mesh` as a mesh of zero-area triangles (i, i, i): only the vertices can touch.
+TriMesh subsample(const TriMesh& mesh, std::size_t every, const std::set<std::int32_t>& extra,
+                  std::vector<std::int32_t>& original) {
+  std::set<std::int32_t> chosen(extra);
+  for (std::size_t v = 0; v < mesh.vertices.size(); v += every) chosen.insert(static_cast<std::int32_t>(v));
+  TriMesh points;
+  original.assign(chosen.begin(), chosen.end());
+  for (std::int32_t v : original) {
+    points.vertices.push_back(mesh.vertices[static_cast<std::size_t>(v)]);
+    const auto i = static_cast<std::int32_t>(points.vertices.size() - 1);
+    points.triangles.push_back({i, i, i});
+  }
+  return points;
+}
+
+TEST(RangeFinder, RealFemurAgainstPelvisMatchesOracleOnSubsamples) {
+  const std::string folder = std::string(HIPFAI_SHARED_DIR) + "/data/real-hips/LHDL_CT/";
+  const TriMesh pelvis = geometry::read_mesh(folder + "pelvis_no_sacrum.ply");
+  const TriMesh femur = geometry::read_mesh(folder + "femur_r.ply");
+  const Vec3 hjc(143.80, 243.46, -432.58), axis(0, 0, 1);
+  const RangeOfMotion full = range_of_motion(pelvis, femur, hjc, axis);
+  ASSERT_LT(full.anticlockwise_deg, 360.0);
+  ASSERT_LT(full.clockwise_deg, 360.0);
+  // Limiting vertices of each kind, so the subsampled problems keep the true limits.
+  std::set<std::int32_t> femur_extra, pelvis_extra;
+  for (const LimitingContact& limit : {full.anticlockwise_limit, full.clockwise_limit}) {
+    (limit.kind == ContactKind::kMobileVertexOnFixedTriangle ? femur_extra : pelvis_extra).insert(limit.vertex);
+  }
+  // Femur points against pelvis triangles; pelvis points against femur triangles.
+  std::vector<std::int32_t> femur_ids, pelvis_ids;
+  const TriMesh femur_points = subsample(femur, 240, femur_extra, femur_ids);
+  const TriMesh pelvis_points = subsample(pelvis, 320, pelvis_extra, pelvis_ids);
+  RangeOfMotionOptions vertices_only;
+  vertices_only.include_fixed_vertices = false;
+  const RangeOfMotion mobile_fast = range_of_motion(pelvis, femur_points, hjc, axis, vertices_only);
+  const RangeOfMotion mobile_oracle = oracle_range_of_motion(pelvis, femur_points, hjc, axis, false);
+  const RangeOfMotion fixed_fast = range_of_motion(pelvis_points, femur, hjc, axis);
+  const RangeOfMotion fixed_oracle = oracle_range_of_motion(pelvis_points, femur, hjc, axis, true);
+  // Same closed form on the same coordinates: equal to rounding (1e-9 degrees).
+  EXPECT_NEAR(mobile_fast.anticlockwise_deg, mobile_oracle.anticlockwise_deg, 1e-9);
+  EXPECT_NEAR(mobile_fast.clockwise_deg, mobile_oracle.clockwise_deg, 1e-9);
+  EXPECT_NEAR(fixed_fast.anticlockwise_deg, fixed_oracle.anticlockwise_deg, 1e-9);
+  EXPECT_NEAR(fixed_fast.clockwise_deg, fixed_oracle.clockwise_deg, 1e-9);
+  // The full range is the smaller of the two contact types, and the subsamples keep its limits.
+  EXPECT_NEAR(full.anticlockwise_deg,
+              std::min(mobile_oracle.anticlockwise_deg, fixed_oracle.anticlockwise_deg), 1e-9);
+  EXPECT_NEAR(full.clockwise_deg, std::min(mobile_oracle.clockwise_deg, fixed_oracle.clockwise_deg), 1e-9);
 }
 
 TEST(RangeFinder, InvalidInput) {
