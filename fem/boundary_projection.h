@@ -1,0 +1,62 @@
+// hipfai — closest-point projection onto a deformable boundary of a finite-element mesh.
+//
+// Used for node-to-surface contact on non-matching meshes: a slave node is projected onto the
+// closest point of the master boundary (the faces with one boundary id, curved as the mapping
+// makes them), and the projection reports the master normal there and the interpolation weights
+// of the master degrees of freedom, so the gap can be written as a linear constraint.
+#pragma once
+
+#include <deal.II/base/point.h>
+#include <deal.II/base/tensor.h>
+#include <deal.II/base/types.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/mapping.h>
+
+#include <array>
+#include <utility>
+#include <vector>
+
+namespace hipfai::fem {
+
+struct BoundaryProjection {
+  bool found = false;
+  dealii::Point<3> point_mm;
+  dealii::Tensor<1, 3> normal;  // outward normal of the master body at point_mm
+  double distance_mm = 0.0;
+  // For each displacement component: (global dof, shape-function weight) pairs whose sum
+  // interpolates that component of the master displacement at point_mm.
+  std::array<std::vector<std::pair<dealii::types::global_dof_index, double>>, 3> weights;
+};
+
+class BoundaryProjector {
+ public:
+  // Collects the faces with `boundary_id` on every cell known to this rank (all cells for a
+  // shared triangulation). The DoF handler must use an FESystem of 3 equal scalar elements.
+  BoundaryProjector(const dealii::Mapping<3>& mapping, const dealii::DoFHandler<3>& dof_handler,
+                    dealii::types::boundary_id boundary_id);
+
+  std::size_t n_faces() const { return faces_.size(); }
+
+  // Closest point on the boundary to `query_mm`, searching faces whose bounding box, grown by
+  // `search_radius_mm`, contains the query. found = false when none does.
+  BoundaryProjection project(const dealii::Point<3>& query_mm, double search_radius_mm) const;
+
+ private:
+  // Each face is stored as the tensor-product polynomial the mapping makes of it (sampled once
+  // on an equispaced grid of the mapping's degree): evaluating it is then cheap and exact.
+  struct Face {
+    typename dealii::DoFHandler<3>::active_cell_iterator cell;
+    unsigned int face_no;
+    dealii::Point<3> box_min, box_max;
+    std::vector<dealii::Point<3>> samples;  // (degree+1)^2, s fastest
+    double orientation = 1.0;               // makes ds x dt point out of the cell
+  };
+  void evaluate(const Face& face, double s, double t, dealii::Point<3>& x,
+                dealii::Tensor<1, 3>& ds, dealii::Tensor<1, 3>& dt) const;
+  unsigned int degree_ = 1;
+  const dealii::Mapping<3>& mapping_;
+  const dealii::DoFHandler<3>& dof_handler_;
+  std::vector<Face> faces_;
+};
+
+}  // namespace hipfai::fem

@@ -1,0 +1,735 @@
+#include "fem/contact_problem.h"
+
+#include "core/error.h"
+#include "fem/boundary_projection.h"
+
+#include <deal.II/base/conditional_ostream.h>
+#include <deal.II/base/index_set.h>
+#include <deal.II/base/mpi.h>
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/fe/fe_q.h>
+#include <deal.II/fe/fe_system.h>
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/fe/mapping_q.h>
+#include <deal.II/grid/grid_tools.h>
+#include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/lac/full_matrix.h>
+#include <deal.II/lac/petsc_precondition.h>
+#include <deal.II/lac/petsc_solver.h>
+#include <deal.II/lac/petsc_sparse_matrix.h>
+#include <deal.II/lac/petsc_vector.h>
+#include <deal.II/lac/solver_control.h>
+#include <deal.II/lac/sparsity_tools.h>
+#include <deal.II/lac/vector.h>
+#include <deal.II/numerics/data_out.h>
+#include <deal.II/numerics/vector_tools.h>
+
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <memory>
+
+namespace hipfai::fem {
+
+using dealii::types::global_dof_index;
+
+const char* to_string(ContactStatus status) {
+  switch (status) {
+    case ContactStatus::kConverged: return "converged";
+    case ContactStatus::kActiveSetNotConverged: return "active set not converged";
+    case ContactStatus::kLinearSolverFailed: return "linear solver failed";
+    case ContactStatus::kNoContact: return "no contact";
+  }
+  return "unknown";
+}
+
+void ensure_mpi_initialized() {
+  int initialized = 0;
+  MPI_Initialized(&initialized);
+  if (initialized) return;
+  // Held until exit: finalizes PETSc and MPI after every solver object is gone. One thread per
+  // rank: the parallelism we want is MPI, not TBB inside each rank.
+  static int argc = 1;
+  static char name[] = "hipfai";
+  static char* args[] = {name, nullptr};
+  static char** argv = args;
+  static dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+}
+
+namespace {
+
+struct Linearization {
+  dealii::Vector<double> displacement;  // replicated on every rank, constraints distributed
+  std::vector<double> internal_force;   // replicated: f_i = integral of sigma(u) : eps(phi_i)
+};
+
+struct NodeData {
+  unsigned int pair = 0;
+  std::array<global_dof_index, 3> dofs{};
+  unsigned int constrained_component = 0;
+  dealii::Point<3> position;
+  dealii::Tensor<1, 3> normal;
+  double initial_gap = 0.0;  // (x_s - x_m) . n in the reference configuration
+  double area = 0.0;
+  int rigid_body = -1;
+  std::array<std::vector<std::pair<global_dof_index, double>>, 3> master;
+};
+
+struct BondedDof {
+  global_dof_index dof;
+  unsigned int component;
+  int rigid_body;
+  double extra;
+};
+
+}  // namespace
+
+class ContactProblem::Impl {
+ public:
+  Impl(MPI_Comm communicator, ContactOptions options_in)
+      : comm(communicator),
+        options(std::move(options_in)),
+        triangulation(communicator),
+        fe(dealii::FE_Q<3>(options.fe_degree), 3),
+        mapping(options.mapping_degree),
+        dof_handler(triangulation),
+        pcout(std::cout, options.verbose && dealii::Utilities::MPI::this_mpi_process(
+                                                   communicator) == 0) {}
+
+  ContactResult run(ContactProblem& model);
+  dealii::Tensor<1, 3> displacement_at(const dealii::Point<3>& point) const;
+
+  MPI_Comm comm;
+  ContactOptions options;
+  dealii::parallel::shared::Triangulation<3> triangulation;
+  dealii::FESystem<3> fe;
+  dealii::MappingQ<3> mapping;
+  dealii::DoFHandler<3> dof_handler;
+  dealii::ConditionalOStream pcout;
+
+ private:
+  void setup_system(const ContactProblem& model);
+  void collect_fixed_dofs(const ContactProblem& model);
+  void collect_contact_nodes(const ContactProblem& model);
+  dealii::AffineConstraints<double> make_constraints(
+      const std::vector<dealii::Tensor<1, 3>>& translations) const;
+  void cell_stiffness(const dealii::DoFHandler<3>::active_cell_iterator& cell,
+                      dealii::FEValues<3>& fe_values, dealii::FullMatrix<double>& matrix) const;
+  Linearization solve_linear(const std::vector<dealii::Tensor<1, 3>>& translations);
+  std::vector<double> internal_force(const dealii::Vector<double>& displacement) const;
+  std::vector<dealii::Tensor<1, 3>> transmitted_force(const ContactProblem& model,
+                                                      const Linearization& state) const;
+  void evaluate_nodes(const Linearization& state,
+                      const std::vector<dealii::Tensor<1, 3>>& translations,
+                      std::vector<double>& force, std::vector<double>& gap) const;
+  void output_results(const std::string& file) const;
+
+  std::map<dealii::types::material_id, std::pair<double, double>> lame_by_material;
+  dealii::IndexSet owned_dofs;
+  dealii::IndexSet all_dofs;
+  std::vector<dealii::Point<3>> support_points;
+  std::vector<bool> fixed_dof;  // hanging, bonded or symmetry: never a contact slave dof
+  std::vector<BondedDof> bonded_dofs;
+  std::vector<std::pair<global_dof_index, double>> symmetry_dofs;
+  dealii::AffineConstraints<double> hanging_constraints;
+  std::vector<NodeData> nodes;
+  std::vector<bool> active;
+  dealii::Vector<double> solution;
+  unsigned int linear_solves = 0;
+  unsigned int linear_iterations = 0;
+  bool linear_failure = false;
+};
+
+void ContactProblem::Impl::setup_system(const ContactProblem& model) {
+  lame_by_material.clear();
+  for (const Body& body : model.bodies) {
+    lame_by_material[body.material_id] = {body.material.lame_lambda_mpa(),
+                                          body.material.shear_modulus_mpa()};
+  }
+  for (const auto& cell : triangulation.active_cell_iterators()) {
+    if (!lame_by_material.count(cell->material_id())) {
+      throw_error("fem model: cell with material id ", static_cast<int>(cell->material_id()),
+                  " belongs to no body");
+    }
+  }
+  dof_handler.distribute_dofs(fe);
+  owned_dofs = dof_handler.locally_owned_dofs();
+  all_dofs = dealii::complete_index_set(dof_handler.n_dofs());
+
+  // Support point of every dof, from every cell (the shared triangulation has them all).
+  support_points.assign(dof_handler.n_dofs(), dealii::Point<3>());
+  dealii::FEValues<3> fe_values(mapping, fe, dealii::Quadrature<3>(fe.get_unit_support_points()),
+                                dealii::update_quadrature_points);
+  std::vector<global_dof_index> dofs(fe.n_dofs_per_cell());
+  for (const auto& cell : dof_handler.active_cell_iterators()) {
+    fe_values.reinit(cell);
+    cell->get_dof_indices(dofs);
+    for (unsigned int i = 0; i < dofs.size(); ++i) support_points[dofs[i]] = fe_values.quadrature_point(i);
+  }
+}
+
+void ContactProblem::Impl::collect_fixed_dofs(const ContactProblem& model) {
+  fixed_dof.assign(dof_handler.n_dofs(), false);
+  bonded_dofs.clear();
+  symmetry_dofs.clear();
+  hanging_constraints.clear();
+  hanging_constraints.reinit(all_dofs);
+  dealii::DoFTools::make_hanging_node_constraints(dof_handler, hanging_constraints);
+  hanging_constraints.close();
+  for (global_dof_index i = 0; i < dof_handler.n_dofs(); ++i) {
+    if (hanging_constraints.is_constrained(i)) fixed_dof[i] = true;
+  }
+  std::vector<global_dof_index> dofs(fe.n_dofs_per_cell());
+  // Bonded first: a dof on both a bonded and a symmetry boundary follows the bone.
+  for (const BondedBoundary& bonded : model.bonded_boundaries) {
+    if (bonded.rigid_body >= static_cast<int>(model.rigid_bodies.size())) {
+      throw_error("fem model: bonded boundary ", static_cast<int>(bonded.boundary_id),
+                  " refers to rigid body ", bonded.rigid_body, " which does not exist");
+    }
+    for (const auto& cell : dof_handler.active_cell_iterators()) {
+      cell->get_dof_indices(dofs);
+      for (const unsigned int face_no : cell->face_indices()) {
+        const auto face = cell->face(face_no);
+        if (!face->at_boundary() || face->boundary_id() != bonded.boundary_id) continue;
+        for (unsigned int i = 0; i < dofs.size(); ++i) {
+          if (!fe.has_support_on_face(i, face_no) || fixed_dof[dofs[i]]) continue;
+          const unsigned int component = fe.system_to_component_index(i).first;
+          double extra = 0.0;
+          if (bonded.extra_displacement_mm) {
+            extra = bonded.extra_displacement_mm(support_points[dofs[i]])[component];
+          }
+          bonded_dofs.push_back({dofs[i], component, bonded.rigid_body, extra});
+          fixed_dof[dofs[i]] = true;
+        }
+      }
+    }
+  }
+  for (const SymmetryBoundary& symmetry : model.symmetry_boundaries) {
+    for (const auto& cell : dof_handler.active_cell_iterators()) {
+      cell->get_dof_indices(dofs);
+      for (const unsigned int face_no : cell->face_indices()) {
+        const auto face = cell->face(face_no);
+        if (!face->at_boundary() || face->boundary_id() != symmetry.boundary_id) continue;
+        for (unsigned int i = 0; i < dofs.size(); ++i) {
+          if (!fe.has_support_on_face(i, face_no) || fixed_dof[dofs[i]]) continue;
+          if (fe.system_to_component_index(i).first != symmetry.axis) continue;
+          symmetry_dofs.emplace_back(dofs[i], 0.0);
+          fixed_dof[dofs[i]] = true;
+        }
+      }
+    }
+  }
+}
+
+void ContactProblem::Impl::collect_contact_nodes(const ContactProblem& model) {
+  nodes.clear();
+  const double diameter = dealii::GridTools::diameter(triangulation);
+  dealii::FEFaceValues<3> face_values(mapping, fe, dealii::QGauss<2>(fe.degree + 1),
+                                      dealii::update_values | dealii::update_JxW_values);
+  std::vector<global_dof_index> dofs(fe.n_dofs_per_cell());
+  for (unsigned int p = 0; p < model.contact_pairs.size(); ++p) {
+    const ContactPair& pair = model.contact_pairs[p];
+    std::unique_ptr<BoundaryProjector> projector;
+    if (pair.master_rigid_body < 0) {
+      projector = std::make_unique<BoundaryProjector>(mapping, dof_handler, pair.master_boundary_id);
+      if (projector->n_faces() == 0) {
+        throw_error("fem model: contact pair ", p, ": master boundary ",
+                    static_cast<int>(pair.master_boundary_id), " has no faces");
+      }
+    } else if (pair.master_rigid_body >= static_cast<int>(model.rigid_bodies.size()) ||
+               !model.rigid_bodies[pair.master_rigid_body].surface) {
+      throw_error("fem model: contact pair ", p, ": rigid body ", pair.master_rigid_body,
+                  " does not exist or has no surface");
+    }
+    std::map<global_dof_index, std::size_t> node_of_dof;  // keyed by the x-component dof
+    const std::size_t first_node = nodes.size();
+    for (const auto& cell : dof_handler.active_cell_iterators()) {
+      cell->get_dof_indices(dofs);
+      for (const unsigned int face_no : cell->face_indices()) {
+        const auto face = cell->face(face_no);
+        if (!face->at_boundary() || face->boundary_id() != pair.slave_boundary_id) continue;
+        face_values.reinit(cell, face_no);
+        for (unsigned int i = 0; i < dofs.size(); ++i) {
+          if (!fe.has_support_on_face(i, face_no)) continue;
+          const auto [component, base_index] = fe.system_to_component_index(i);
+          if (component != 0) continue;
+          auto [it, inserted] = node_of_dof.try_emplace(dofs[i], nodes.size());
+          if (inserted) {
+            NodeData node;
+            node.pair = p;
+            for (unsigned int c = 0; c < 3; ++c) {
+              node.dofs[c] = dofs[fe.component_to_system_index(c, base_index)];
+            }
+            node.position = support_points[dofs[i]];
+            nodes.push_back(node);
+          }
+          double area = 0.0;
+          for (unsigned int q = 0; q < face_values.n_quadrature_points; ++q) {
+            area += face_values.shape_value(i, q) * face_values.JxW(q);
+          }
+          nodes[it->second].area += area;
+        }
+      }
+    }
+    if (nodes.size() == first_node) {
+      throw_error("fem model: contact pair ", p, ": slave boundary ",
+                  static_cast<int>(pair.slave_boundary_id), " has no faces");
+    }
+    // Deformable master: mortar-type weights. Node-to-surface interpolation of the master at
+    // the slave node alone fails the patch test on non-matching meshes (a uniform pressure comes
+    // out wavy); integrating the gap against the slave shape function instead,
+    //   a_s (u_s . n) = sum_j M_sj (u_j . n),  M_sj = integral phi_s N_j(closest point),
+    // transmits a uniform pressure exactly because both shape families sum to one.
+    std::vector<std::array<std::map<global_dof_index, double>, 3>> mortar;
+    std::vector<double> weighted_gap;
+    if (projector) {
+      mortar.resize(nodes.size() - first_node);
+      weighted_gap.assign(nodes.size() - first_node, 0.0);
+      dealii::FEFaceValues<3> mortar_values(
+          mapping, fe, dealii::QIterated<2>(dealii::QGauss<1>(fe.degree + 1), 6),
+          dealii::update_values | dealii::update_JxW_values | dealii::update_quadrature_points);
+      const double radius = 0.05 * diameter;
+      for (const auto& cell : dof_handler.active_cell_iterators()) {
+        for (const unsigned int face_no : cell->face_indices()) {
+          const auto face = cell->face(face_no);
+          if (!face->at_boundary() || face->boundary_id() != pair.slave_boundary_id) continue;
+          cell->get_dof_indices(dofs);
+          mortar_values.reinit(cell, face_no);
+          for (unsigned int q = 0; q < mortar_values.n_quadrature_points; ++q) {
+            const BoundaryProjection projection =
+                projector->project(mortar_values.quadrature_point(q), radius);
+            if (!projection.found) continue;
+            const double gap =
+                (mortar_values.quadrature_point(q) - projection.point_mm) * projection.normal;
+            for (unsigned int i = 0; i < dofs.size(); ++i) {
+              if (!fe.has_support_on_face(i, face_no) || fe.system_to_component_index(i).first != 0) continue;
+              const std::size_t local = node_of_dof.at(dofs[i]) - first_node;
+              const double weight = mortar_values.shape_value(i, q) * mortar_values.JxW(q);
+              weighted_gap[local] += weight * gap;
+              for (unsigned int c = 0; c < 3; ++c) {
+                for (const auto& [dof, value] : projection.weights[c]) mortar[local][c][dof] += weight * value;
+              }
+            }
+          }
+        }
+      }
+    }
+
+    // Project, choose the constrained component, drop nodes that cannot be constrained.
+    std::vector<NodeData> kept(nodes.begin(), nodes.begin() + first_node);
+    for (std::size_t n = first_node; n < nodes.size(); ++n) {
+      NodeData node = nodes[n];
+      dealii::Point<3> master_point;
+      if (pair.master_rigid_body >= 0) {
+        const SurfacePoint closest =
+            model.rigid_bodies[pair.master_rigid_body].surface->closest_point(node.position);
+        master_point = closest.point_mm;
+        node.normal = closest.normal;
+        node.rigid_body = pair.master_rigid_body;
+      } else {
+        // Search radius: contact partners are close; 5 % of the model size is generous.
+        const BoundaryProjection projection = projector->project(node.position, 0.05 * diameter);
+        if (!projection.found) continue;  // nothing opposite: this node cannot touch
+        node.normal = projection.normal;
+        const std::size_t local = n - first_node;
+        for (unsigned int c = 0; c < 3; ++c) {
+          for (const auto& [dof, value] : mortar[local][c]) node.master[c].emplace_back(dof, value / node.area);
+        }
+        node.initial_gap = weighted_gap[local] / node.area;
+      }
+      if (pair.master_rigid_body >= 0) node.initial_gap = (node.position - master_point) * node.normal;
+      // The slave component with the largest normal share that is still free; with less than
+      // 0.3 the constraint would be ill-conditioned (the node sits on a wall parallel to n).
+      double best = 0.3;
+      bool found = false;
+      for (unsigned int c = 0; c < 3; ++c) {
+        if (fixed_dof[node.dofs[c]]) continue;
+        if (std::abs(node.normal[c]) > best) {
+          best = std::abs(node.normal[c]);
+          node.constrained_component = c;
+          found = true;
+        }
+      }
+      if (found) kept.push_back(node);
+    }
+    nodes = std::move(kept);
+  }
+}
+
+dealii::AffineConstraints<double> ContactProblem::Impl::make_constraints(
+    const std::vector<dealii::Tensor<1, 3>>& translations) const {
+  dealii::AffineConstraints<double> constraints(all_dofs);
+  constraints.merge(hanging_constraints);
+  for (const BondedDof& bonded : bonded_dofs) {
+    double value = bonded.extra;
+    if (bonded.rigid_body >= 0) value += translations[bonded.rigid_body][bonded.component];
+    constraints.add_line(bonded.dof);
+    constraints.set_inhomogeneity(bonded.dof, value);
+  }
+  for (const auto& [dof, value] : symmetry_dofs) {
+    constraints.add_line(dof);
+    constraints.set_inhomogeneity(dof, value);
+  }
+  // Active node: u_s . n = u_m . n - g0, solved for the slave component k.
+  for (std::size_t n = 0; n < nodes.size(); ++n) {
+    if (!active[n]) continue;
+    const NodeData& node = nodes[n];
+    const unsigned int k = node.constrained_component;
+    const double n_k = node.normal[k];
+    const global_dof_index slave = node.dofs[k];
+    constraints.add_line(slave);
+    for (unsigned int c = 0; c < 3; ++c) {
+      if (c != k && node.normal[c] != 0.0) constraints.add_entry(slave, node.dofs[c], -node.normal[c] / n_k);
+    }
+    double inhomogeneity = -node.initial_gap;
+    if (node.rigid_body >= 0) {
+      inhomogeneity += translations[node.rigid_body] * node.normal;
+    } else {
+      for (unsigned int c = 0; c < 3; ++c) {
+        for (const auto& [dof, weight] : node.master[c]) {
+          constraints.add_entry(slave, dof, weight * node.normal[c] / n_k);
+        }
+      }
+    }
+    constraints.set_inhomogeneity(slave, inhomogeneity / n_k);
+  }
+  constraints.close();
+  return constraints;
+}
+
+void ContactProblem::Impl::cell_stiffness(const dealii::DoFHandler<3>::active_cell_iterator& cell,
+                                          dealii::FEValues<3>& fe_values,
+                                          dealii::FullMatrix<double>& matrix) const {
+  fe_values.reinit(cell);
+  const auto [lambda, mu] = lame_by_material.at(cell->material_id());
+  const unsigned int n = fe.n_dofs_per_cell();
+  const dealii::FEValuesExtractors::Vector displacement(0);
+  std::vector<dealii::SymmetricTensor<2, 3>> strain(n);
+  std::vector<double> divergence(n);
+  matrix = 0;
+  for (unsigned int q = 0; q < fe_values.n_quadrature_points; ++q) {
+    for (unsigned int i = 0; i < n; ++i) {
+      strain[i] = fe_values[displacement].symmetric_gradient(i, q);
+      divergence[i] = dealii::trace(strain[i]);
+    }
+    const double weight = fe_values.JxW(q);
+    for (unsigned int i = 0; i < n; ++i) {
+      for (unsigned int j = i; j < n; ++j) {
+        const double value =
+            (lambda * divergence[i] * divergence[j] + 2.0 * mu * (strain[i] * strain[j])) * weight;
+        matrix(i, j) += value;
+        if (j != i) matrix(j, i) += value;
+      }
+    }
+  }
+}
+
+std::vector<double> ContactProblem::Impl::internal_force(
+    const dealii::Vector<double>& displacement) const {
+  std::vector<double> force(dof_handler.n_dofs(), 0.0);
+  dealii::FEValues<3> fe_values(mapping, fe, dealii::QGauss<3>(fe.degree + 1),
+                                dealii::update_gradients | dealii::update_JxW_values);
+  const unsigned int n = fe.n_dofs_per_cell();
+  dealii::FullMatrix<double> matrix(n, n);
+  dealii::Vector<double> local_u(n), local_f(n);
+  std::vector<global_dof_index> dofs(n);
+  for (const auto& cell : dof_handler.active_cell_iterators()) {
+    if (!cell->is_locally_owned()) continue;
+    cell_stiffness(cell, fe_values, matrix);
+    cell->get_dof_indices(dofs);
+    for (unsigned int i = 0; i < n; ++i) local_u[i] = displacement[dofs[i]];
+    matrix.vmult(local_f, local_u);
+    for (unsigned int i = 0; i < n; ++i) force[dofs[i]] += local_f[i];
+  }
+  MPI_Allreduce(MPI_IN_PLACE, force.data(), static_cast<int>(force.size()), MPI_DOUBLE, MPI_SUM,
+                comm);
+  return force;
+}
+
+Linearization ContactProblem::Impl::solve_linear(
+    const std::vector<dealii::Tensor<1, 3>>& translations) {
+  const dealii::AffineConstraints<double> constraints = make_constraints(translations);
+  const unsigned int rank = dealii::Utilities::MPI::this_mpi_process(comm);
+
+  dealii::DynamicSparsityPattern pattern(all_dofs);
+  dealii::DoFTools::make_sparsity_pattern(dof_handler, pattern, constraints, false, rank);
+  dealii::SparsityTools::distribute_sparsity_pattern(pattern, owned_dofs, comm, all_dofs);
+  dealii::PETScWrappers::MPI::SparseMatrix matrix;
+  matrix.reinit(owned_dofs, owned_dofs, pattern, comm);
+  dealii::PETScWrappers::MPI::Vector rhs(owned_dofs, comm);
+  dealii::PETScWrappers::MPI::Vector x(owned_dofs, comm);
+
+  dealii::FEValues<3> fe_values(mapping, fe, dealii::QGauss<3>(fe.degree + 1),
+                                dealii::update_gradients | dealii::update_JxW_values);
+  const unsigned int n = fe.n_dofs_per_cell();
+  dealii::FullMatrix<double> cell_matrix(n, n);
+  dealii::Vector<double> cell_rhs(n);  // no body forces: loads enter through the constraints
+  std::vector<global_dof_index> dofs(n);
+  for (const auto& cell : dof_handler.active_cell_iterators()) {
+    if (!cell->is_locally_owned()) continue;
+    cell_stiffness(cell, fe_values, cell_matrix);
+    cell->get_dof_indices(dofs);
+    constraints.distribute_local_to_global(cell_matrix, cell_rhs, dofs, matrix, rhs);
+  }
+  matrix.compress(dealii::VectorOperation::add);
+  rhs.compress(dealii::VectorOperation::add);
+
+  const double rhs_norm = rhs.l2_norm();
+  ++linear_solves;
+  if (rhs_norm > 0.0) {
+    dealii::SolverControl control(options.max_linear_iterations,
+                                  options.linear_relative_tolerance * rhs_norm);
+    // Elasticity on thin layers: a strong threshold above the Laplace default of 0.25 keeps
+    // BoomerAMG's coarsening from mixing the weakly coupled displacement components.
+    dealii::PETScWrappers::PreconditionBoomerAMG::AdditionalData amg_data;
+    amg_data.symmetric_operator = true;
+    amg_data.strong_threshold = 0.5;
+    dealii::PETScWrappers::PreconditionBoomerAMG preconditioner(matrix, amg_data);
+    dealii::PETScWrappers::SolverCG solver(control, comm);
+    try {
+      solver.solve(matrix, x, rhs, preconditioner);
+    } catch (const dealii::SolverControl::NoConvergence&) {
+      linear_failure = true;
+    }
+    linear_iterations += control.last_step();
+  }
+  Linearization state;
+  state.displacement = dealii::Vector<double>(x);
+  constraints.distribute(state.displacement);
+  state.internal_force = internal_force(state.displacement);
+  return state;
+}
+
+std::vector<dealii::Tensor<1, 3>> ContactProblem::Impl::transmitted_force(
+    const ContactProblem& model, const Linearization& state) const {
+  // Force each rigid body applies to the deformable bodies: through its contact surface and
+  // through its bonded interfaces (the reaction at the bonded dofs).
+  std::vector<dealii::Tensor<1, 3>> force(model.rigid_bodies.size());
+  for (const BondedDof& bonded : bonded_dofs) {
+    if (bonded.rigid_body >= 0) force[bonded.rigid_body][bonded.component] += state.internal_force[bonded.dof];
+  }
+  for (std::size_t n = 0; n < nodes.size(); ++n) {
+    const NodeData& node = nodes[n];
+    if (node.rigid_body < 0 || !active[n]) continue;
+    const double normal_force = state.internal_force[node.dofs[node.constrained_component]] /
+                                node.normal[node.constrained_component];
+    force[node.rigid_body] += normal_force * node.normal;
+  }
+  return force;
+}
+
+void ContactProblem::Impl::evaluate_nodes(const Linearization& state,
+                                          const std::vector<dealii::Tensor<1, 3>>& translations,
+                                          std::vector<double>& force,
+                                          std::vector<double>& gap) const {
+  force.assign(nodes.size(), 0.0);
+  gap.assign(nodes.size(), 0.0);
+  for (std::size_t n = 0; n < nodes.size(); ++n) {
+    const NodeData& node = nodes[n];
+    const unsigned int k = node.constrained_component;
+    // The condensed equations of the free slave components make the nodal force parallel to
+    // n, so its k-th component alone gives the normal force.
+    force[n] = state.internal_force[node.dofs[k]] / node.normal[k];
+    double g = node.initial_gap;
+    for (unsigned int c = 0; c < 3; ++c) {
+      double master = 0.0;
+      if (node.rigid_body >= 0) {
+        master = translations[node.rigid_body][c];
+      } else {
+        for (const auto& [dof, weight] : node.master[c]) master += weight * state.displacement[dof];
+      }
+      g += node.normal[c] * (state.displacement[node.dofs[c]] - master);
+    }
+    gap[n] = g;
+  }
+}
+
+ContactResult ContactProblem::Impl::run(ContactProblem& model) {
+  const auto start = std::chrono::steady_clock::now();
+  setup_system(model);
+  collect_fixed_dofs(model);
+  collect_contact_nodes(model);
+  linear_solves = 0;
+  linear_iterations = 0;
+  linear_failure = false;
+
+  ContactResult result;
+  result.n_cells = triangulation.n_global_active_cells();
+  result.n_dofs = dof_handler.n_dofs();
+  result.n_ranks = dealii::Utilities::MPI::n_mpi_processes(comm);
+
+  std::vector<dealii::Tensor<1, 3>> translations;
+  struct FreeDirection {
+    unsigned int body;
+    dealii::Tensor<1, 3> direction;
+  };
+  std::vector<FreeDirection> free_directions;
+  for (unsigned int b = 0; b < model.rigid_bodies.size(); ++b) {
+    const RigidBody& body = model.rigid_bodies[b];
+    translations.push_back(body.translation_mm);
+    if (!body.load_controlled) continue;
+    for (dealii::Tensor<1, 3> direction : body.free_directions) {
+      const double length = direction.norm();
+      if (!(length > 0.0)) throw_error("fem model: rigid body ", body.name, ": zero free direction");
+      free_directions.push_back({b, direction / length});
+    }
+  }
+
+  // Gaps well below the solver's resolution of the displacement count as closed.
+  const double gap_tolerance = 1e-10 * dealii::GridTools::diameter(triangulation);
+  active.assign(nodes.size(), false);
+  for (std::size_t n = 0; n < nodes.size(); ++n) {
+    const NodeData& node = nodes[n];
+    double predicted = node.initial_gap;
+    if (node.rigid_body >= 0) predicted -= translations[node.rigid_body] * node.normal;
+    active[n] = predicted <= gap_tolerance;
+  }
+  pcout << "fem: " << result.n_cells << " cells, " << result.n_dofs << " dofs, " << nodes.size()
+        << " contact nodes, " << result.n_ranks << " rank(s)\n";
+
+  Linearization state;
+  std::vector<double> force, gap;
+  result.status = ContactStatus::kActiveSetNotConverged;
+  for (unsigned int iteration = 1; iteration <= options.max_active_set_iterations; ++iteration) {
+    result.active_set_iterations = iteration;
+    const unsigned int iterations_before = linear_iterations;
+    if (free_directions.empty()) {
+      state = solve_linear(translations);
+    } else {
+      // Affine in the free translations for a fixed active set: probe each direction once.
+      const std::size_t m = free_directions.size();
+      const Linearization base = solve_linear(translations);
+      const auto base_force = transmitted_force(model, base);
+      std::vector<Linearization> probes;
+      dealii::FullMatrix<double> sensitivity(m, m);
+      dealii::Vector<double> mismatch(m);
+      for (std::size_t j = 0; j < m; ++j) {
+        auto probe_translations = translations;
+        probe_translations[free_directions[j].body] += free_directions[j].direction;
+        probes.push_back(solve_linear(probe_translations));
+        const auto probe_force = transmitted_force(model, probes.back());
+        for (std::size_t i = 0; i < m; ++i) {
+          const auto& row = free_directions[i];
+          sensitivity(i, j) = (probe_force[row.body] - base_force[row.body]) * row.direction;
+        }
+      }
+      for (std::size_t i = 0; i < m; ++i) {
+        const auto& row = free_directions[i];
+        mismatch[i] = (model.rigid_bodies[row.body].force_n - base_force[row.body]) * row.direction;
+      }
+      double scale = 0.0;
+      for (std::size_t i = 0; i < m; ++i) scale = std::max(scale, std::abs(sensitivity(i, i)));
+      if (!(scale > 0.0)) {
+        result.status = ContactStatus::kNoContact;
+        break;
+      }
+      sensitivity.gauss_jordan();
+      dealii::Vector<double> step(m);
+      sensitivity.vmult(step, mismatch);
+      state = base;
+      for (std::size_t j = 0; j < m; ++j) {
+        translations[free_directions[j].body] += step[j] * free_directions[j].direction;
+        state.displacement.add(step[j], probes[j].displacement);
+        state.displacement.add(-step[j], base.displacement);
+        for (std::size_t d = 0; d < state.internal_force.size(); ++d) {
+          state.internal_force[d] += step[j] * (probes[j].internal_force[d] - base.internal_force[d]);
+        }
+      }
+    }
+    if (linear_failure) {
+      result.status = ContactStatus::kLinearSolverFailed;
+      break;
+    }
+    evaluate_nodes(state, translations, force, gap);
+    std::vector<bool> next(nodes.size());
+    std::size_t n_active = 0, changes = 0;
+    for (std::size_t n = 0; n < nodes.size(); ++n) {
+      next[n] = active[n] ? force[n] > 0.0 : gap[n] < -gap_tolerance;
+      n_active += next[n];
+      changes += next[n] != active[n];
+    }
+    pcout << "fem: active-set iteration " << iteration << ": " << n_active << " active, "
+          << changes << " changed, " << linear_iterations - iterations_before
+          << " CG iterations\n";
+    if (changes == 0) {
+      result.status = ContactStatus::kConverged;
+      break;
+    }
+    active = std::move(next);
+  }
+
+  solution = state.displacement;
+  result.linear_solves = linear_solves;
+  result.linear_iterations = linear_iterations;
+  result.rigid_translation_mm = translations;
+  result.pair_force_n.assign(model.contact_pairs.size(), dealii::Tensor<1, 3>());
+  for (std::size_t n = 0; n < nodes.size(); ++n) {
+    const NodeData& node = nodes[n];
+    ContactNode out;
+    out.pair = node.pair;
+    out.position_mm = node.position;
+    out.normal = node.normal;
+    out.area_mm2 = node.area;
+    out.active = active[n];
+    out.force_n = active[n] ? force[n] : 0.0;
+    out.pressure_mpa = out.force_n / node.area;
+    out.gap_mm = gap.empty() ? node.initial_gap : gap[n];
+    result.max_penetration_mm = std::max(result.max_penetration_mm, -out.gap_mm);
+    result.pair_force_n[node.pair] += out.force_n * node.normal;
+    result.nodes.push_back(out);
+  }
+  if (!options.vtu_file.empty()) output_results(options.vtu_file);
+  result.wall_time_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  pcout << "fem: " << to_string(result.status) << " after " << result.active_set_iterations
+        << " active-set iterations, " << result.linear_solves << " linear solves, "
+        << result.linear_iterations << " CG iterations, " << result.wall_time_s << " s\n";
+  return result;
+}
+
+void ContactProblem::Impl::output_results(const std::string& file) const {
+  dealii::DataOut<3> data_out;
+  data_out.attach_dof_handler(dof_handler);
+  const std::vector<std::string> names(3, "displacement_mm");
+  const std::vector<dealii::DataComponentInterpretation::DataComponentInterpretation>
+      interpretation(3, dealii::DataComponentInterpretation::component_is_part_of_vector);
+  data_out.add_data_vector(solution, names, dealii::DataOut<3>::type_dof_data, interpretation);
+  dealii::Vector<float> material(triangulation.n_active_cells());
+  for (const auto& cell : triangulation.active_cell_iterators()) {
+    material[cell->active_cell_index()] = static_cast<float>(cell->material_id());
+  }
+  data_out.add_data_vector(material, "material_id");
+  data_out.build_patches(mapping, fe.degree);
+  data_out.write_vtu_in_parallel(file, comm);
+}
+
+dealii::Tensor<1, 3> ContactProblem::Impl::displacement_at(const dealii::Point<3>& point) const {
+  dealii::Vector<double> value(3);
+  dealii::VectorTools::point_value(mapping, dof_handler, solution, point, value);
+  dealii::Tensor<1, 3> result;
+  for (unsigned int d = 0; d < 3; ++d) result[d] = value[d];
+  return result;
+}
+
+ContactProblem::ContactProblem(MPI_Comm communicator, ContactOptions options) {
+  ensure_mpi_initialized();
+  impl_ = std::make_unique<Impl>(communicator, std::move(options));
+}
+
+ContactProblem::~ContactProblem() = default;
+
+dealii::parallel::shared::Triangulation<3>& ContactProblem::triangulation() {
+  return impl_->triangulation;
+}
+
+ContactResult ContactProblem::run() { return impl_->run(*this); }
+
+dealii::Tensor<1, 3> ContactProblem::displacement_at(const dealii::Point<3>& point_mm) const {
+  return impl_->displacement_at(point_mm);
+}
+
+}  // namespace hipfai::fem

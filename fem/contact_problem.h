@@ -1,0 +1,150 @@
+// hipfai — frictionless small-strain contact between linear elastic bodies (deal.II + PETSc).
+//
+// The finite-element ground truth that replaces the thesis's ABAQUS models (Arbabi 2009,
+// §4.3.2.3 and §4.5.3.3). All deformable bodies live in one triangulation, told apart by their
+// material id; bones are rigid and enter as Dirichlet data on bonded interfaces, or as analytic
+// rigid surfaces that deformable bodies touch.
+//
+// Contact is node-to-surface: every node of a slave surface is projected onto the closest point
+// of its master surface (a deformable boundary on a non-matching mesh, or a rigid surface), and
+// the gap is measured along the master normal there, g = (x_s + u_s - x_m - u_m) . n >= 0.
+// Active nodes carry the exact constraint g = 0, written as an affine constraint on the slave
+// component with the largest normal component (so the condensed system stays symmetric positive
+// definite and is solved by PETSc CG + BoomerAMG). The active set is found by the primal-dual
+// active set method (a semismooth Newton method for this linear complementarity problem): a node
+// leaves the set when its contact force is tensile and enters it when it penetrates.
+//
+// Load control: a rigid body may have free translation directions with a prescribed force. For a
+// fixed active set the displacement is affine in the translation, so the translation that
+// balances the force is found exactly from 1 + (number of free directions) linear solves — the
+// mechanism the hip model needs (femur free to translate under the joint reaction force).
+//
+// Units: mm, N, MPa. Runs on any number of MPI ranks (parallel::shared::Triangulation: every rank
+// keeps the whole mesh, which makes the closest-point search on non-matching meshes local).
+#pragma once
+
+#include "fem/elastic_material.h"
+#include "fem/rigid_surface.h"
+
+#include <deal.II/base/point.h>
+#include <deal.II/base/tensor.h>
+#include <deal.II/base/types.h>
+#include <deal.II/distributed/shared_tria.h>
+
+#include <mpi.h>
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace hipfai::fem {
+
+struct Body {
+  std::string name;
+  dealii::types::material_id material_id = 0;
+  ElasticMaterial material;
+};
+
+// A rigid body: its translation is either prescribed (translation_mm) or, when load_controlled,
+// unknown along free_directions so that the contact force it transmits equals force_n.
+struct RigidBody {
+  std::string name;
+  std::shared_ptr<const RigidSurface> surface;  // null for a bone that is only bonded
+  dealii::Tensor<1, 3> translation_mm;          // prescribed, or the starting guess
+  bool load_controlled = false;
+  std::vector<dealii::Tensor<1, 3>> free_directions;  // unit vectors
+  dealii::Tensor<1, 3> force_n;  // force the body applies to the deformable bodies
+};
+
+// Boundary bonded to bone: u = translation of rigid_body (if >= 0) + extra_displacement_mm(x).
+struct BondedBoundary {
+  dealii::types::boundary_id boundary_id = 0;
+  int rigid_body = -1;
+  std::function<dealii::Tensor<1, 3>(const dealii::Point<3>&)> extra_displacement_mm;
+};
+
+// Frictionless symmetry plane (or frictionless wall) normal to a coordinate axis: u[axis] = 0.
+struct SymmetryBoundary {
+  dealii::types::boundary_id boundary_id = 0;
+  unsigned int axis = 0;
+};
+
+// Slave surface (a boundary id) against either a rigid body's surface or a deformable boundary.
+struct ContactPair {
+  dealii::types::boundary_id slave_boundary_id = 0;
+  int master_rigid_body = -1;  // >= 0: rigid master
+  dealii::types::boundary_id master_boundary_id = 0;  // used when master_rigid_body < 0
+};
+
+struct ContactOptions {
+  unsigned int fe_degree = 2;       // Q2: no volumetric locking at nu = 0.45
+  unsigned int mapping_degree = 2;  // curved boundaries follow their manifolds
+  double linear_relative_tolerance = 1e-12;
+  unsigned int max_linear_iterations = 10000;
+  unsigned int max_active_set_iterations = 40;
+  std::string vtu_file;  // written after the solve when not empty
+  bool verbose = false;  // per-iteration statistics on rank 0
+};
+
+enum class ContactStatus { kConverged, kActiveSetNotConverged, kLinearSolverFailed, kNoContact };
+const char* to_string(ContactStatus status);
+
+struct ContactNode {
+  unsigned int pair = 0;
+  dealii::Point<3> position_mm;   // reference position
+  dealii::Tensor<1, 3> normal;    // master normal at the closest point (into the slave)
+  double area_mm2 = 0.0;          // integral of the node's shape function over the slave surface
+  double force_n = 0.0;           // normal contact force (compressive > 0)
+  double pressure_mpa = 0.0;      // force / area
+  double gap_mm = 0.0;            // after the solve; negative = penetration
+  bool active = false;
+};
+
+struct ContactResult {
+  ContactStatus status = ContactStatus::kNoContact;
+  unsigned int n_cells = 0;
+  unsigned long n_dofs = 0;
+  unsigned int n_ranks = 1;
+  unsigned int active_set_iterations = 0;
+  unsigned int linear_solves = 0;
+  unsigned int linear_iterations = 0;
+  double wall_time_s = 0.0;
+  std::vector<ContactNode> nodes;
+  std::vector<dealii::Tensor<1, 3>> pair_force_n;  // force on the slave bodies, per pair
+  std::vector<dealii::Tensor<1, 3>> rigid_translation_mm;
+  double max_penetration_mm = 0.0;
+};
+
+class ContactProblem {
+ public:
+  ContactProblem(MPI_Comm communicator, ContactOptions options);
+  ~ContactProblem();
+  ContactProblem(const ContactProblem&) = delete;
+  ContactProblem& operator=(const ContactProblem&) = delete;
+
+  // Fill the mesh (identically on every rank), set material and boundary ids, attach manifolds.
+  dealii::parallel::shared::Triangulation<3>& triangulation();
+
+  std::vector<Body> bodies;
+  std::vector<RigidBody> rigid_bodies;
+  std::vector<BondedBoundary> bonded_boundaries;
+  std::vector<SymmetryBoundary> symmetry_boundaries;
+  std::vector<ContactPair> contact_pairs;
+
+  // Solves the contact problem; a status other than kConverged is a result, not an exception.
+  // Throws hipfai::Error for an inconsistent model (unknown material id, empty contact surface).
+  ContactResult run();
+
+  // Displacement at a point of the reference configuration (after run()), for checks.
+  dealii::Tensor<1, 3> displacement_at(const dealii::Point<3>& point_mm) const;
+
+ private:
+  class Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// Initializes MPI and PETSc once per process (no-op when already done); safe to call repeatedly.
+void ensure_mpi_initialized();
+
+}  // namespace hipfai::fem

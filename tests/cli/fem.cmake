@@ -1,0 +1,29 @@
+# FE contact model: verification cases from the command line, and 1 vs 2 MPI ranks.
+if(TARGET hipfai_fem)
+  hipfai_cli_test(NAME fem_verify_uniaxial EXIT 0
+                  COMMAND fem verify --case uniaxial_layer --case uniaxial_load_control
+                          --csv @TMP@/uniaxial.csv)
+  hipfai_cli_test(NAME fem_verify_unknown_case EXIT nonzero STDERR "no_such_case not in"
+                  COMMAND fem verify --case no_such_case)
+  hipfai_cli_test(NAME fem_verify_bad_csv EXIT nonzero STDERR "no-such-dir/x.csv"
+                  COMMAND fem verify --case uniaxial_layer --csv @TMP@/no-such-dir/x.csv)
+
+  # Same case on 1 and 2 ranks: every computed value must agree to 1e-9 relative (the CG
+  # tolerance is 1e-12 relative residual; the partitioning changes only round-off and the AMG).
+  find_program(HIPFAI_MPIRUN mpirun)
+  if(HIPFAI_MPIRUN)
+    set(fem_mpi_tmp ${CMAKE_BINARY_DIR}/cli-tmp/fem_mpi_ranks)
+    file(MAKE_DIRECTORY ${fem_mpi_tmp})
+    foreach(case uniaxial_layer stacked_layers)
+      add_test(NAME cli.fem_mpi_1_vs_2_ranks_${case}
+               COMMAND sh -c "\"$1\" fem verify --case ${case} --csv \"$2/${case}_1.csv\" >/dev/null && \
+\"$3\" --allow-run-as-root --oversubscribe -np 2 \"$1\" fem verify --case ${case} --csv \"$2/${case}_2.csv\" >/dev/null && \
+awk -F, 'NR==FNR { if (FNR > 1) v[FNR] = $4; next } FNR > 1 { d = $4 - v[FNR]; if (d < 0) d = -d; \
+s = v[FNR] < 0 ? -v[FNR] : v[FNR]; if (d > 1e-9 * s) { print \"rank mismatch: \" $2 \": \" v[FNR] \" vs \" $4 > \"/dev/stderr\"; bad = 1 } \
+if ($12 != 2) { print \"expected 2 ranks, got \" $12 > \"/dev/stderr\"; bad = 1 } } END { exit bad }' \
+\"$2/${case}_1.csv\" \"$2/${case}_2.csv\""
+                       sh $<TARGET_FILE:hipfai> ${fem_mpi_tmp} ${HIPFAI_MPIRUN})
+      set_tests_properties(cli.fem_mpi_1_vs_2_ranks_${case} PROPERTIES LABELS "cli;fem;slow" TIMEOUT 300)
+    endforeach()
+  endif()
+endif()
