@@ -261,6 +261,10 @@ void update_triangles(CylindricalTable& table, const geometry::TriMesh& fixed_no
       table.bin_triangle(t, /*allow_overflow=*/true);
     }
   }
+  // A table that had no overlap may have one now, through the overflow list.
+  if (table.status_ == QueryStatus::kNoOverlap && !table.overflow_.empty()) {
+    table.status_ = QueryStatus::kOk;
+  }
 }
 
 }  // namespace hipfai::contact

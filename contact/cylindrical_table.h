@@ -81,13 +81,13 @@ class CylindricalTable {
   // offered more than once when neighbour_cells > 0.
   template <typename Fn>
   void for_each_candidate(double r, double z, Fn&& fn) const {
-    if (num_r_ == 0 || num_z_ == 0) return;
     const long long cell_r = cell_index(r, r_lo_, res_r_);
     const long long cell_z = cell_index(z, z_lo_, res_z_);
     const bool outside = cell_r < 0 || cell_r >= num_r_ || cell_z < 0 || cell_z >= num_z_;
     if (outside) {
       for (std::int32_t t : overflow_) fn(t);
     }
+    if (num_r_ == 0 || num_z_ == 0) return;
     const long long k = neighbour_cells_;
     const long long r0 = std::max<long long>(cell_r - k, 0);
     const long long r1 = std::min<long long>(cell_r + k, num_r_ - 1);

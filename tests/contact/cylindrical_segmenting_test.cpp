@@ -240,6 +240,16 @@ TEST(CylindricalSegmenting, InvalidAndDisjointInput) {
   const CylindricalTable table = CylindricalTable::build(fixed, Vec3::Zero(), Vec3::UnitZ(), {}, &far);
   EXPECT_EQ(CylindricalPoseCache(table, far).query(30.0).status, QueryStatus::kNoOverlap);
   EXPECT_EQ(CylindricalPoseCache(table, far).query(NAN).status, QueryStatus::kInvalidInput);
+  // Deforming the fixed mesh into reach of the mobile one revives the empty table (overflow).
+  CylindricalTable revived = table;
+  TriMesh moved = fixed;
+  for (Vec3& p : moved.vertices) p += Vec3(0.3, 0.2, 50.0);
+  std::vector<std::int32_t> all(moved.triangles.size());
+  for (std::size_t t = 0; t < all.size(); ++t) all[t] = static_cast<std::int32_t>(t);
+  update_triangles(revived, moved, all);
+  const PenetrationResult oracle = oracle_cylindrical(moved, far, Vec3::Zero(), Vec3::UnitZ());
+  ASSERT_FALSE(oracle.pairs.empty());
+  expect_same(cylindrical_segmenting(revived, far), oracle, "revived");
 }
 
 }  // namespace
