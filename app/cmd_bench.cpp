@@ -1,0 +1,52 @@
+// hipfai bench collision: the collision benchmark of issue 4 (thesis §3.4-3.6, Tables 1-7): the
+// thesis' methods against FCL, Embree, CGAL, spatial hashing, ray-based sampling and stepping ROM,
+// in the same process, with exactness against the oracle; writes CSV + report.md + SVG plots.
+#include "app/command_registry.h"
+#include "bench/collision_bench.h"
+
+#include <cstdio>
+#include <memory>
+#include <string>
+
+namespace hipfai::app {
+namespace {
+
+struct BenchArgs {
+  bool quick = false;
+  std::string out = "bench-collision";
+  int threads = 2;
+  std::string lhdl_dir = "/work/shared/data/real-hips/LHDL_CT";
+};
+
+void run(const BenchArgs& args) {
+  bench::CollisionBenchOptions options;
+  options.quick = args.quick;
+  options.out_dir = args.out;
+  options.thread_counts.clear();
+  for (int t = 1; t <= args.threads; ++t) options.thread_counts.push_back(t);
+  options.lhdl_dir = args.lhdl_dir;
+  const auto report = bench::run_collision_bench(options);
+  std::printf("\n%-100s %s\n", "target", "verdict");
+  for (const auto& t : report.targets) {
+    std::printf("%-100s %s\n  %s\n", t.target.c_str(), t.met ? "MET" : "not met", t.measured.c_str());
+  }
+  std::printf("\nreport: %s (%.1f s)\n", report.report_path.string().c_str(), report.seconds);
+}
+
+const CommandRegistrar registrar("bench", [](CLI::App& parent) {
+  auto* bench = parent.add_subcommand("bench", "Benchmarks (collision: the thesis' methods against real peers)");
+  bench->require_subcommand(1);
+  auto* collision = bench->add_subcommand(
+      "collision", "Collision benchmark: FCL, Embree, CGAL, spatial hashing, ray-based sampling, stepping ROM");
+  auto args = std::make_shared<BenchArgs>();
+  collision->add_flag("--quick", args->quick, "Small sizes only (about half a minute)");
+  collision->add_option("--out", args->out, "Output directory (CSV, report.md, SVG)");
+  collision->add_option("--threads", args->threads, "Report figures for 1..N threads")->check(CLI::Range(1, 2));
+  collision->add_option("--real-bones", args->lhdl_dir,
+                        "Folder of the real CT bones (hip.json, femur and pelvis); skipped in --quick")
+      ->check(CLI::ExistingDirectory);
+  collision->callback([args] { run(*args); });
+});
+
+}  // namespace
+}  // namespace hipfai::app
