@@ -84,7 +84,23 @@ TetMesh tetrahedralize(const geometry::TriMesh& closed_surface) {
     const int loop = gmsh::model::geo::addSurfaceLoop({surface});
     gmsh::model::geo::addVolume({loop});
     gmsh::model::geo::synchronize();
-    gmsh::model::mesh::generate(3);
+    // HXT (gmsh's parallel Delaunay) is an order of magnitude faster than the default on these
+    // sizes; no optimisation pass: hashing needs a valid tetrahedralization, not quality tets.
+    // Options are global in gmsh: restore them for other users of the runtime (hip generator).
+    double algorithm = 1.0, optimize = 1.0;
+    gmsh::option::getNumber("Mesh.Algorithm3D", algorithm);
+    gmsh::option::getNumber("Mesh.Optimize", optimize);
+    gmsh::option::setNumber("Mesh.Algorithm3D", 10);
+    gmsh::option::setNumber("Mesh.Optimize", 0);
+    try {
+      gmsh::model::mesh::generate(3);
+    } catch (...) {
+      gmsh::option::setNumber("Mesh.Algorithm3D", algorithm);
+      gmsh::option::setNumber("Mesh.Optimize", optimize);
+      throw;
+    }
+    gmsh::option::setNumber("Mesh.Algorithm3D", algorithm);
+    gmsh::option::setNumber("Mesh.Optimize", optimize);
 
     std::vector<std::size_t> all_tags;
     std::vector<double> all_coords, parametric;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <fstream>
+#include <malloc.h>
 #include <sstream>
 #include <string>
 
@@ -32,6 +33,8 @@ TimingStats time_repeated(const std::function<void()>& fn, int min_repeats, int 
     samples.push_back(ms);
     total_ms += ms;
     if (i + 1 >= min_repeats && total_ms > budget_ms) break;
+    // A single run far over the budget (a slow peer at the largest size) is not repeated.
+    if (total_ms > 5.0 * budget_ms) break;
   }
   return summarise(std::move(samples));
 }
@@ -69,6 +72,19 @@ double peak_memory_growth_mib(const std::function<void()>& fn) {
   fn();
   const double growth = peak_resident_mib() - before;
   return growth > 0.0 ? growth : 0.0;
+}
+
+double heap_in_use_mib() {
+  const struct mallinfo2 info = mallinfo2();
+  return static_cast<double>(info.uordblks + info.hblkhd) / (1024.0 * 1024.0);
+}
+
+MemoryUse measure_memory(const std::function<void()>& fn) {
+  MemoryUse use;
+  const double heap_before = heap_in_use_mib();
+  use.peak_rss_growth_mib = peak_memory_growth_mib(fn);
+  use.heap_growth_mib = std::max(0.0, heap_in_use_mib() - heap_before);
+  return use;
 }
 
 }  // namespace hipfai::bench

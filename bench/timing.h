@@ -20,7 +20,8 @@ struct TimingStats {
 };
 
 // Runs `fn` up to `max_repeats` times (at least `min_repeats`, and fewer than max_repeats only when
-// the runs already took more than `budget_ms` in total) and returns the median, min and max.
+// the runs already took more than `budget_ms` in total, or fewer than min_repeats when they took
+// more than 5 x budget_ms) and returns the median, min and max.
 TimingStats time_repeated(const std::function<void()>& fn, int min_repeats, int max_repeats,
                           double budget_ms);
 
@@ -33,7 +34,19 @@ void reset_peak_memory();
 double resident_mib();
 double peak_resident_mib();
 
-// Peak memory growth (MiB) while `fn` runs: peak after minus resident before.
+// Peak memory growth (MiB) while `fn` runs: peak after minus resident before. Heap pages that
+// were already resident (freed earlier, reused by malloc) do not show here, so see also below.
 double peak_memory_growth_mib(const std::function<void()>& fn);
+
+// Heap bytes in use (malloc'd, including mmapped blocks) in MiB, from glibc's mallinfo2.
+double heap_in_use_mib();
+
+struct MemoryUse {
+  double peak_rss_growth_mib = 0.0;  // VmHWM growth while building
+  double heap_growth_mib = 0.0;      // heap in use after minus before: the size of what was built
+};
+
+// Both measures around `fn`, which should build a structure and keep it alive.
+MemoryUse measure_memory(const std::function<void()>& fn);
 
 }  // namespace hipfai::bench
