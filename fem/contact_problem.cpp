@@ -589,7 +589,7 @@ ContactResult ContactProblem::Impl::run(ContactProblem& model) {
     active[n] = predicted <= gap_tolerance;
   }
   pcout << "fem: " << result.n_cells << " cells, " << result.n_dofs << " dofs, " << nodes.size()
-        << " contact nodes, " << result.n_ranks << " rank(s)\n";
+        << " contact nodes, " << result.n_ranks << " rank(s)" << std::endl;
 
   Linearization state;
   std::vector<double> force, gap;
@@ -654,7 +654,7 @@ ContactResult ContactProblem::Impl::run(ContactProblem& model) {
     }
     pcout << "fem: active-set iteration " << iteration << ": " << n_active << " active, "
           << changes << " changed, " << linear_iterations - iterations_before
-          << " CG iterations\n";
+          << " CG iterations" << std::endl;
     if (changes == 0) {
       result.status = ContactStatus::kConverged;
       break;

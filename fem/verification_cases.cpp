@@ -370,11 +370,12 @@ VerificationResult hertz(const VerificationOptions& options, MPI_Comm comm) {
     else if (std::abs(c[1]) < 1e-9) face->set_boundary_id(kPlaneY);
     else face->set_boundary_id(kFree);
   }
-  // Graded refinement towards the contact: each level halves the cells within a shrinking
-  // radius, ending with cells of a/8 over the contact zone (1.6 a wide).
-  const int levels = 4 + std::max(options.refinement, 0);
+  // Graded refinement towards the contact: each level halves the cells that reach into a ball
+  // shrinking by half per level, down to 1.3 a; cells of a/4 (3 levels) or a/8 (--refine 1)
+  // over the contact zone.
+  const int levels = 3 + std::max(options.refinement, 0);
   for (int level = 0; level < levels; ++level) {
-    const double reach = std::max(1.6 * contact_radius, 0.5 * size / (1 << level));
+    const double reach = std::max(1.3 * contact_radius, 0.25 * size / (1 << level));
     for (const auto& cell : tria.active_cell_iterators()) {
       if (cell->center().norm() - 0.5 * cell->diameter() < reach) cell->set_refine_flag();
     }
