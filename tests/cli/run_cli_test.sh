@@ -14,6 +14,6 @@ if [ "$expected" = "nonzero" ]; then
 else
   [ "$status" -eq "$expected" ] || fail "expected exit $expected, got $status"
 fi
-if [ -n "$pattern" ]; then grep -Eq "$pattern" "$err" || fail "stderr does not match /$pattern/"; fi
+if [ -n "$pattern" ]; then grep -Eq -e "$pattern" "$err" || fail "stderr does not match /$pattern/"; fi
 rm -f "$err" "$out"
 echo "ok"
