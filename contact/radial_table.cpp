@@ -75,6 +75,12 @@ void update_triangles(RadialTable& table, const geometry::TriMesh& fixed,
       throw_error("radial table update: triangle index ", t, " out of range 0..",
                   table.num_triangles - 1);
     }
+    for (const auto v : fixed.triangles[static_cast<std::size_t>(t)]) {
+      if (v < 0 || static_cast<std::size_t>(v) >= fixed.num_vertices() ||
+          !fixed.vertices[static_cast<std::size_t>(v)].allFinite()) {
+        throw_error("radial table update: triangle ", t, " has an invalid or non-finite vertex");
+      }
+    }
   }
   // Remove the old entries first, then re-bin: removal is by value within the old cells only.
   for (const std::int32_t t : changed) {
