@@ -1,0 +1,55 @@
+// hipfai — the parametric CAD-like hip (thesis §4.3.2.2, Figs. 58-59), built with gmsh's
+// OpenCASCADE kernel and meshed per tissue.
+//
+// Construction in the hip frame (R = articular radius, n = neck axis, a = acetabular axis):
+//   femur_bone           head ball of radius R - t_f + s centred at s n (s chosen so that the lens
+//                        below thins to zero at femoral_cartilage_edge_deg from n), clipped to the
+//                        R sphere and cut by the plane normal to n at the head-neck junction
+//                        (min(alpha, normal_alpha) from n), fused with a neck cylinder along n, a
+//                        shaft stub along -Z at the end of the neck, and, when alpha exceeds
+//                        normal_alpha, the cam: a ball in the anterosuperior cam plane whose
+//                        intersection with the R sphere passes through the point at alpha from n.
+//   femoral_cartilage    R ball minus the head ball (and the cam): a lens, t_f thick at the pole,
+//                        zero at its edge.
+//   acetabular_bone      pelvis block intersected with the socket half-space x . a <= 0, minus the
+//                        R + t_a ball.
+//   acetabular_cartilage shell R .. R + t_a in the socket half-space, minus the fossa cylinder
+//                        (horseshoe open inferiorly).
+//   labrum               triangle (R, 0), (R + base, 0), tip on the R sphere at labrum_height along
+//                        a, revolved about a; interrupted at the inferior notch.
+// Each tissue is meshed on its own (surfaces are not shared between tissues), so each is a
+// closed manifold surface; triangles are re-oriented outward.
+#pragma once
+
+#include "geometry/hip_model.h"
+#include "geometry/hip_parameters.h"
+
+#include <filesystem>
+
+namespace hipfai::geometry {
+
+struct HipGeneratorResult {
+  enum class Status { ok, failed };
+  Status status = Status::failed;
+  HipModel model;
+  double seconds = 0.0;   // wall-clock time of construction + meshing
+};
+
+// Builds and meshes one hip. Throws hipfai::Error on invalid parameters or when OpenCASCADE or
+// the mesher fails (the message names the tissue). Serialised: gmsh is not re-entrant.
+HipGeneratorResult generate_hip(const HipParameters& parameters);
+
+struct HipVolumeMeshResult {
+  std::size_t num_tetrahedra = 0;
+  std::size_t num_nodes = 0;
+  double seconds = 0.0;
+};
+
+// Writes a tetrahedral mesh (gmsh .msh 4.1) of all tissues with one physical volume group per
+// tissue, named as in kHipTissueNames. Bone and soft tissue of the same side are conformal
+// (fragmented); femoral and acetabular sides are meshed independently, so their contact surfaces
+// are coincident but not shared, as a contact FE needs.
+HipVolumeMeshResult write_hip_volume_mesh(const HipParameters& parameters,
+                                          const std::filesystem::path& msh_path);
+
+}  // namespace hipfai::geometry

@@ -1,0 +1,160 @@
+#include "geometry/hip_model.h"
+
+#include "core/error.h"
+#include "geometry/mesh_io.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace hipfai::geometry {
+namespace {
+
+nlohmann::json to_json(const Vec3& v) { return nlohmann::json::array({v.x(), v.y(), v.z()}); }
+
+Vec3 read_vector(const nlohmann::json& json, const std::string& key, const std::string& what,
+                 bool unit) {
+  if (!json.contains(key)) throw_error(what, ": missing key '", key, "'");
+  const auto& value = json.at(key);
+  if (!value.is_array() || value.size() != 3) {
+    throw_error(what, ": ", key, ": expected an array of 3 numbers");
+  }
+  Vec3 v;
+  for (int i = 0; i < 3; ++i) {
+    if (!value[static_cast<std::size_t>(i)].is_number()) {
+      throw_error(what, ": ", key, ": expected an array of 3 numbers");
+    }
+    v[i] = value[static_cast<std::size_t>(i)].get<double>();
+  }
+  if (!v.allFinite()) throw_error(what, ": ", key, ": non-finite component");
+  // 1e-6: the writer stores 17 significant digits, so a unit vector reads back to ~1e-16.
+  if (unit && std::abs(v.norm() - 1.0) > 1e-6) {
+    throw_error(what, ": ", key, ": not a unit vector (length ", v.norm(), ")");
+  }
+  return v;
+}
+
+double read_number(const nlohmann::json& json, const std::string& key, const std::string& what) {
+  if (!json.contains(key)) throw_error(what, ": missing key '", key, "'");
+  if (!json.at(key).is_number()) throw_error(what, ": ", key, ": expected a number");
+  return json.at(key).get<double>();
+}
+
+}  // namespace
+
+const TriMesh& HipModel::tissue(const std::string& name) const {
+  const auto it = tissues.find(name);
+  if (it == tissues.end()) throw_error("hip model: no tissue '", name, "'");
+  return it->second;
+}
+
+void write_hip_model(const HipModel& model, const std::filesystem::path& dir,
+                     const std::string& format) {
+  if (format != "ply" && format != "stl" && format != "vtp" && format != "obj") {
+    throw_error("--format: unknown mesh format '", format, "' (expected ply, stl, vtp or obj)");
+  }
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw_error(dir.string(), ": cannot create directory: ", ec.message());
+
+  nlohmann::ordered_json json;
+  json["format"] = "hipfai-hip-model";
+  json["version"] = 1;
+  json["units"] = "mm, deg";
+  json["handedness"] = "right";
+  json["ce_deg"] = model.parameters.ce_deg;
+  json["alpha_deg"] = model.parameters.alpha_deg;
+  json["hjc_mm"] = to_json(model.hjc_mm);
+  json["flexion_axis"] = to_json(model.axes.flexion_axis);
+  json["adduction_axis"] = to_json(model.axes.adduction_axis);
+  json["internal_rotation_axis"] = to_json(model.axes.internal_rotation_axis);
+  json["neck_axis"] = to_json(model.neck_axis);
+  json["superior"] = to_json(model.superior);
+  json["lateral"] = to_json(model.lateral);
+  json["acetabular_axis"] = to_json(model.acetabular_axis);
+  json["edge_mm"] = model.parameters.edge_mm;
+  json["parameters"] = nlohmann::ordered_json::parse(hip_parameters_to_json(model.parameters));
+  nlohmann::ordered_json tissues = nlohmann::ordered_json::object();
+  nlohmann::ordered_json counts = nlohmann::ordered_json::object();
+  for (const auto& [name, mesh] : model.tissues) {
+    const std::string file = name + "." + format;
+    write_mesh(mesh, dir / file);
+    tissues[name] = file;
+    counts[name] = {{"vertices", mesh.num_vertices()}, {"triangles", mesh.num_triangles()}};
+  }
+  json["tissues"] = tissues;
+  json["counts"] = counts;
+
+  // Temporary file + rename: a failed write never leaves a half-written model.json.
+  const auto target = dir / "model.json";
+  const auto temporary = dir / "model.json.tmp";
+  {
+    std::ofstream out(temporary);
+    if (!out) throw_error(temporary.string(), ": cannot open for writing");
+    out << json.dump(2) << '\n';
+    if (!out) throw_error(temporary.string(), ": write failed");
+  }
+  std::filesystem::rename(temporary, target, ec);
+  if (ec) throw_error(target.string(), ": cannot rename into place: ", ec.message());
+}
+
+HipModel load_hip_model(const std::filesystem::path& dir) {
+  const auto path = dir / "model.json";
+  const std::string what = path.string();
+  std::ifstream in(path);
+  if (!in) throw_error(what, ": cannot open");
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  nlohmann::json json;
+  try {
+    json = nlohmann::json::parse(buffer.str());
+  } catch (const nlohmann::json::exception& e) {
+    throw_error(what, ": invalid JSON: ", e.what());
+  }
+  if (!json.is_object()) throw_error(what, ": expected a JSON object");
+  if (!json.contains("format") || json["format"] != "hipfai-hip-model") {
+    throw_error(what, ": format: expected \"hipfai-hip-model\"");
+  }
+
+  HipModel model;
+  if (!json.contains("parameters") || !json["parameters"].is_object()) {
+    throw_error(what, ": parameters: missing or not an object");
+  }
+  model.parameters = hip_parameters_from_json(json["parameters"].dump(), what + ": parameters");
+  model.parameters.ce_deg = read_number(json, "ce_deg", what);
+  model.parameters.alpha_deg = read_number(json, "alpha_deg", what);
+  model.parameters.edge_mm = read_number(json, "edge_mm", what);
+  model.hjc_mm = read_vector(json, "hjc_mm", what, false);
+  model.axes.flexion_axis = read_vector(json, "flexion_axis", what, true);
+  model.axes.adduction_axis = read_vector(json, "adduction_axis", what, true);
+  model.axes.internal_rotation_axis = read_vector(json, "internal_rotation_axis", what, true);
+  model.neck_axis = read_vector(json, "neck_axis", what, true);
+  model.superior = read_vector(json, "superior", what, true);
+  model.lateral = read_vector(json, "lateral", what, true);
+  model.acetabular_axis = read_vector(json, "acetabular_axis", what, true);
+
+  if (!json.contains("tissues") || !json["tissues"].is_object() || json["tissues"].empty()) {
+    throw_error(what, ": tissues: missing, empty or not an object");
+  }
+  const nlohmann::json counts = json.value("counts", nlohmann::json::object());
+  for (const auto& [name, file] : json["tissues"].items()) {
+    if (!file.is_string()) throw_error(what, ": tissues.", name, ": expected a file name");
+    const auto mesh_path = dir / file.get<std::string>();
+    if (!std::filesystem::exists(mesh_path)) {
+      throw_error(what, ": tissues.", name, ": file not found: ", mesh_path.string());
+    }
+    TriMesh mesh = read_mesh(mesh_path);
+    if (counts.contains(name) && counts[name].contains("vertices") &&
+        counts[name]["vertices"].is_number_integer() &&
+        counts[name]["vertices"].get<std::size_t>() != mesh.num_vertices()) {
+      throw_error(what, ": counts.", name, ".vertices: ", counts[name]["vertices"].get<std::size_t>(),
+                  " but ", mesh_path.string(), " has ", mesh.num_vertices());
+    }
+    model.tissues.emplace(name, std::move(mesh));
+  }
+  return model;
+}
+
+}  // namespace hipfai::geometry

@@ -1,0 +1,100 @@
+// hipfai — parameters of the parametric CAD-like hip (thesis §4.3.2.2, Figs. 58-59).
+//
+// Every dimension of a generated hip is one field below with its default, its allowed range and
+// its source. Generated hips are RIGHT hips in the hip frame of geometry/hip_frame.h (origin at
+// the HJC, +X lateral, +Y anterior, +Z superior). Lengths in mm, angles in degrees.
+//
+// The two clinical parameters of the FAI study are
+//   ce_deg     lateral centre-edge angle of Wiberg: in the frontal plane Y = 0, the angle between
+//              +Z and the line from the HJC to the lateral edge of the bony acetabulum (the rim of
+//              the acetabular bone and cartilage; the labrum is NOT part of it). The acetabular
+//              opening is a plane through the HJC whose trace in Y = 0 is that line, so the
+//              angle is the same on the 25 mm and 27 mm spheres.
+//   alpha_deg  alpha angle of Nötzli: in the plane containing the neck axis rotated to the
+//              anterosuperior cam position, the angle between the neck axis and the line from the
+//              HJC to where the bone+cartilage contour first leaves the 25 mm head sphere.
+#pragma once
+
+#include "geometry/tri_mesh.h"
+
+#include <string>
+
+namespace hipfai::geometry {
+
+struct HipParameters {
+  // Lateral CE angle, [0, 45] deg; study grid 0..40 (thesis §4.3.2.2).
+  double ce_deg = 30.0;
+  // Alpha angle, [35, 90] deg; study grid 40..80, a normal hip has ~40 (Nötzli et al. 2002).
+  double alpha_deg = 40.0;
+  // Radius shared by the articulating surfaces, [20, 30] mm (literature::kArticularRadiusMm).
+  double articular_radius_mm = 25.0;
+  // Femoral cartilage at the pole, [0.5, 4] mm (literature::kFemoralCartilageMaxThicknessMm).
+  double femoral_cartilage_mm = 2.0;
+  // Acetabular cartilage, constant, [0.5, 4] mm (literature::kAcetabularCartilageThicknessMm).
+  double acetabular_cartilage_mm = 2.0;
+  // Labrum, rim to tip along the acetabular axis, [3, 10] mm (literature::kLabrumHeightMm).
+  double labrum_height_mm = 7.0;
+  // Labrum base width on the rim plane, from the articular sphere outwards, [3, 10] mm. Covers the
+  // cartilage edge (2 mm) and 3 mm of bony rim; a modelling choice (Seldes et al. 2001 report a
+  // 4.7-6.4 mm base width of the triangular labrum section).
+  double labrum_base_mm = 5.0;
+  // Neck-shaft (CCD) angle, [110, 150] deg (literature::kNeckShaftAngleDeg).
+  double neck_shaft_angle_deg = 130.0;
+  // Femoral anteversion, [-10, 40] deg (literature::kFemoralAnteversionDeg).
+  double femoral_anteversion_deg = 12.0;
+  // Acetabular anteversion, [0, 35] deg; ~20 deg in normal adults (Tannast, Siebenrock &
+  // Anderson 2007, AJR 188:1540). Tilts the opening plane about Z; it leaves the CE angle unchanged.
+  double acetabular_anteversion_deg = 20.0;
+  // Neck radius, [8, 20] mm (must be below articular_radius * sin(min(alpha, 40 deg))).
+  double neck_radius_mm = 13.0;
+  // HJC to the shaft axis along the neck axis, [30, 70] mm (a femoral offset of ~40 mm).
+  double neck_length_mm = 45.0;
+  // Shaft stub radius [8, 25] mm and length below the neck [10, 120] mm.
+  double shaft_radius_mm = 14.0;
+  double shaft_length_mm = 45.0;
+  // Angle of the normal head-neck junction from the neck axis, [30, 50] deg: the alpha angle of a
+  // hip without cam. Requests below it move the junction instead of adding a cam.
+  double normal_alpha_deg = 40.0;
+  // Edge of the femoral cartilage from the neck axis, [normal_alpha + 2, 80] deg; the cartilage
+  // thins to zero there (Eckstein et al. 1997: thinning towards the head-neck junction).
+  double femoral_cartilage_edge_deg = 45.0;
+  // Cam position: angle of the cam plane from anterior towards superior about the neck axis,
+  // [0, 90] deg; anterosuperior (Beck et al. 2005: cam lesions sit anterosuperiorly).
+  double cam_position_deg = 45.0;
+  // The cam is a ball of this radius [4, 20] mm standing this far out of the head sphere [0.5, 6] mm.
+  double cam_radius_mm = 10.0;
+  double cam_height_mm = 2.5;
+  // Pelvis block around the socket, extents along X, Y, Z [60, 200] mm; the block is centred
+  // medially and superiorly of the HJC by a quarter of its X and Z extents.
+  double pelvis_block_x_mm = 80.0;
+  double pelvis_block_y_mm = 80.0;
+  double pelvis_block_z_mm = 90.0;
+  // Acetabular fossa: cartilage is removed within this angle [15, 60] deg of the fossa axis, which
+  // lies 30 deg from the inferior rim towards the acetabular pole, so the cartilage becomes a
+  // horseshoe open at the inferior notch.
+  double fossa_half_angle_deg = 40.0;
+  // Width of the labrum gap at the inferior notch [5, 40] mm (the transverse ligament is not modelled).
+  double notch_width_mm = 24.0;
+  // Target surface edge length, [0.2, 10] mm (thesis Table 3 resolutions).
+  double edge_mm = 2.0;
+};
+
+// Throws hipfai::Error "<what>: <field> = <value> is outside [lo, hi]" on the first bad field.
+void validate_hip_parameters(const HipParameters& parameters, const std::string& what = "hip parameters");
+
+// JSON object with one key per field (the names above); from_json accepts a subset (missing keys
+// keep their defaults), rejects unknown keys and validates. Errors name `what` and the key.
+std::string hip_parameters_to_json(const HipParameters& parameters, int indent = 2);
+HipParameters hip_parameters_from_json(const std::string& text, const std::string& what);
+
+// Directions derived from the parameters, unit vectors in the hip frame.
+// Neck axis: from the HJC towards the neck (lateral, inferior and, with anteversion, posterior).
+Vec3 neck_axis(const HipParameters& parameters);
+// Acetabular axis: normal of the opening plane, pointing out of the socket (lateral, inferior,
+// anterior). The socket is the half-space x . axis <= 0.
+Vec3 acetabular_axis(const HipParameters& parameters);
+// Unit vector perpendicular to the neck axis pointing to the cam (cam_position_deg from the
+// anterior towards the superior direction).
+Vec3 cam_direction(const HipParameters& parameters);
+
+}  // namespace hipfai::geometry
