@@ -14,6 +14,7 @@
 namespace hipfai::contact {
 
 PenetrationResult oracle_radial(const geometry::TriMesh& fixed, const geometry::TriMesh& mobile,
-                                const Vec3& centre, RadialConfiguration configuration);
+                                const Vec3& centre, RadialConfiguration configuration,
+                                RadialCrossingRule rule = RadialCrossingRule::kAdjacent);
 
 }  // namespace hipfai::contact

@@ -42,6 +42,105 @@ void offer(const geometry::TriMesh& fixed, const Vec3& centre, const Vec3& direc
   adjacent = {true, crossing.t, crossing.facing, t};
 }
 
+struct Crossing {
+  double t;
+  int facing;
+  std::int32_t triangle;
+};
+
+bool share_a_vertex(const geometry::TriMesh& mesh, std::int32_t a, std::int32_t b) {
+  for (auto i : mesh.triangles[static_cast<std::size_t>(a)]) {
+    for (auto j : mesh.triangles[static_cast<std::size_t>(b)]) {
+      if (i == j) return true;
+    }
+  }
+  return false;
+}
+
+// The kUnion rule over every crossing of the ray (gathered from the vertex's cells). Returns
+// false when v is not inside the union.
+bool resolve_union(const geometry::TriMesh& fixed, std::vector<Crossing>& crossings, bool inside_fixed,
+                   double& t_out, std::int32_t& triangle_out) {
+  std::sort(crossings.begin(), crossings.end(), [](const Crossing& a, const Crossing& b) {
+    return a.t != b.t ? a.t < b.t : a.triangle < b.triangle;
+  });
+  // The same triangle offered by several cells, and one hit split over the triangles around a
+  // shared edge or vertex, count once.
+  std::vector<Crossing> unique;
+  for (const Crossing& c : crossings) {
+    bool duplicate = false;
+    for (auto it = unique.rbegin(); it != unique.rend() && it->t >= c.t * (1.0 - 1e-12); ++it) {
+      if (it->triangle == c.triangle ||
+          (it->facing == c.facing && share_a_vertex(fixed, it->triangle, c.triangle))) {
+        duplicate = true;
+        break;
+      }
+    }
+    if (!duplicate) unique.push_back(c);
+  }
+  int winding = 0;  // solids containing v
+  for (const Crossing& c : unique) {
+    if (c.t == 1.0) return false;  // on the surface: touching, not penetrating
+    if (c.t > 1.0) winding += c.facing;
+  }
+  if (winding <= 0) return false;
+  if (inside_fixed) {
+    // Walk towards O: passing an entering crossing (-1) leaves a solid.
+    // Crossings at the same distance (a shared face of two touching solids: one exits, the
+    // other enters) are passed together before the winding number is looked at.
+    for (auto it = unique.rbegin(); it != unique.rend();) {
+      if (it->t > 1.0) {
+        ++it;
+        continue;
+      }
+      auto group_end = it;
+      std::int32_t lowest = it->triangle;
+      bool facing_found = false;
+      while (group_end != unique.rend() && group_end->t >= it->t * (1.0 - 1e-12)) {
+        winding += group_end->facing;
+        if (group_end->facing < 0) {
+          lowest = facing_found ? std::min(lowest, group_end->triangle) : group_end->triangle;
+          facing_found = true;
+        }
+        ++group_end;
+      }
+      if (winding == 0) {
+        t_out = it->t;
+        triangle_out = lowest;
+        return true;
+      }
+      it = group_end;
+    }
+    t_out = 0.0;  // the union reaches O
+    triangle_out = -1;
+    return true;
+  }
+  for (auto it = unique.begin(); it != unique.end();) {
+    if (it->t < 1.0) {
+      ++it;
+      continue;
+    }
+    auto group_end = it;
+    std::int32_t lowest = it->triangle;
+    bool facing_found = false;
+    while (group_end != unique.end() && group_end->t <= it->t * (1.0 + 1e-12)) {
+      winding -= group_end->facing;
+      if (group_end->facing > 0) {
+        lowest = facing_found ? std::min(lowest, group_end->triangle) : group_end->triangle;
+        facing_found = true;
+      }
+      ++group_end;
+    }
+    if (winding == 0) {
+      t_out = it->t;
+      triangle_out = lowest;
+      return true;
+    }
+    it = group_end;
+  }
+  return false;  // cannot happen for closed solids; an open surface leaves v unresolved
+}
+
 void query_range(const RadialTable& table, const geometry::TriMesh& fixed,
                  const geometry::TriMesh& mobile, const RadialQueryOptions& options,
                  std::size_t begin, std::size_t end, std::vector<PenetrationPair>& slots,
@@ -49,13 +148,25 @@ void query_range(const RadialTable& table, const geometry::TriMesh& fixed,
   const bool inside_fixed = options.configuration == RadialConfiguration::kMobileInsideFixed;
   const double cap_radius = options.neighbour_cells * table.grid.nominal_cell_angle_rad();
   std::vector<int> cap_cells;
+  const bool union_rule = options.rule == RadialCrossingRule::kUnion;
+  std::vector<Crossing> crossings;
   for (std::size_t v = begin; v < end; ++v) {
     const Vec3 direction = mobile.vertices[v] - table.centre;
     if (direction.isZero(0.0)) continue;  // v == O: no ray
     Adjacent adjacent;
+    crossings.clear();
     auto visit = [&](const std::vector<std::int32_t>& candidates) {
       for (const std::int32_t t : candidates) {
-        offer(fixed, table.centre, direction, options.configuration, t, adjacent);
+        if (union_rule) {
+          const auto& tri = fixed.triangles[static_cast<std::size_t>(t)];
+          const RayCrossing crossing = ray_triangle_crossing(
+              direction, fixed.vertices[static_cast<std::size_t>(tri[0])] - table.centre,
+              fixed.vertices[static_cast<std::size_t>(tri[1])] - table.centre,
+              fixed.vertices[static_cast<std::size_t>(tri[2])] - table.centre);
+          if (crossing.hit) crossings.push_back({crossing.t, crossing.facing, t});
+        } else {
+          offer(fixed, table.centre, direction, options.configuration, t, adjacent);
+        }
       }
     };
     if (options.neighbour_cells > 0) {
@@ -66,6 +177,15 @@ void query_range(const RadialTable& table, const geometry::TriMesh& fixed,
       visit(table.cell(cell_of_direction(table.grid, direction)));
     }
     visit(table.always_candidates);
+    if (union_rule) {
+      double t_union = 0.0;
+      std::int32_t triangle = -1;
+      if (!resolve_union(fixed, crossings, inside_fixed, t_union, triangle)) continue;
+      const double depth = (inside_fixed ? 1.0 - t_union : t_union - 1.0) * direction.norm();
+      slots[v] = PenetrationPair{static_cast<std::int32_t>(v), triangle, depth};
+      hits[v] = 1;
+      continue;
+    }
     if (!adjacent.found || adjacent.t == 1.0) continue;
     if (adjacent.facing != (inside_fixed ? -1 : 1)) continue;
     const double depth = (inside_fixed ? 1.0 - adjacent.t : adjacent.t - 1.0) * direction.norm();

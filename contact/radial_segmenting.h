@@ -45,8 +45,24 @@ const char* to_string(RadialConfiguration configuration);
 // The opposite configuration: what the nesting looks like after swapping the roles of the meshes.
 RadialConfiguration swapped(RadialConfiguration configuration);
 
+// Which crossing decides (see THE CROSSING RULE above for kAdjacent).
+//   kAdjacent  the crossing next to v: the fixed solids are taken one surface at a time.
+//   kUnion     the fixed mesh is read as a union of closed solids that may touch or overlap
+//              (cartilage on bone, labrum on cartilage): v penetrates iff it lies inside the
+//              union, and the depth is measured to the union's boundary along the ray — for
+//              kMobileInsideFixed the point nearest v towards O where the ray enters the union,
+//              for kFixedInsideMobile the point nearest v away from O where it leaves it. This is
+//              the depth of thesis Fig. 27 when every fixed polygon between O and v is reported
+//              and the deepest kept, and it stays right when a vertex has passed through a thin
+//              layer into the tissue behind it. Inside-ness is the winding number along the
+//              ray: sum over crossings beyond v of +1 (exit) / -1 (enter); the crossings of
+//              one ray through a shared edge or vertex (equal t and facing, triangles sharing a
+//              vertex) count once. If the union reaches O (kMobileInsideFixed) the depth is |v - O|.
+enum class RadialCrossingRule { kAdjacent, kUnion };
+
 struct RadialQueryOptions {
   RadialConfiguration configuration = RadialConfiguration::kMobileInsideFixed;
+  RadialCrossingRule rule = RadialCrossingRule::kAdjacent;
   // 1 or 2 threads over the mobile vertices (results are identical either way).
   int num_threads = 1;
   // Deformation without updating the table (§3.3.4): when k > 0, each vertex also checks every
