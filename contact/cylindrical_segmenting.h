@@ -94,6 +94,8 @@ class CylindricalPoseCache {
   std::size_t num_crossings() const { return crossing_theta_.size(); }
   double touching_mm() const { return options_.touching_mm; }
 
+  friend class detail::CylindricalCacheAccess;
+
  private:
   QueryStatus status_ = QueryStatus::kInvalidInput;
   std::string message_ = "pose cache not built";

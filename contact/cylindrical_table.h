@@ -44,6 +44,12 @@
 
 namespace hipfai::contact {
 
+namespace detail {
+// Binary save/load of the cylindrical artefacts (cylindrical_cache_io.h): reads and restores the
+// private state of CylindricalTable and CylindricalPoseCache.
+class CylindricalCacheAccess;
+}  // namespace detail
+
 struct CylindricalTableOptions {
   double resolution_r_mm = 0.0;     // ring width; 0 = mean edge length of the fixed mesh
   double resolution_z_mm = 0.0;     // ring height; 0 = mean edge length of the fixed mesh
@@ -124,6 +130,7 @@ class CylindricalTable {
   friend void update_triangles(CylindricalTable& table, const geometry::TriMesh& fixed_now,
                                std::span<const std::int32_t> changed_triangles,
                                TableUpdate mode);
+  friend class detail::CylindricalCacheAccess;
 
  private:
   struct CellRange {
