@@ -57,6 +57,18 @@ void ensure_gmsh() {
   (void)initialised;
 }
 
+// After a failed 3D mesh gmsh 4.8 keeps an error state in which later meshing silently produces
+// nothing: restart the runtime (options go back to their defaults; the hip generator sets its own
+// for every hip).
+void reset_gmsh() {
+  try {
+    gmsh::finalize();
+  } catch (...) {
+  }
+  gmsh::initialize();
+  gmsh::option::setNumber("General.Terminal", 0);
+}
+
 }  // namespace
 
 TetMesh tetrahedralize(const geometry::TriMesh& closed_surface) {
@@ -84,23 +96,28 @@ TetMesh tetrahedralize(const geometry::TriMesh& closed_surface) {
     const int loop = gmsh::model::geo::addSurfaceLoop({surface});
     gmsh::model::geo::addVolume({loop});
     gmsh::model::geo::synchronize();
-    // HXT (gmsh's parallel Delaunay) is an order of magnitude faster than the default on these
-    // sizes; no optimisation pass: hashing needs a valid tetrahedralization, not quality tets.
-    // Options are global in gmsh: restore them for other users of the runtime (hip generator).
-    double algorithm = 1.0, optimize = 1.0;
-    gmsh::option::getNumber("Mesh.Algorithm3D", algorithm);
-    gmsh::option::getNumber("Mesh.Optimize", optimize);
-    gmsh::option::setNumber("Mesh.Algorithm3D", 10);
-    gmsh::option::setNumber("Mesh.Optimize", 0);
+    // gmsh's default 3D Delaunay, sizes from the boundary only (no global size limit left over
+    // from another user of the runtime, so no needless interior refinement) and no optimisation:
+    // hashing needs a valid tetrahedralization, not quality tets. (HXT was tried: it aborts the
+    // process on some of these boxes.) Options are global in gmsh: restored afterwards.
+    const std::vector<std::pair<const char*, double>> settings{
+        {"Mesh.Algorithm3D", 1.0}, {"Mesh.Optimize", 0.0}, {"Mesh.MeshSizeMax", 1e22},
+        {"Mesh.MeshSizeMin", 0.0}, {"Mesh.MeshSizeExtendFromBoundary", 1.0}};
+    std::vector<double> saved(settings.size(), 0.0);
+    for (std::size_t i = 0; i < settings.size(); ++i) {
+      gmsh::option::getNumber(settings[i].first, saved[i]);
+      gmsh::option::setNumber(settings[i].first, settings[i].second);
+    }
+    const auto restore = [&] {
+      for (std::size_t i = 0; i < settings.size(); ++i) gmsh::option::setNumber(settings[i].first, saved[i]);
+    };
     try {
       gmsh::model::mesh::generate(3);
     } catch (...) {
-      gmsh::option::setNumber("Mesh.Algorithm3D", algorithm);
-      gmsh::option::setNumber("Mesh.Optimize", optimize);
+      restore();
       throw;
     }
-    gmsh::option::setNumber("Mesh.Algorithm3D", algorithm);
-    gmsh::option::setNumber("Mesh.Optimize", optimize);
+    restore();
 
     std::vector<std::size_t> all_tags;
     std::vector<double> all_coords, parametric;
@@ -121,19 +138,16 @@ TetMesh tetrahedralize(const geometry::TriMesh& closed_surface) {
     }
     gmsh::clear();
   } catch (const std::exception& error) {
-    try {
-      gmsh::clear();
-    } catch (...) {
-    }
+    reset_gmsh();
     throw_error("tetrahedralize: gmsh failed: ", error.what());
   } catch (...) {
-    try {
-      gmsh::clear();
-    } catch (...) {
-    }
-    throw_error("tetrahedralize: gmsh failed on the surface mesh");
+    reset_gmsh();
+    throw_error("tetrahedralize: gmsh failed on the surface mesh (self-intersecting or open?)");
   }
-  if (out.tets.empty()) throw_error("tetrahedralize: gmsh produced no tetrahedra");
+  if (out.tets.empty()) {
+    reset_gmsh();
+    throw_error("tetrahedralize: gmsh produced no tetrahedra (self-intersecting or open surface?)");
+  }
   return out;
 }
 

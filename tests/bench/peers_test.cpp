@@ -9,8 +9,10 @@
 #include "bench/stepping_rom.h"
 #include "contact/oracle_radial.h"
 #include "contact/range_finder.h"
+#include "core/error.h"
 #include "geometry/primitive_meshes.h"
 
+#include <gmsh.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -240,6 +242,46 @@ TEST(Scenarios, SphereCubeCapsAbout17PercentOfTheSphere) {
   // Archimedes: cap area fraction (1 - h / R) / 2 = 0.17; the faceted sphere's triangles are
   // counted by centroid, which moves the fraction by well under 0.01 at level 6.
   EXPECT_NEAR(capped / total, 0.17, 0.01);
+}
+
+}  // namespace
+}  // namespace hipfai::bench
+
+namespace hipfai::bench {
+namespace {
+
+double tet_volume(const TetMesh& tets) {
+  double volume = 0.0;
+  for (const auto& t : tets.tets) {
+    const Vector3d a = tets.nodes[static_cast<std::size_t>(t[0])];
+    volume += std::abs((tets.nodes[static_cast<std::size_t>(t[1])] - a)
+                           .dot((tets.nodes[static_cast<std::size_t>(t[2])] - a).cross(tets.nodes[static_cast<std::size_t>(t[3])] - a))) / 6.0;
+  }
+  return volume;
+}
+
+TEST(SpatialHashing, SuccessiveTetrahedralizationsInOneProcess) {
+  // gmsh keeps global state between calls: each call must start from a clean model.
+  const auto sphere = geometry::make_octasphere(Vector3d(1, 2, 3), 10.0, 3);
+  const auto box = geometry::make_box(Vector3d(-25, -25, 16.5), Vector3d(25, 25, 66.5), 8);
+  (void)tetrahedralize(sphere);  // initialises the runtime
+  // Global size options another gmsh user (the hip generator) leaves behind must not matter; the
+  // coarsest box of the sphere-cube ladder (4 divisions) made HXT abort with these.
+  gmsh::option::setNumber("Mesh.MeshSizeMax", 5.5);
+  gmsh::option::setNumber("Mesh.MeshSizeMin", 0.55);
+  gmsh::option::setNumber("General.NumThreads", 1);
+  const TetMesh coarse = tetrahedralize(make_sphere_cube(2).fixed);
+  EXPECT_NEAR(tet_volume(coarse), 125000.0, 125000.0 * 1e-6);
+  // Two overlapping spheres in one surface: self-intersecting, gmsh must fail (and recover).
+  const auto other = geometry::make_octasphere(Vector3d(6, 2, 3), 10.0, 3);
+  const auto overlapping = geometry::merge_meshes({&sphere, &other});
+  for (int round = 0; round < 2; ++round) {
+    EXPECT_THROW((void)tetrahedralize(overlapping), Error);
+    const TetMesh a = tetrahedralize(sphere);
+    EXPECT_NEAR(tet_volume(a), geometry::signed_volume(sphere), 1e-6 * geometry::signed_volume(sphere));
+    const TetMesh b = tetrahedralize(box);
+    EXPECT_NEAR(tet_volume(b), 125000.0, 125000.0 * 1e-6);
+  }
 }
 
 }  // namespace
