@@ -6,6 +6,8 @@
 // of the master degrees of freedom, so the gap can be written as a linear constraint.
 #pragma once
 
+#include "fem/face_patch.h"
+
 #include <deal.II/base/point.h>
 #include <deal.II/base/tensor.h>
 #include <deal.II/base/types.h>
@@ -36,27 +38,16 @@ class BoundaryProjector {
                     dealii::types::boundary_id boundary_id);
 
   std::size_t n_faces() const { return faces_.size(); }
+  const std::vector<FacePatch>& faces() const { return faces_; }
 
   // Closest point on the boundary to `query_mm`, searching faces whose bounding box, grown by
   // `search_radius_mm`, contains the query. found = false when none does.
   BoundaryProjection project(const dealii::Point<3>& query_mm, double search_radius_mm) const;
 
  private:
-  // Each face is stored as the tensor-product polynomial the mapping makes of it (sampled once
-  // on an equispaced grid of the mapping's degree): evaluating it is then cheap and exact.
-  struct Face {
-    typename dealii::DoFHandler<3>::active_cell_iterator cell;
-    unsigned int face_no;
-    dealii::Point<3> box_min, box_max;
-    std::vector<dealii::Point<3>> samples;  // (degree+1)^2, s fastest
-    double orientation = 1.0;               // makes ds x dt point out of the cell
-  };
-  void evaluate(const Face& face, double s, double t, dealii::Point<3>& x,
-                dealii::Tensor<1, 3>& ds, dealii::Tensor<1, 3>& dt) const;
-  unsigned int degree_ = 1;
-  const dealii::Mapping<3>& mapping_;
+  // Faces with their bounding boxes padded for curvature.
   const dealii::DoFHandler<3>& dof_handler_;
-  std::vector<Face> faces_;
+  std::vector<FacePatch> faces_;
 };
 
 }  // namespace hipfai::fem

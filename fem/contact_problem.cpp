@@ -2,6 +2,8 @@
 
 #include "core/error.h"
 #include "fem/boundary_projection.h"
+#include "fem/face_patch.h"
+#include "fem/mortar_segments.h"
 
 #include <deal.II/base/conditional_ostream.h>
 #include <deal.II/base/index_set.h>
@@ -279,39 +281,57 @@ void ContactProblem::Impl::collect_contact_nodes(const ContactProblem& model) {
       throw_error("fem model: contact pair ", p, ": slave boundary ",
                   static_cast<int>(pair.slave_boundary_id), " has no faces");
     }
-    // Deformable master: mortar-type weights. Node-to-surface interpolation of the master at
-    // the slave node alone fails the patch test on non-matching meshes (a uniform pressure comes
+    // Deformable master: mortar weights. Node-to-surface interpolation of the master at the
+    // slave node alone fails the patch test on non-matching meshes (a uniform pressure comes
     // out wavy); integrating the gap against the slave shape function instead,
-    //   a_s (u_s . n) = sum_j M_sj (u_j . n),  M_sj = integral phi_s N_j(closest point),
-    // transmits a uniform pressure exactly because both shape families sum to one.
+    //   D_s (u_s . n) = sum_j M_sj (u_j . n) - integral phi_s (x_s - x_m) . n,
+    //   D_s = integral phi_s,  M_sj = integral phi_s N_j(x_m),
+    // over the covered part of the slave surface transmits a uniform pressure exactly when the
+    // integrals are exact, which the segment-based integration makes them (flat faces).
     std::vector<std::array<std::map<global_dof_index, double>, 3>> mortar;
-    std::vector<double> weighted_gap;
+    std::vector<dealii::Tensor<1, 3>> weighted_gap;
+    std::vector<double> covered;
     if (projector) {
-      mortar.resize(nodes.size() - first_node);
-      weighted_gap.assign(nodes.size() - first_node, 0.0);
-      dealii::FEFaceValues<3> mortar_values(
-          mapping, fe, dealii::QIterated<2>(dealii::QGauss<1>(fe.degree + 1), 6),
-          dealii::update_values | dealii::update_JxW_values | dealii::update_quadrature_points);
-      const double radius = 0.05 * diameter;
+      const std::size_t count = nodes.size() - first_node;
+      mortar.resize(count);
+      weighted_gap.assign(count, dealii::Tensor<1, 3>());
+      covered.assign(count, 0.0);
+      MortarSegmentOptions segment_options;
+      segment_options.search_radius_mm = 0.05 * diameter;
+      const MortarSegmenter segmenter(projector->faces(), segment_options);
+      const dealii::FiniteElement<3>& base = fe.base_element(0);
+      std::vector<global_dof_index> master_dofs(fe.n_dofs_per_cell());
       for (const auto& cell : dof_handler.active_cell_iterators()) {
         for (const unsigned int face_no : cell->face_indices()) {
           const auto face = cell->face(face_no);
           if (!face->at_boundary() || face->boundary_id() != pair.slave_boundary_id) continue;
           cell->get_dof_indices(dofs);
-          mortar_values.reinit(cell, face_no);
-          for (unsigned int q = 0; q < mortar_values.n_quadrature_points; ++q) {
-            const BoundaryProjection projection =
-                projector->project(mortar_values.quadrature_point(q), radius);
-            if (!projection.found) continue;
-            const double gap =
-                (mortar_values.quadrature_point(q) - projection.point_mm) * projection.normal;
-            for (unsigned int i = 0; i < dofs.size(); ++i) {
-              if (!fe.has_support_on_face(i, face_no) || fe.system_to_component_index(i).first != 0) continue;
-              const std::size_t local = node_of_dof.at(dofs[i]) - first_node;
-              const double weight = mortar_values.shape_value(i, q) * mortar_values.JxW(q);
-              weighted_gap[local] += weight * gap;
-              for (unsigned int c = 0; c < 3; ++c) {
-                for (const auto& [dof, value] : projection.weights[c]) mortar[local][c][dof] += weight * value;
+          // Slave nodes of this face: (local node, base shape index).
+          std::vector<std::pair<std::size_t, unsigned int>> slave_nodes;
+          for (unsigned int i = 0; i < dofs.size(); ++i) {
+            if (!fe.has_support_on_face(i, face_no) || fe.system_to_component_index(i).first != 0) continue;
+            slave_nodes.emplace_back(node_of_dof.at(dofs[i]) - first_node, fe.system_to_component_index(i).second);
+          }
+          const FacePatch slave(mapping, cell, face_no);
+          for (const MortarPoint& point : segmenter.integrate(slave)) {
+            point.master->cell->get_dof_indices(master_dofs);
+            // Master shape values, one per master node of the face (component 0 carries the
+            // base index; the other components share it).
+            std::vector<std::pair<unsigned int, double>> master_values;
+            for (unsigned int j = 0; j < master_dofs.size(); ++j) {
+              if (!fe.has_support_on_face(j, point.master->face_no) || fe.system_to_component_index(j).first != 0) continue;
+              const unsigned int base_index = fe.system_to_component_index(j).second;
+              master_values.emplace_back(base_index, base.shape_value(base_index, point.master_unit_point));
+            }
+            const dealii::Tensor<1, 3> separation = point.slave_point_mm - point.master_point_mm;
+            for (const auto& [local, slave_index] : slave_nodes) {
+              const double weight = base.shape_value(slave_index, point.slave_unit_point) * point.jxw;
+              covered[local] += weight;
+              weighted_gap[local] += weight * separation;
+              for (const auto& [base_index, value] : master_values) {
+                for (unsigned int c = 0; c < 3; ++c) {
+                  mortar[local][c][master_dofs[fe.component_to_system_index(c, base_index)]] += weight * value;
+                }
               }
             }
           }
@@ -334,12 +354,16 @@ void ContactProblem::Impl::collect_contact_nodes(const ContactProblem& model) {
         // Search radius: contact partners are close; 5 % of the model size is generous.
         const BoundaryProjection projection = projector->project(node.position, 0.05 * diameter);
         if (!projection.found) continue;  // nothing opposite: this node cannot touch
-        node.normal = projection.normal;
         const std::size_t local = n - first_node;
+        // Barely covered nodes (the master ends just past them) would give an ill-scaled row.
+        if (!(covered[local] > 1e-6 * node.area)) continue;
+        node.normal = projection.normal;
         for (unsigned int c = 0; c < 3; ++c) {
-          for (const auto& [dof, value] : mortar[local][c]) node.master[c].emplace_back(dof, value / node.area);
+          for (const auto& [dof, value] : mortar[local][c]) {
+            if (value != 0.0) node.master[c].emplace_back(dof, value / covered[local]);
+          }
         }
-        node.initial_gap = weighted_gap[local] / node.area;
+        node.initial_gap = weighted_gap[local] * node.normal / covered[local];
       }
       if (pair.master_rigid_body >= 0) node.initial_gap = (node.position - master_point) * node.normal;
       // The slave component with the largest normal share that is still free; with less than

@@ -229,10 +229,10 @@ VerificationResult stacked_layers(const VerificationOptions& options, MPI_Comm c
                    {"lower_youngs_modulus_mpa", lower.youngs_modulus_mpa},
                    {"lower_poisson_ratio", lower.poisson_ratio},
                    {"indentation_mm", indentation}};
-  // Piecewise-linear exact field; the mortar integrals use a composite quadrature that cuts
-  // across master edges, which costs ~1e-3 nodally on non-matching meshes (see the test).
-  add_pressure_quantities(result, 0, expected_pressure, 1e-4, 2e-3);
-  add_pressure_quantities(result, 1, expected_pressure, 1e-4, 2e-3);
+  // Piecewise-linear exact field, inside Q2; segment-based mortar integrals are exact on these
+  // flat faces, so only the CG tolerance separates the nodal pressures from the closed form.
+  add_pressure_quantities(result, 0, expected_pressure, 1e-6, 1e-6);
+  add_pressure_quantities(result, 1, expected_pressure, 1e-6, 1e-6);
   return result;
 }
 
@@ -336,9 +336,10 @@ VerificationResult spherical_shells(const VerificationOptions& options, MPI_Comm
                    {"cup_radius_mm", outer_radius}, {"core_expansion_mm", expansion},
                    {"youngs_modulus_mpa", cartilage.youngs_modulus_mpa},
                    {"poisson_ratio", cartilage.poisson_ratio}};
-  // Curved geometry: Q2 on a Q2 mapping is not exact here; on this mesh (2 mm shells, 2-4 cells
-  // through the thickness) the mean pressure is within 1 % and nodal values within 3 %.
-  add_pressure_quantities(result, 0, expected, 0.01, 0.03);
+  // Curved geometry: Q2 on a quartic mapping is not exact here; on this mesh (2 mm shells, 2-4
+  // cells through the thickness) with segment-based mortar integrals the mean pressure is within
+  // 0.2 % and nodal values within 0.8 % (measured): bounds 0.5 % and 1.5 %.
+  add_pressure_quantities(result, 0, expected, 0.005, 0.015);
   return result;
 }
 

@@ -6,7 +6,9 @@
 
 #include <mpi.h>
 
+#include <algorithm>
 #include <cmath>
+#include <iostream>
 
 namespace hipfai::fem {
 namespace {
@@ -66,19 +68,22 @@ TEST(FemVerification, StackedLayersOnNonMatchingMeshes) {
           constrained_modulus(in.at("lower_youngs_modulus_mpa"), in.at("lower_poisson_ratio"));
   const double expected = in.at("indentation_mm") / compliance;
   unsigned interface_nodes = 0;
-  // The exact field is piecewise linear and the interface displacement uniform. The mortar
-  // weights would transmit it exactly if their integrals were exact; the composite quadrature
-  // of the slave faces cuts across master edges, which leaves a measured nodal error of 9e-4
-  // on this mesh: 2e-3 bounds it (the earlier pure node-to-surface version was off by 3e-2).
+  // The exact field is piecewise linear and the interface displacement uniform, both inside the
+  // Q2 spaces. Segment-based mortar integrals are exact on these flat faces (Gauss rule exact
+  // for the degree-8 integrand on every clipped piece), so the discrete solution is the exact
+  // one up to the CG tolerance (1e-12 relative residual): 1e-6 per node, as the issue asks
+  // (the earlier composite-quadrature mortar gave 9e-4, node-to-surface 3e-2).
+  double worst = 0.0;
   for (const ContactNode& node : result.solve.nodes) {
-    EXPECT_NEAR(node.pressure_mpa, expected, 2e-3 * expected) << "pair " << node.pair;
+    EXPECT_NEAR(node.pressure_mpa, expected, 1e-6 * expected) << "pair " << node.pair;
+    worst = std::max(worst, std::abs(node.pressure_mpa - expected) / expected);
     interface_nodes += node.pair == 1;
   }
-  // Resultants over the area (on the upper layer: down from the plate, up from the lower
-  // layer), 1e-4: the quadrature error averages out.
+  std::cout << "stacked_layers: worst nodal relative pressure error " << worst << "\n";
+  // Resultants over the area (on the upper layer: down from the plate, up from the lower layer).
   const double area = in.at("width_mm") * in.at("width_mm");
-  EXPECT_NEAR(-result.solve.pair_force_n[0][2] / area, expected, 1e-4 * expected);
-  EXPECT_NEAR(result.solve.pair_force_n[1][2] / area, expected, 1e-4 * expected);
+  EXPECT_NEAR(-result.solve.pair_force_n[0][2] / area, expected, 1e-6 * expected);
+  EXPECT_NEAR(result.solve.pair_force_n[1][2] / area, expected, 1e-6 * expected);
   EXPECT_GT(interface_nodes, 0u);
 }
 
@@ -110,17 +115,21 @@ TEST(FemVerification, SphericalShellsMatchLame) {
       lame_pressure(in.at("core_radius_mm"), in.at("contact_radius_mm"), in.at("cup_radius_mm"),
                     in.at("core_expansion_mm"), in.at("youngs_modulus_mpa"), in.at("poisson_ratio"));
   ASSERT_GT(expected, 0.0);
-  double sum = 0;
+  double sum = 0, worst = 0;
   unsigned count = 0;
   for (const ContactNode& node : result.solve.nodes) {
     EXPECT_TRUE(node.active);
-    // Curved, non-matching Q2 surfaces: nodal pressures within 3 % on this mesh (the error
-    // decreases with refinement, see the report); the mean within 1 %.
-    EXPECT_NEAR(node.pressure_mpa, expected, 0.03 * expected);
+    // Curved, non-matching Q2 surfaces (faceting of the geometry, segment polygons following
+    // curved master edges to second order): nodal pressures measured within 0.8 % on this mesh,
+    // bound 1.5 %; the mean measured 0.2 %, bound 0.5 %.
+    EXPECT_NEAR(node.pressure_mpa, expected, 0.015 * expected);
+    worst = std::max(worst, std::abs(node.pressure_mpa - expected) / expected);
     sum += node.pressure_mpa;
     ++count;
   }
-  EXPECT_NEAR(sum / count, expected, 0.01 * expected);
+  std::cout << "spherical_shells: worst nodal relative error " << worst << ", mean "
+            << std::abs(sum / count - expected) / expected << "\n";
+  EXPECT_NEAR(sum / count, expected, 0.005 * expected);
   EXPECT_LT(result.solve.max_penetration_mm, 1e-2 * 2.0);
 }
 

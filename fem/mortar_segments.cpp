@@ -1,0 +1,151 @@
+#include "fem/mortar_segments.h"
+
+#include <deal.II/base/quadrature_lib.h>
+
+#include <array>
+#include <cmath>
+
+namespace hipfai::fem {
+
+namespace {
+
+using Point2 = std::array<double, 2>;
+
+// Sutherland-Hodgman: keeps the part of `polygon` where coordinate `axis` is >= bound (sign +1)
+// or <= bound (sign -1). The clip window is convex, so the subject may have either orientation.
+std::vector<Point2> clip(const std::vector<Point2>& polygon, unsigned axis, double bound, double sign) {
+  std::vector<Point2> out;
+  const std::size_t n = polygon.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const Point2& a = polygon[i];
+    const Point2& b = polygon[(i + 1) % n];
+    const double da = sign * (a[axis] - bound), db = sign * (b[axis] - bound);
+    if (da >= 0) out.push_back(a);
+    if ((da >= 0) != (db >= 0)) {
+      const double f = da / (da - db);
+      out.push_back({a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1])});
+    }
+  }
+  return out;
+}
+
+bool boxes_overlap(const FacePatch& a, const FacePatch& b, double pad) {
+  for (unsigned d = 0; d < 3; ++d) {
+    if (a.box_max[d] + pad < b.box_min[d] || b.box_max[d] + pad < a.box_min[d]) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+bool is_bilinear(const FacePatch& face) {
+  const dealii::Point<3> v0 = face.vertex(0), v1 = face.vertex(1), v2 = face.vertex(2), v3 = face.vertex(3);
+  const double size = v0.distance(v2) + v1.distance(v3);
+  constexpr unsigned k = FacePatch::kDegree;
+  for (unsigned j = 0; j <= k; ++j) {
+    for (unsigned i = 0; i <= k; ++i) {
+      const double s = double(i) / k, t = double(j) / k;
+      dealii::Point<3> x;
+      dealii::Tensor<1, 3> ds, dt;
+      face.evaluate(s, t, x, ds, dt);
+      const dealii::Point<3> bilinear((1 - s) * (1 - t) * v0 + s * (1 - t) * v1 + s * t * v2 +
+                                      (1 - s) * t * v3);
+      if (x.distance(bilinear) > 1e-12 * size) return false;
+    }
+  }
+  return true;
+}
+
+MortarSegmenter::MortarSegmenter(const std::vector<FacePatch>& master_faces,
+                                 MortarSegmentOptions options)
+    : master_faces_(master_faces), options_(options) {
+  for (const FacePatch& face : master_faces_) master_straight_.push_back(is_bilinear(face));
+  const dealii::QGauss<1> gauss(options_.gauss_points);
+  for (unsigned q = 0; q < gauss.size(); ++q) {
+    gauss_x_.push_back(gauss.point(q)[0]);
+    gauss_w_.push_back(gauss.weight(q));
+  }
+}
+
+std::vector<MortarPoint> MortarSegmenter::integrate(const FacePatch& slave) const {
+  std::vector<MortarPoint> points;
+  const dealii::Tensor<1, 3> slave_normal = slave.normal(0.5, 0.5);
+  const bool slave_straight = is_bilinear(slave);
+  for (std::size_t m = 0; m < master_faces_.size(); ++m) {
+    const FacePatch& master = master_faces_[m];
+    if (!boxes_overlap(slave, master, options_.search_radius_mm)) continue;
+    // Only faces that face each other can touch.
+    if (master.normal(0.5, 0.5) * slave_normal >= 0.0) continue;
+
+    // The master boundary in the slave's parameter square, counter-clockwise in the master's.
+    const unsigned samples = (slave_straight && master_straight_[m]) ? 1 : options_.curved_edge_samples;
+    static constexpr double kS[5] = {0, 1, 1, 0, 0}, kT[5] = {0, 0, 1, 1, 0};
+    std::vector<Point2> polygon;
+    bool ok = true;
+    for (unsigned edge = 0; edge < 4 && ok; ++edge) {
+      for (unsigned k = 0; k < samples; ++k) {
+        const double f = double(k) / samples;
+        const double sm = kS[edge] + f * (kS[edge + 1] - kS[edge]);
+        const double tm = kT[edge] + f * (kT[edge + 1] - kT[edge]);
+        dealii::Point<3> y;
+        dealii::Tensor<1, 3> ds, dt;
+        master.evaluate(sm, tm, y, ds, dt);
+        double s, t;
+        if (!slave.project(y, s, t)) {
+          ok = false;
+          break;
+        }
+        polygon.push_back({s, t});
+      }
+    }
+    if (!ok) continue;
+    polygon = clip(polygon, 0, 0.0, 1.0);
+    if (polygon.size() >= 3) polygon = clip(polygon, 0, 1.0, -1.0);
+    if (polygon.size() >= 3) polygon = clip(polygon, 1, 0.0, 1.0);
+    if (polygon.size() >= 3) polygon = clip(polygon, 1, 1.0, -1.0);
+    if (polygon.size() < 3) continue;
+    double area = 0.0;
+    for (std::size_t i = 0; i < polygon.size(); ++i) {
+      const Point2& a = polygon[i];
+      const Point2& b = polygon[(i + 1) % polygon.size()];
+      area += 0.5 * (a[0] * b[1] - b[0] * a[1]);
+    }
+    if (std::abs(area) < 1e-14) continue;  // touches along an edge only
+    const double orientation = area > 0 ? 1.0 : -1.0;
+
+    // Fan from vertex 0; signed triangle areas make this exact for any simple polygon.
+    for (std::size_t i = 1; i + 1 < polygon.size(); ++i) {
+      const Point2& a = polygon[0];
+      const Point2& b = polygon[i];
+      const Point2& c = polygon[i + 1];
+      const double det = (b[0] - a[0]) * (c[1] - b[1]) - (b[1] - a[1]) * (c[0] - b[0]);
+      if (det == 0.0) continue;
+      for (std::size_t qu = 0; qu < gauss_x_.size(); ++qu) {
+        for (std::size_t qv = 0; qv < gauss_x_.size(); ++qv) {
+          // Duffy: p = a + u (b - a) + u v (c - b), dp = u det du dv.
+          const double u = gauss_x_[qu], v = gauss_x_[qv];
+          const double s = a[0] + u * (b[0] - a[0]) + u * v * (c[0] - b[0]);
+          const double t = a[1] + u * (b[1] - a[1]) + u * v * (c[1] - b[1]);
+          MortarPoint point;
+          dealii::Tensor<1, 3> ds, dt;
+          slave.evaluate(s, t, point.slave_point_mm, ds, dt);
+          const dealii::Tensor<1, 3> area_vector = dealii::cross_product_3d(ds, dt);
+          const double jacobian = area_vector.norm();
+          point.jxw = orientation * gauss_w_[qu] * gauss_w_[qv] * u * det * jacobian;
+          double sm, tm, lambda;
+          if (!master.intersect_line(point.slave_point_mm, area_vector / jacobian, sm, tm, lambda)) continue;
+          point.slave_unit_point = slave.unit_cell_point(s, t);
+          point.master = &master;
+          point.master_unit_point = master.unit_cell_point(sm, tm);
+          dealii::Tensor<1, 3> dsm, dtm;
+          master.evaluate(sm, tm, point.master_point_mm, dsm, dtm);
+          point.master_normal = master.normal(sm, tm);
+          points.push_back(point);
+        }
+      }
+    }
+  }
+  return points;
+}
+
+}  // namespace hipfai::fem
