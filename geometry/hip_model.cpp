@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 namespace hipfai::geometry {
@@ -100,7 +101,7 @@ void write_hip_model(const HipModel& model, const std::filesystem::path& dir,
   if (ec) throw_error(target.string(), ": cannot rename into place: ", ec.message());
 }
 
-HipModel load_hip_model(const std::filesystem::path& dir) {
+HipModel load_hip_model(const std::filesystem::path& dir, const std::set<std::string>& only) {
   const auto path = dir / "model.json";
   const std::string what = path.string();
   std::ifstream in(path);
@@ -139,8 +140,12 @@ HipModel load_hip_model(const std::filesystem::path& dir) {
     throw_error(what, ": tissues: missing, empty or not an object");
   }
   const nlohmann::json counts = json.value("counts", nlohmann::json::object());
+  for (const auto& name : only) {
+    if (!json["tissues"].contains(name)) throw_error(what, ": tissues: no tissue '", name, "'");
+  }
   for (const auto& [name, file] : json["tissues"].items()) {
     if (!file.is_string()) throw_error(what, ": tissues.", name, ": expected a file name");
+    if (!only.empty() && only.count(name) == 0) continue;  // not asked for: not read
     const auto mesh_path = dir / file.get<std::string>();
     if (!std::filesystem::exists(mesh_path)) {
       throw_error(what, ": tissues.", name, ": file not found: ", mesh_path.string());

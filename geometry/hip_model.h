@@ -21,6 +21,7 @@
 #include <array>
 #include <filesystem>
 #include <map>
+#include <set>
 #include <string>
 
 namespace hipfai::geometry {
@@ -50,6 +51,7 @@ void write_hip_model(const HipModel& model, const std::filesystem::path& dir,
 // Reads <dir>/model.json and the tissue files it names. Throws hipfai::Error
 // "<dir>/model.json: <key>: <problem>" on a missing or malformed key (non-unit axis, wrong
 // length vector, missing tissue file, vertex count differing from "counts").
-HipModel load_hip_model(const std::filesystem::path& dir);
+// `only`: read just these tissues (an unknown name is an error); empty = all of them.
+HipModel load_hip_model(const std::filesystem::path& dir, const std::set<std::string>& only = {});
 
 }  // namespace hipfai::geometry

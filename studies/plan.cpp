@@ -78,10 +78,10 @@ Plan plan_scene(const Scene& scene, const Motion& motion) {
     const std::string cells =
         " (" + scene.options.mapping + ", " + std::to_string(scene.options.table_size) + " cells)";
     add(StageKind::kRadialTable, "fixed acetabular_cartilage+labrum" + cells);
-    if (swap) add(StageKind::kRadialTable, "fixed femoral_cartilage (role swap)" + cells);
-    add(StageKind::kRadialQuery, "femoral_cartilage vertices vs acetabular_cartilage+labrum", steps);
+    if (swap) add(StageKind::kRadialTable, "fixed femur_bone+femoral_cartilage (role swap)" + cells);
+    add(StageKind::kRadialQuery, "femur_bone+femoral_cartilage vertices vs acetabular_cartilage+labrum", steps);
     if (swap) {
-      add(StageKind::kRadialQuery, "acetabular_cartilage+labrum vertices vs femoral_cartilage (role swap)",
+      add(StageKind::kRadialQuery, "acetabular_cartilage+labrum vertices vs femur_bone+femoral_cartilage (role swap)",
           steps);
     }
   }

@@ -91,7 +91,7 @@ const std::vector<std::string>& tissue_names() {
 std::set<std::string> tissues_for(Output output) {
   switch (output) {
     case Output::kCurvilinearDepth: return {"femur_bone", "labrum"};
-    case Output::kRadialDepth: return {"femoral_cartilage", "acetabular_cartilage", "labrum"};
+    case Output::kRadialDepth: return {"femur_bone", "femoral_cartilage", "acetabular_cartilage", "labrum"};
     case Output::kRom: return {"femur_bone", "acetabular_bone"};
     case Output::kVonMises:
     case Output::kContactPressure:

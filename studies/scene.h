@@ -28,7 +28,7 @@ namespace hipfai::studies {
 
 enum class Output {
   kCurvilinearDepth,  // cylindrical segmenting, femur bone vs labrum (thesis §4.3.2.1)
-  kRadialDepth,       // radial segmenting, femoral cartilage vs acetabular cartilage + labrum
+  kRadialDepth,       // radial segmenting, femur (bone + cartilage) vs acetabular cartilage + labrum
   kRom,               // exact range of motion about each motion axis, femur vs acetabular bone
   kVonMises,          // FE ground truth (fem/)
   kContactPressure,   // FE ground truth (fem/)

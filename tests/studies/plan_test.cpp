@@ -23,7 +23,7 @@ TEST(Plan, RadialOnlySceneBuildsNoCylindricalTableAndNoFe) {
   EXPECT_EQ(plan.count(StageKind::kCylindricalQuery), 0);
   EXPECT_EQ(plan.count(StageKind::kFiniteElement), 0);
   EXPECT_EQ(plan.count(StageKind::kRadialTable), 2);  // both roles
-  EXPECT_EQ(plan.count(StageKind::kLoadTissue), 3);   // no femur bone, no acetabular bone
+  EXPECT_EQ(plan.count(StageKind::kLoadTissue), 4);   // no acetabular bone
 }
 
 TEST(Plan, CurvilinearOnlyLoadsBoneAndLabrum) {

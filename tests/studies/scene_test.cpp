@@ -40,8 +40,9 @@ TEST(Scene, ParsesAndDerivesTissuesFromOutputs) {
   ASSERT_TRUE(scene.parametric.has_value());
   EXPECT_DOUBLE_EQ(scene.parametric->ce_deg, 20.0);
   EXPECT_EQ(scene.outputs.size(), 1u);
-  // Radial depth needs the femoral cartilage and the acetabular soft tissues, nothing else.
-  EXPECT_EQ(scene.tissues, (std::set<std::string>{"femoral_cartilage", "acetabular_cartilage", "labrum"}));
+  // Radial depth needs the femur (bone + cartilage) and the acetabular soft tissues, not the pelvis.
+  EXPECT_EQ(scene.tissues,
+            (std::set<std::string>{"femur_bone", "femoral_cartilage", "acetabular_cartilage", "labrum"}));
 }
 
 TEST(Scene, UnknownKeyIsNamedWithItsLine) {
@@ -68,7 +69,7 @@ TEST(Scene, AngleOutOfRangeNamesKeyAndLine) {
 }
 
 TEST(Scene, MissingTissueForAnOutputIsAnError) {
-  std::string text = kGood + "tissues: [femoral_cartilage, labrum]\n";
+  std::string text = kGood + "tissues: [femur_bone, femoral_cartilage, labrum]\n";
   EXPECT_NE(error_of(text).find("needs 'acetabular_cartilage'"), std::string::npos);
 }
 

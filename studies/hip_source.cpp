@@ -1,0 +1,77 @@
+#include "studies/hip_source.h"
+
+#include "core/error.h"
+#include "core/hash.h"
+#include "core/version.h"
+#include "geometry/hip_generator.h"
+#include "geometry/hip_model.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace hipfai::studies {
+
+namespace {
+
+geometry::HipParameters parameters_of(const ParametricHip& hip) {
+  geometry::HipParameters parameters;
+  parameters.ce_deg = hip.ce_deg;
+  parameters.alpha_deg = hip.alpha_deg;
+  parameters.edge_mm = hip.edge_mm;
+  return parameters;
+}
+
+std::string id_of(const ParametricHip& hip) {
+  std::ostringstream id;
+  id << "ce" << hip.ce_deg << "_alpha" << hip.alpha_deg;
+  return id.str();
+}
+
+}  // namespace
+
+std::filesystem::path generated_hip_dir(const ParametricHip& hip, const std::filesystem::path& cache_dir) {
+  Hasher key;
+  key.add(geometry::hip_parameters_to_json(parameters_of(hip))).add(kGitSha);
+  return cache_dir / ("hip-" + id_of(hip) + "-" + key.hex());
+}
+
+LoadedHip acquire_hip(const Scene& scene, const std::set<std::string>& tissues,
+                      const std::filesystem::path& cache_dir, StageLog& log) {
+  LoadedHip hip;
+  if (scene.parametric) {
+    hip.id = id_of(*scene.parametric);
+    hip.dir = generated_hip_dir(*scene.parametric, cache_dir);
+    if (std::filesystem::exists(hip.dir / "model.json")) {
+      log.hit(StageKind::kGenerateHip);
+    } else {
+      const auto generated = geometry::generate_hip(parameters_of(*scene.parametric));
+      // Written beside the final folder and renamed, so an interrupted run leaves no half model.
+      const std::filesystem::path partial = hip.dir.string() + ".partial";
+      std::filesystem::remove_all(partial);
+      geometry::write_hip_model(generated.model, partial, "ply");
+      std::filesystem::remove_all(hip.dir);
+      std::filesystem::rename(partial, hip.dir);
+      log.ran(StageKind::kGenerateHip);
+    }
+  } else {
+    hip.dir = scene.model_dir;
+    hip.id = scene.model_dir.filename().string();
+    log.ran(StageKind::kLocateHip);
+  }
+  const geometry::HipModel model = geometry::load_hip_model(hip.dir, tissues);
+  hip.hjc_mm = model.hjc_mm;
+  hip.frame.col(0) = model.axes.flexion_axis;
+  hip.frame.col(1) = model.axes.adduction_axis;
+  hip.frame.col(2) = model.axes.internal_rotation_axis;
+  hip.ce_deg = model.parameters.ce_deg;
+  hip.alpha_deg = model.parameters.alpha_deg;
+  hip.articular_radius_mm = model.parameters.articular_radius_mm;
+  for (const auto& name : tissues) {
+    hip.tissues[name] = model.tissue(name);
+    hip.mesh_hash[name] = geometry::mesh_hash(hip.tissues[name]);
+    log.ran(StageKind::kLoadTissue);
+  }
+  return hip;
+}
+
+}  // namespace hipfai::studies

@@ -1,0 +1,54 @@
+// hipfai — where a scene's hip comes from: generated (and cached) or a user's model folder.
+#pragma once
+
+#include "studies/plan.h"
+#include "studies/scene.h"
+#include "geometry/tri_mesh.h"
+
+#include <Eigen/Core>
+
+#include <filesystem>
+#include <map>
+#include <set>
+#include <string>
+
+namespace hipfai::studies {
+
+// Stages actually executed and stages answered from the cache during a run.
+struct StageLog {
+  std::map<StageKind, int> executed;
+  std::map<StageKind, int> reused;
+  void ran(StageKind kind) { ++executed[kind]; }
+  void hit(StageKind kind) { ++reused[kind]; }
+  int executed_count(StageKind kind) const {
+    const auto it = executed.find(kind);
+    return it == executed.end() ? 0 : it->second;
+  }
+  int reused_count(StageKind kind) const {
+    const auto it = reused.find(kind);
+    return it == reused.end() ? 0 : it->second;
+  }
+};
+
+struct LoadedHip {
+  std::string id;                     // "ce20_alpha40" or the model folder's name
+  std::filesystem::path dir;          // folder with model.json and the tissue files
+  geometry::Vec3 hjc_mm = geometry::Vec3::Zero();
+  // Columns: flexion, adduction and internal-rotation axes of the hip frame, in model coordinates.
+  Eigen::Matrix3d frame = Eigen::Matrix3d::Identity();
+  double ce_deg = 0.0, alpha_deg = 0.0;              // as recorded in model.json
+  double articular_radius_mm = 25.0;                 // radius of the articulating surfaces
+  std::map<std::string, geometry::TriMesh> tissues;  // only the tissues asked for
+  std::map<std::string, std::string> mesh_hash;      // tissue -> content hash of its file
+};
+
+// Folder of the cached generated hip for these parameters under `cache_dir` (key: parameters and
+// code revision).
+std::filesystem::path generated_hip_dir(const ParametricHip& hip, const std::filesystem::path& cache_dir);
+
+// Generates the hip into the cache if it is not there (stage kGenerateHip, or a cache hit), then
+// loads only `tissues` (one kLoadTissue stage each).
+LoadedHip acquire_hip(const Scene& scene, const std::set<std::string>& tissues,
+                      const std::filesystem::path& cache_dir, StageLog& log);
+
+}  // namespace hipfai::studies

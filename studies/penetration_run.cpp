@@ -1,0 +1,266 @@
+#include "studies/penetration_run.h"
+
+#include "contact/cylindrical_segmenting.h"
+#include "contact/radial_segmenting.h"
+#include "core/error.h"
+#include "core/hash.h"
+#include "studies/radial_table_cache.h"
+
+#include <algorithm>
+#include <chrono>
+
+namespace hipfai::studies {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+// Copy of `mesh` with vertices rotated by `rotation` about `centre` (triangles are not needed
+// by the queries, which read mobile vertices only, but are kept for VTP output).
+geometry::TriMesh posed(const geometry::TriMesh& mesh, const Eigen::Matrix3d& rotation,
+                        const geometry::Vec3& centre) {
+  geometry::TriMesh out;
+  out.vertices.reserve(mesh.vertices.size());
+  for (const auto& p : mesh.vertices) out.vertices.push_back(centre + rotation * (p - centre));
+  out.triangles = mesh.triangles;
+  return out;
+}
+
+double longest_edge(const geometry::TriMesh& mesh) {
+  double longest = 0.0;
+  for (const auto& tri : mesh.triangles) {
+    for (int e = 0; e < 3; ++e) {
+      longest = std::max(longest, (mesh.vertices[static_cast<std::size_t>(tri[e])] -
+                                   mesh.vertices[static_cast<std::size_t>(tri[(e + 1) % 3])]).norm());
+    }
+  }
+  return longest;
+}
+
+// Which pairs count (see "Touching is not penetrating" in the header).
+struct PairFilter {
+  const geometry::TriMesh* mobile = nullptr;  // for the striking test; null: radial depth test
+  geometry::Vec3 centre = geometry::Vec3::Zero();
+  double min_distance_mm = 0.0;                // striking: |v - c| > this
+  double min_depth_mm = 0.0;                   // radial: depth > this
+  bool keep(const contact::PenetrationPair& pair) const {
+    if (mobile) {
+      return (mobile->vertices[static_cast<std::size_t>(pair.mobile_vertex)] - centre).norm() > min_distance_mm;
+    }
+    return pair.depth_mm > min_depth_mm;
+  }
+};
+
+void record(const contact::PenetrationResult& result, const PairFilter& filter, std::vector<double>& step_field,
+            std::vector<double>& max_field, double& max_depth, int& count) {
+  if (result.status == contact::QueryStatus::kInvalidInput) throw_error(result.message);
+  for (const auto& pair : result.pairs) {
+    if (!filter.keep(pair)) continue;
+    const auto v = static_cast<std::size_t>(pair.mobile_vertex);
+    step_field[v] = pair.depth_mm;
+    max_field[v] = std::max(max_field[v], pair.depth_mm);
+    max_depth = std::max(max_depth, pair.depth_mm);
+    ++count;
+  }
+}
+
+contact::RadialTable radial_table_for(const geometry::TriMesh& fixed, const std::string& fixed_hash,
+                                      const geometry::Vec3& centre, const PenetrationOptions& options,
+                                      StageLog& log) {
+  contact::RadialTableOptions table_options;
+  table_options.mapping = options.mapping;
+  table_options.table_size = options.table_size;
+  std::filesystem::path file;
+  if (!options.cache_dir.empty()) {
+    Hasher key;
+    key.add(fixed_hash).add(centre.x()).add(centre.y()).add(centre.z());
+    key.add(static_cast<std::int64_t>(options.mapping)).add(options.table_size);
+    file = options.cache_dir / ("radial-table-" + key.hex() + ".bin");
+    if (auto cached = load_radial_table(file);
+        cached && cached->num_triangles == fixed.num_triangles()) {
+      log.hit(StageKind::kRadialTable);
+      return std::move(*cached);
+    }
+  }
+  contact::RadialTable table = contact::build_radial_table(fixed, centre, table_options);
+  log.ran(StageKind::kRadialTable);
+  if (!file.empty()) save_radial_table(table, file);
+  return table;
+}
+
+}  // namespace
+
+double PenetrationRun::max_curvilinear_mm() const {
+  double deepest = 0.0;
+  for (const auto& step : steps) deepest = std::max(deepest, step.curvilinear_max_mm());
+  return deepest;
+}
+
+double PenetrationRun::max_radial_mm() const {
+  double deepest = 0.0;
+  for (const auto& step : steps) deepest = std::max(deepest, step.radial_max_mm());
+  return deepest;
+}
+
+PenetrationRun compute_penetration(const LoadedHip& hip, const Motion& motion,
+                                   const PenetrationOptions& options, StageLog& log,
+                                   const StepObserver& observer) {
+  PenetrationRun run;
+  const std::size_t steps = motion.steps.size();
+  run.steps.resize(steps);
+  const geometry::Vec3& centre = hip.hjc_mm;
+  // Hip-frame rotations expressed in model coordinates.
+  std::vector<Eigen::Matrix3d> rotation(steps);
+  std::vector<Eigen::Vector3d> axis(steps);
+  for (std::size_t k = 0; k < steps; ++k) {
+    rotation[k] = hip.frame * motion.steps[k].rotation * hip.frame.transpose();
+    axis[k] = (hip.frame * motion.steps[k].axis).normalized();
+  }
+  std::vector<DepthFields> step_fields(steps);
+  if (options.contact_tolerance_mm >= 0.0) {
+    run.contact_tolerance_mm = options.contact_tolerance_mm;
+  } else {
+    double longest = 0.0;
+    for (const auto& [name, mesh] : hip.tissues) longest = std::max(longest, longest_edge(mesh));
+    run.contact_tolerance_mm = longest * longest / (2.0 * hip.articular_radius_mm);
+  }
+  const double tolerance = run.contact_tolerance_mm;
+  PairFilter radial_filter;
+  radial_filter.min_depth_mm = tolerance;
+  auto field = [&](DepthFields& fields, const std::string& key, std::size_t n) -> std::vector<double>& {
+    auto& values = fields[key];
+    if (values.empty()) values.assign(n, 0.0);
+    return values;
+  };
+
+  if (options.curvilinear) {
+    const auto& femur = hip.tissues.at("femur_bone");
+    const auto& labrum = hip.tissues.at("labrum");
+    contact::CylindricalQueryOptions query;
+    query.num_threads = options.threads;
+    for (const auto& shared_axis : distinct_axes(motion)) {
+      const Eigen::Vector3d model_axis = (hip.frame * shared_axis).normalized();
+      const auto start = Clock::now();
+      const auto labrum_table = contact::CylindricalTable::build(labrum, centre, model_axis, {}, &femur);
+      const contact::CylindricalPoseCache femur_cache(labrum_table, femur, query);
+      log.ran(StageKind::kCylindricalTable);
+      contact::CylindricalPoseCache labrum_cache;
+      if (options.swap_roles) {
+        const auto femur_table = contact::CylindricalTable::build(femur, centre, model_axis, {}, &labrum);
+        labrum_cache = contact::CylindricalPoseCache(femur_table, labrum, query);
+        log.ran(StageKind::kCylindricalTable);
+      }
+      run.curvilinear_preprocessing_ms += ms_since(start);
+      for (std::size_t k = 0; k < steps; ++k) {
+        if ((motion.steps[k].axis - shared_axis).norm() >= 1e-9) continue;
+        const auto query_start = Clock::now();
+        auto& s = run.steps[k];
+        PairFilter striking_femur{&femur, centre, hip.articular_radius_mm + tolerance, 0.0};
+        record(femur_cache.query(motion.steps[k].angle_deg), striking_femur,
+               field(step_fields[k], "femur_bone/curvilinear_depth_mm", femur.num_vertices()),
+               field(run.max_fields, "femur_bone/curvilinear_depth_mm", femur.num_vertices()),
+               s.curvilinear_mm, s.curvilinear_vertices);
+        log.ran(StageKind::kCylindricalQuery);
+        if (options.swap_roles) {
+          // The femur turning by +angle is the labrum turning by -angle relative to it.
+          PairFilter striking_labrum{&labrum, centre, hip.articular_radius_mm + tolerance, 0.0};
+          record(labrum_cache.query(-motion.steps[k].angle_deg), striking_labrum,
+                 field(step_fields[k], "labrum/curvilinear_depth_mm", labrum.num_vertices()),
+                 field(run.max_fields, "labrum/curvilinear_depth_mm", labrum.num_vertices()),
+                 s.curvilinear_swap_mm, s.curvilinear_vertices);
+          log.ran(StageKind::kCylindricalQuery);
+        }
+        s.curvilinear_ms += ms_since(query_start);
+      }
+    }
+  }
+
+  if (options.radial) {
+    // Femur side: bone and cartilage together (the cam is bone; thesis §4.3.2.1 speaks of "femur
+    // vertices"); socket side: acetabular cartilage and labrum. Each side is a union of touching
+    // closed solids, so the kUnion crossing rule measures depth from the side's outer boundary.
+    const auto& bone = hip.tissues.at("femur_bone");
+    const auto& cartilage = hip.tissues.at("femoral_cartilage");
+    const auto& acetabular = hip.tissues.at("acetabular_cartilage");
+    const auto& labrum = hip.tissues.at("labrum");
+    const geometry::TriMesh femur = geometry::merge_meshes({&bone, &cartilage});
+    const geometry::TriMesh socket = geometry::merge_meshes({&acetabular, &labrum});
+    const auto start = Clock::now();
+    const contact::RadialTable socket_table = radial_table_for(
+        socket, hip.mesh_hash.at("acetabular_cartilage") + hip.mesh_hash.at("labrum"), centre, options, log);
+    contact::RadialTable femur_table;
+    if (options.swap_roles) {
+      femur_table = radial_table_for(femur, hip.mesh_hash.at("femur_bone") + hip.mesh_hash.at("femoral_cartilage"),
+                                     centre, options, log);
+    }
+    run.radial_preprocessing_ms = ms_since(start);
+    contact::RadialQueryOptions inside;
+    inside.configuration = contact::RadialConfiguration::kMobileInsideFixed;
+    inside.rule = contact::RadialCrossingRule::kUnion;
+    inside.num_threads = options.threads;
+    contact::RadialQueryOptions outside = inside;
+    outside.configuration = contact::RadialConfiguration::kFixedInsideMobile;
+    // Records a merged side's per-vertex result under its two tissues' names.
+    auto record_split = [&](std::size_t k, const contact::PenetrationResult& result, const std::string& first,
+                            std::size_t n_first, const std::string& second, std::size_t n_second, double& max_depth,
+                            int& count) {
+      std::vector<double> step_values(n_first + n_second, 0.0), max_values(n_first + n_second, 0.0);
+      record(result, radial_filter, step_values, max_values, max_depth, count);
+      auto& step_a = field(step_fields[k], first + "/radial_depth_mm", n_first);
+      auto& step_b = field(step_fields[k], second + "/radial_depth_mm", n_second);
+      auto& max_a = field(run.max_fields, first + "/radial_depth_mm", n_first);
+      auto& max_b = field(run.max_fields, second + "/radial_depth_mm", n_second);
+      for (std::size_t v = 0; v < n_first + n_second; ++v) {
+        if (v < n_first) {
+          step_a[v] = step_values[v];
+          max_a[v] = std::max(max_a[v], step_values[v]);
+        } else {
+          step_b[v - n_first] = step_values[v];
+          max_b[v - n_first] = std::max(max_b[v - n_first], step_values[v]);
+        }
+      }
+    };
+    for (std::size_t k = 0; k < steps; ++k) {
+      auto& s = run.steps[k];
+      const auto query_start = Clock::now();
+      record_split(k, contact::radial_segmenting(socket_table, socket, posed(femur, rotation[k], centre), inside),
+                   "femur_bone", bone.num_vertices(), "femoral_cartilage", cartilage.num_vertices(), s.radial_mm,
+                   s.radial_vertices);
+      log.ran(StageKind::kRadialQuery);
+      if (options.swap_roles) {
+        // The socket seen from the femur turns by the inverse rotation.
+        record_split(k,
+                     contact::radial_segmenting(femur_table, femur, posed(socket, rotation[k].transpose(), centre),
+                                                outside),
+                     "acetabular_cartilage", acetabular.num_vertices(), "labrum", labrum.num_vertices(),
+                     s.radial_swap_mm, s.radial_vertices);
+        log.ran(StageKind::kRadialQuery);
+      }
+      s.radial_ms += ms_since(query_start);
+    }
+  }
+
+  if (options.rom) {
+    const auto& femur = hip.tissues.at("femur_bone");
+    const auto& pelvis = hip.tissues.at("acetabular_bone");
+    for (const auto& shared_axis : distinct_axes(motion)) {
+      const Eigen::Vector3d model_axis = (hip.frame * shared_axis).normalized();
+      contact::RangeOfMotionOptions rom_options;
+      rom_options.query.num_threads = options.threads;
+      run.rom_axes.push_back(model_axis);
+      run.rom.push_back(contact::range_of_motion(pelvis, femur, centre, model_axis, rom_options));
+      log.ran(StageKind::kRangeOfMotion);
+    }
+  }
+
+  if (observer) {
+    for (std::size_t k = 0; k < steps; ++k) observer(k, step_fields[k]);
+  }
+  return run;
+}
+
+}  // namespace hipfai::studies
