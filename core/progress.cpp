@@ -44,6 +44,8 @@ void ProgressBar::finish() {
   std::lock_guard lock(mutex_);
   if (finished_ || !enabled_) return;
   finished_ = true;
+  // Without a terminal the 100 % line has already been printed by advance().
+  if (!tty_ && done_ == total_ && last_decile_ == 10) return;
   draw(true);
 }
 

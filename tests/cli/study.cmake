@@ -1,0 +1,6 @@
+hipfai_cli_test(NAME run_plan EXIT 0 COMMAND run @SOURCE@/meshes/scenes/normal_hip.yaml --plan)
+hipfai_cli_test(NAME run_missing_scene EXIT nonzero COMMAND run @TMP@/none.yaml)
+file(WRITE ${CMAKE_BINARY_DIR}/cli-tmp/bad_scene.yaml "schema_version: 1\nunits: {length: m, angle: deg}\n")
+hipfai_cli_test(NAME run_bad_units EXIT nonzero STDERR "bad_scene.yaml:2: units.length"
+  COMMAND run ${CMAKE_BINARY_DIR}/cli-tmp/bad_scene.yaml --plan)
+hipfai_cli_test(NAME study_fai_bad_edge EXIT nonzero STDERR "edge-mm" COMMAND study fai --edge-mm 0)
