@@ -246,10 +246,11 @@ class CylindricalCacheAccess {
       for (std::int32_t v : table.triangles_[t]) out.i32(v);
       out.vec3(table.local_normals_[t]);
       const CylindricalTable::CellRange& range = table.ranges_[t];
-      out.i64(range.r0);
-      out.i64(range.r1);
-      out.i64(range.z0);
-      out.i64(range.z1);
+      // Cell indices fit in 32 bits (num_r, num_z < 2^31 is checked on load).
+      out.i32(static_cast<std::int32_t>(range.r0));
+      out.i32(static_cast<std::int32_t>(range.r1));
+      out.i32(static_cast<std::int32_t>(range.z0));
+      out.i32(static_cast<std::int32_t>(range.z1));
       out.u8(range.overflow ? 1 : 0);
     }
     // Cells in storage order with their lists in order: the order of candidates is kept, so
@@ -295,7 +296,7 @@ class CylindricalCacheAccess {
       p = in.vec3();
       if (!finite(p)) return std::nullopt;
     }
-    const std::size_t num_triangles = in.count(3 * 4 + 3 * 8 + 4 * 8 + 1);
+    const std::size_t num_triangles = in.count(3 * 4 + 3 * 8 + 4 * 4 + 1);
     if (!in.ok() || num_triangles > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max())) {
       return std::nullopt;
     }
@@ -309,10 +310,10 @@ class CylindricalCacheAccess {
       }
       table.local_normals_[t] = in.vec3();
       CylindricalTable::CellRange& range = table.ranges_[t];
-      range.r0 = in.i64();
-      range.r1 = in.i64();
-      range.z0 = in.i64();
-      range.z1 = in.i64();
+      range.r0 = in.i32();
+      range.r1 = in.i32();
+      range.z0 = in.i32();
+      range.z1 = in.i32();
       const std::uint8_t overflow = in.u8();
       if (!in.ok() || overflow > 1 || !finite(table.local_normals_[t])) return std::nullopt;
       range.overflow = overflow == 1;
@@ -462,6 +463,11 @@ class CylindricalCacheAccess {
 }  // namespace detail
 
 void save_cylindrical_table(const CylindricalTable& table, const std::filesystem::path& path) {
+  constexpr long long kMaxCells = std::numeric_limits<std::int32_t>::max();
+  if (table.num_r_cells() > kMaxCells || table.num_z_cells() > kMaxCells) {
+    throw_error("save_cylindrical_table: '", path.string(), "': grid of ", table.num_r_cells(), " x ",
+                table.num_z_cells(), " cells exceeds the file format's 2^31 - 1 per direction");
+  }
   Writer payload;
   detail::CylindricalCacheAccess::write_table(table, payload);
   write_file(kTableKind, payload.bytes(), path, "save_cylindrical_table");

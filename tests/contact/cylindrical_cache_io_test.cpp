@@ -11,9 +11,11 @@
 #include <gtest/gtest.h>
 
 #include <bit>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <numbers>
 #include <random>
 #include <set>
@@ -330,12 +332,22 @@ TEST(CylindricalCacheIo, RealFemurAgainstPelvisRoundTrip) {
   for (std::size_t v = 0; v < femur.vertices.size(); v += 7) femur_points.vertices.push_back(femur.vertices[v]);
   std::size_t penetrating = 0;
   for (const Vec3& axis : {Vec3(0, 1, 0), Vec3(0, 0, 1)}) {
+    const auto start = std::chrono::steady_clock::now();
     const CylindricalTable table = CylindricalTable::build(pelvis, hjc, axis, {}, &femur_points);
     const CylindricalPoseCache cache(table, femur_points);
+    const auto built = std::chrono::steady_clock::now();
     save_cylindrical_table(table, dir / "pelvis.cyl");
     save_pose_cache(cache, dir / "femur.pose");
+    const auto saved = std::chrono::steady_clock::now();
     const std::optional<CylindricalTable> loaded = load_cylindrical_table(dir / "pelvis.cyl");
     const std::optional<CylindricalPoseCache> loaded_cache = load_pose_cache(dir / "femur.pose");
+    const auto loaded_at = std::chrono::steady_clock::now();
+    // Printed, never asserted: what the on-disk cache saves over a rebuild.
+    const auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
+    std::cout << "[ timing ] axis (" << axis.transpose() << "): build table + pose cache "
+              << ms(start, built) << " ms, save " << ms(built, saved) << " ms, load "
+              << ms(saved, loaded_at) << " ms; files " << fs::file_size(dir / "pelvis.cyl") / 1024
+              << " KiB + " << fs::file_size(dir / "femur.pose") / 1024 << " KiB\n";
     ASSERT_TRUE(loaded.has_value());
     ASSERT_TRUE(loaded_cache.has_value());
     expect_same_table(*loaded, table);
