@@ -29,6 +29,9 @@
 #include <deal.II/numerics/data_out.h>
 #include <deal.II/numerics/vector_tools.h>
 
+#include <petscksp.h>
+
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -90,6 +93,79 @@ struct BondedDof {
 
 }  // namespace
 
+namespace {
+
+// CG with PETSc's smoothed-aggregation AMG (GAMG) given the six rigid-body modes as its near
+// null space: the elasticity-aware multigrid that plain scalar BoomerAMG is not (the latter
+// coarsens the displacement components independently and needs many more CG iterations on
+// thin or nearly incompressible layers). Falls back to BoomerAMG when the dofs are not numbered
+// node by node (x, y, z of one support point consecutive), which the rigid modes need.
+class ElasticityPreconditioner {
+ public:
+  ElasticityPreconditioner(const dealii::PETScWrappers::MPI::SparseMatrix& matrix,
+                           const std::vector<dealii::Point<3>>& support_points,
+                           const dealii::IndexSet& owned, MPI_Comm comm) {
+    KSPCreate(comm, &ksp_);
+    KSPSetOperators(ksp_, matrix, matrix);
+    KSPSetType(ksp_, KSPCG);
+    KSPSetNormType(ksp_, KSP_NORM_UNPRECONDITIONED);
+    PC pc;
+    KSPGetPC(ksp_, &pc);
+    bool interleaved = owned.n_elements() % 3 == 0;
+    std::vector<global_dof_index> owned_list;
+    owned.fill_index_vector(owned_list);
+    for (std::size_t i = 0; interleaved && i + 2 < owned_list.size(); i += 3) {
+      interleaved = owned_list[i] + 1 == owned_list[i + 1] && owned_list[i] + 2 == owned_list[i + 2] &&
+                    support_points[owned_list[i]].distance(support_points[owned_list[i + 2]]) == 0.0;
+    }
+    int all_interleaved = interleaved ? 1 : 0;
+    MPI_Allreduce(MPI_IN_PLACE, &all_interleaved, 1, MPI_INT, MPI_MIN, comm);
+    if (all_interleaved) {
+      PCSetType(pc, PCGAMG);
+      Vec coordinates;
+      VecCreateMPI(comm, static_cast<PetscInt>(owned_list.size()), PETSC_DETERMINE, &coordinates);
+      VecSetBlockSize(coordinates, 3);
+      PetscScalar* values;
+      VecGetArray(coordinates, &values);
+      for (std::size_t i = 0; i < owned_list.size(); ++i) values[i] = support_points[owned_list[i]][i % 3];
+      VecRestoreArray(coordinates, &values);
+      MatNullSpace rigid_modes;
+      MatNullSpaceCreateRigidBody(coordinates, &rigid_modes);
+      MatSetNearNullSpace(matrix, rigid_modes);
+      MatNullSpaceDestroy(&rigid_modes);
+      VecDestroy(&coordinates);
+      // Aggressive coarsening of the first level keeps the setup cheap; the threshold drops weak
+      // couplings (thin layers, graded meshes) before aggregation.
+      PCGAMGSetThreshold(pc, nullptr, 0);
+      PCGAMGSetNSmooths(pc, 1);
+    } else {
+      PCSetType(pc, PCHYPRE);
+      PCHYPRESetType(pc, "boomeramg");
+    }
+    KSPSetUp(ksp_);
+  }
+  ~ElasticityPreconditioner() { KSPDestroy(&ksp_); }
+  ElasticityPreconditioner(const ElasticityPreconditioner&) = delete;
+  ElasticityPreconditioner& operator=(const ElasticityPreconditioner&) = delete;
+
+  // Iterations, negated when CG did not reach the tolerance.
+  int solve(const dealii::PETScWrappers::MPI::Vector& rhs, dealii::PETScWrappers::MPI::Vector& x,
+            double relative_tolerance, unsigned int max_iterations) {
+    KSPSetTolerances(ksp_, relative_tolerance, 0.0, PETSC_DEFAULT, static_cast<PetscInt>(max_iterations));
+    KSPSolve(ksp_, rhs, x);
+    PetscInt iterations = 0;
+    KSPGetIterationNumber(ksp_, &iterations);
+    KSPConvergedReason reason;
+    KSPGetConvergedReason(ksp_, &reason);
+    return reason > 0 ? static_cast<int>(iterations) : -static_cast<int>(iterations) - 1;
+  }
+
+ private:
+  KSP ksp_ = nullptr;
+};
+
+}  // namespace
+
 class ContactProblem::Impl {
  public:
   Impl(MPI_Comm communicator, ContactOptions options_in)
@@ -114,6 +190,7 @@ class ContactProblem::Impl {
   dealii::ConditionalOStream pcout;
 
  private:
+  void place_bodies(const ContactProblem& model);
   void setup_system(const ContactProblem& model);
   void collect_fixed_dofs(const ContactProblem& model);
   void collect_contact_nodes(const ContactProblem& model);
@@ -121,7 +198,8 @@ class ContactProblem::Impl {
       const std::vector<dealii::Tensor<1, 3>>& translations) const;
   void cell_stiffness(const dealii::DoFHandler<3>::active_cell_iterator& cell,
                       dealii::FEValues<3>& fe_values, dealii::FullMatrix<double>& matrix) const;
-  Linearization solve_linear(const std::vector<dealii::Tensor<1, 3>>& translations);
+  std::vector<Linearization> solve_linear(
+      const std::vector<std::vector<dealii::Tensor<1, 3>>>& translation_sets);
   std::vector<double> internal_force(const dealii::Vector<double>& displacement) const;
   std::vector<dealii::Tensor<1, 3>> transmitted_force(const ContactProblem& model,
                                                       const Linearization& state) const;
@@ -129,6 +207,7 @@ class ContactProblem::Impl {
                       const std::vector<dealii::Tensor<1, 3>>& translations,
                       std::vector<double>& force, std::vector<double>& gap) const;
   void output_results(const std::string& file) const;
+  void von_mises(const ContactProblem& model, ContactResult& result) const;
 
   std::map<dealii::types::material_id, std::pair<double, double>> lame_by_material;
   dealii::IndexSet owned_dofs;
@@ -138,6 +217,7 @@ class ContactProblem::Impl {
   std::vector<BondedDof> bonded_dofs;
   std::vector<std::pair<global_dof_index, double>> symmetry_dofs;
   dealii::AffineConstraints<double> hanging_constraints;
+  std::vector<dealii::Point<3>> reference_vertices;
   std::vector<NodeData> nodes;
   std::vector<bool> active;
   dealii::Vector<double> solution;
@@ -345,10 +425,13 @@ void ContactProblem::Impl::collect_contact_nodes(const ContactProblem& model) {
       NodeData node = nodes[n];
       dealii::Point<3> master_point;
       if (pair.master_rigid_body >= 0) {
-        const SurfacePoint closest =
-            model.rigid_bodies[pair.master_rigid_body].surface->closest_point(node.position);
-        master_point = closest.point_mm;
-        node.normal = closest.normal;
+        // The surface is defined in the body's frame: query there, map the answer back.
+        const RigidBody& body = model.rigid_bodies[pair.master_rigid_body];
+        const dealii::Point<3>& c = body.rotation_center_mm;
+        const SurfacePoint closest = body.surface->closest_point(
+            c + dealii::transpose(body.rotation) * (node.position - c));
+        master_point = c + body.rotation * (closest.point_mm - c);
+        node.normal = body.rotation * closest.normal;
         node.rigid_body = pair.master_rigid_body;
       } else {
         // Search radius: contact partners are close; 5 % of the model size is generous.
@@ -474,18 +557,22 @@ std::vector<double> ContactProblem::Impl::internal_force(
   return force;
 }
 
-Linearization ContactProblem::Impl::solve_linear(
-    const std::vector<dealii::Tensor<1, 3>>& translations) {
-  const dealii::AffineConstraints<double> constraints = make_constraints(translations);
+std::vector<Linearization> ContactProblem::Impl::solve_linear(
+    const std::vector<std::vector<dealii::Tensor<1, 3>>>& translation_sets) {
+  // One active set, several rigid translations: the condensed matrix depends only on the active
+  // set (the translations enter the inhomogeneities), so it is assembled and its preconditioner
+  // set up once, and every translation costs one right-hand side and one CG solve.
+  std::vector<dealii::AffineConstraints<double>> constraints;
+  for (const auto& translations : translation_sets) constraints.push_back(make_constraints(translations));
   const unsigned int rank = dealii::Utilities::MPI::this_mpi_process(comm);
 
   dealii::DynamicSparsityPattern pattern(all_dofs);
-  dealii::DoFTools::make_sparsity_pattern(dof_handler, pattern, constraints, false, rank);
+  dealii::DoFTools::make_sparsity_pattern(dof_handler, pattern, constraints[0], false, rank);
   dealii::SparsityTools::distribute_sparsity_pattern(pattern, owned_dofs, comm, all_dofs);
   dealii::PETScWrappers::MPI::SparseMatrix matrix;
   matrix.reinit(owned_dofs, owned_dofs, pattern, comm);
-  dealii::PETScWrappers::MPI::Vector rhs(owned_dofs, comm);
-  dealii::PETScWrappers::MPI::Vector x(owned_dofs, comm);
+  std::vector<dealii::PETScWrappers::MPI::Vector> rhs(translation_sets.size());
+  for (auto& vector : rhs) vector.reinit(owned_dofs, comm);
 
   dealii::FEValues<3> fe_values(mapping, fe, dealii::QGauss<3>(fe.degree + 1),
                                 dealii::update_gradients | dealii::update_JxW_values);
@@ -497,35 +584,34 @@ Linearization ContactProblem::Impl::solve_linear(
     if (!cell->is_locally_owned()) continue;
     cell_stiffness(cell, fe_values, cell_matrix);
     cell->get_dof_indices(dofs);
-    constraints.distribute_local_to_global(cell_matrix, cell_rhs, dofs, matrix, rhs);
+    constraints[0].distribute_local_to_global(cell_matrix, cell_rhs, dofs, matrix, rhs[0]);
+    for (std::size_t k = 1; k < constraints.size(); ++k) {
+      constraints[k].distribute_local_to_global(cell_rhs, dofs, rhs[k], cell_matrix);
+    }
   }
   matrix.compress(dealii::VectorOperation::add);
-  rhs.compress(dealii::VectorOperation::add);
+  for (auto& vector : rhs) vector.compress(dealii::VectorOperation::add);
 
-  const double rhs_norm = rhs.l2_norm();
-  ++linear_solves;
-  if (rhs_norm > 0.0) {
-    dealii::SolverControl control(options.max_linear_iterations,
-                                  options.linear_relative_tolerance * rhs_norm);
-    // Elasticity on thin layers: a strong threshold above the Laplace default of 0.25 keeps
-    // BoomerAMG's coarsening from mixing the weakly coupled displacement components.
-    dealii::PETScWrappers::PreconditionBoomerAMG::AdditionalData amg_data;
-    amg_data.symmetric_operator = true;
-    amg_data.strong_threshold = 0.5;
-    dealii::PETScWrappers::PreconditionBoomerAMG preconditioner(matrix, amg_data);
-    dealii::PETScWrappers::SolverCG solver(control, comm);
-    try {
-      solver.solve(matrix, x, rhs, preconditioner);
-    } catch (const dealii::SolverControl::NoConvergence&) {
-      linear_failure = true;
+  std::vector<Linearization> states;
+  std::unique_ptr<ElasticityPreconditioner> preconditioner;
+  for (std::size_t k = 0; k < constraints.size(); ++k) {
+    dealii::PETScWrappers::MPI::Vector x(owned_dofs, comm);
+    const double rhs_norm = rhs[k].l2_norm();
+    ++linear_solves;
+    if (rhs_norm > 0.0) {
+      if (!preconditioner) preconditioner = std::make_unique<ElasticityPreconditioner>(matrix, support_points, owned_dofs, comm);
+      const int iterations = preconditioner->solve(rhs[k], x, options.linear_relative_tolerance,
+                                                   options.max_linear_iterations);
+      if (iterations < 0) linear_failure = true;
+      linear_iterations += static_cast<unsigned int>(std::abs(iterations));
     }
-    linear_iterations += control.last_step();
+    Linearization state;
+    state.displacement = dealii::Vector<double>(x);
+    constraints[k].distribute(state.displacement);
+    state.internal_force = internal_force(state.displacement);
+    states.push_back(std::move(state));
   }
-  Linearization state;
-  state.displacement = dealii::Vector<double>(x);
-  constraints.distribute(state.displacement);
-  state.internal_force = internal_force(state.displacement);
-  return state;
+  return states;
 }
 
 std::vector<dealii::Tensor<1, 3>> ContactProblem::Impl::transmitted_force(
@@ -572,8 +658,40 @@ void ContactProblem::Impl::evaluate_nodes(const Linearization& state,
   }
 }
 
+void ContactProblem::Impl::place_bodies(const ContactProblem& model) {
+  // Every run starts from the reference vertices (saved on the first run), so the rotations of
+  // successive motion steps do not accumulate round-off.
+  if (reference_vertices.empty()) reference_vertices = triangulation.get_vertices();
+  std::map<dealii::types::material_id, int> rigid_of_material;
+  for (const Body& body : model.bodies) {
+    if (body.bonded_rigid_body >= static_cast<int>(model.rigid_bodies.size())) {
+      throw_error("fem model: body ", body.name, " is bonded to rigid body ", body.bonded_rigid_body,
+                  " which does not exist");
+    }
+    rigid_of_material[body.material_id] = body.bonded_rigid_body;
+  }
+  std::vector<bool> placed(reference_vertices.size(), false);
+  for (const auto& cell : triangulation.cell_iterators()) {
+    const auto it = rigid_of_material.find(cell->material_id());
+    const int rigid = it == rigid_of_material.end() ? -1 : it->second;
+    for (const unsigned int v : cell->vertex_indices()) {
+      const unsigned int index = cell->vertex_index(v);
+      if (placed[index]) continue;  // bodies that share a vertex: the first one places it
+      placed[index] = true;
+      const dealii::Point<3>& x = reference_vertices[index];
+      if (rigid < 0) {
+        cell->vertex(v) = x;
+      } else {
+        const RigidBody& body = model.rigid_bodies[rigid];
+        cell->vertex(v) = body.rotation_center_mm + body.rotation * (x - body.rotation_center_mm);
+      }
+    }
+  }
+}
+
 ContactResult ContactProblem::Impl::run(ContactProblem& model) {
   const auto start = std::chrono::steady_clock::now();
+  place_bodies(model);
   setup_system(model);
   collect_fixed_dofs(model);
   collect_contact_nodes(model);
@@ -622,20 +740,23 @@ ContactResult ContactProblem::Impl::run(ContactProblem& model) {
     result.active_set_iterations = iteration;
     const unsigned int iterations_before = linear_iterations;
     if (free_directions.empty()) {
-      state = solve_linear(translations);
+      state = std::move(solve_linear({translations}).front());
     } else {
       // Affine in the free translations for a fixed active set: probe each direction once.
       const std::size_t m = free_directions.size();
-      const Linearization base = solve_linear(translations);
+      std::vector<std::vector<dealii::Tensor<1, 3>>> translation_sets = {translations};
+      for (std::size_t j = 0; j < m; ++j) {
+        translation_sets.push_back(translations);
+        translation_sets.back()[free_directions[j].body] += free_directions[j].direction;
+      }
+      std::vector<Linearization> probes = solve_linear(translation_sets);
+      const Linearization base = std::move(probes.front());
+      probes.erase(probes.begin());
       const auto base_force = transmitted_force(model, base);
-      std::vector<Linearization> probes;
       dealii::FullMatrix<double> sensitivity(m, m);
       dealii::Vector<double> mismatch(m);
       for (std::size_t j = 0; j < m; ++j) {
-        auto probe_translations = translations;
-        probe_translations[free_directions[j].body] += free_directions[j].direction;
-        probes.push_back(solve_linear(probe_translations));
-        const auto probe_force = transmitted_force(model, probes.back());
+        const auto probe_force = transmitted_force(model, probes[j]);
         for (std::size_t i = 0; i < m; ++i) {
           const auto& row = free_directions[i];
           sensitivity(i, j) = (probe_force[row.body] - base_force[row.body]) * row.direction;
@@ -706,6 +827,15 @@ ContactResult ContactProblem::Impl::run(ContactProblem& model) {
     result.pair_force_n[node.pair] += out.force_n * node.normal;
     result.nodes.push_back(out);
   }
+  double total_force = 0.0;
+  for (const ContactNode& node : result.nodes) {
+    if (!node.active) continue;
+    result.contact_area_mm2 += node.area_mm2;
+    total_force += node.force_n;
+    result.max_pressure_mpa = std::max(result.max_pressure_mpa, node.pressure_mpa);
+  }
+  if (result.contact_area_mm2 > 0.0) result.mean_pressure_mpa = total_force / result.contact_area_mm2;
+  von_mises(model, result);
   if (!options.vtu_file.empty()) output_results(options.vtu_file);
   result.wall_time_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -713,6 +843,39 @@ ContactResult ContactProblem::Impl::run(ContactProblem& model) {
         << " active-set iterations, " << result.linear_solves << " linear solves, "
         << result.linear_iterations << " CG iterations, " << result.wall_time_s << " s\n";
   return result;
+}
+
+void ContactProblem::Impl::von_mises(const ContactProblem& model, ContactResult& result) const {
+  // Every rank holds the whole solution: evaluate all cells, no communication needed.
+  std::map<dealii::types::material_id, std::size_t> body_of_material;
+  for (std::size_t b = 0; b < model.bodies.size(); ++b) body_of_material[model.bodies[b].material_id] = b;
+  std::vector<std::vector<double>> values(model.bodies.size());
+  dealii::FEValues<3> fe_values(mapping, fe, dealii::QGauss<3>(fe.degree + 1), dealii::update_gradients);
+  const dealii::FEValuesExtractors::Vector displacement(0);
+  std::vector<dealii::SymmetricTensor<2, 3>> strains(fe_values.n_quadrature_points);
+  for (const auto& cell : dof_handler.active_cell_iterators()) {
+    fe_values.reinit(cell);
+    fe_values[displacement].get_function_symmetric_gradients(solution, strains);
+    const auto [lambda, mu] = lame_by_material.at(cell->material_id());
+    auto& out = values[body_of_material.at(cell->material_id())];
+    for (const auto& strain : strains) {
+      const dealii::SymmetricTensor<2, 3> stress =
+          lambda * dealii::trace(strain) * dealii::unit_symmetric_tensor<3>() + 2.0 * mu * strain;
+      const dealii::SymmetricTensor<2, 3> deviator = dealii::deviator(stress);
+      out.push_back(std::sqrt(1.5 * (deviator * deviator)));
+    }
+  }
+  result.max_von_mises_mpa.assign(model.bodies.size(), 0.0);
+  result.p95_von_mises_mpa.assign(model.bodies.size(), 0.0);
+  for (std::size_t b = 0; b < values.size(); ++b) {
+    auto& v = values[b];
+    if (v.empty()) continue;
+    std::sort(v.begin(), v.end());
+    result.max_von_mises_mpa[b] = v.back();
+    // Nearest-rank 95th percentile.
+    const std::size_t rank = static_cast<std::size_t>(std::ceil(0.95 * v.size()));
+    result.p95_von_mises_mpa[b] = v[std::max<std::size_t>(rank, 1) - 1];
+  }
 }
 
 void ContactProblem::Impl::output_results(const std::string& file) const {

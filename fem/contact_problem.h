@@ -27,6 +27,7 @@
 #include "fem/rigid_surface.h"
 
 #include <deal.II/base/point.h>
+#include <deal.II/base/symmetric_tensor.h>
 #include <deal.II/base/tensor.h>
 #include <deal.II/base/types.h>
 #include <deal.II/distributed/shared_tria.h>
@@ -44,10 +45,16 @@ struct Body {
   std::string name;
   dealii::types::material_id material_id = 0;
   ElasticMaterial material;
+  // Rigid body this body is bonded to (-1: none). Its cells follow that body's rotation: the
+  // mesh is rotated rigidly before the solve, so a large rotation (the femur's flexion) costs no
+  // strain in the small-strain model, and the contact search runs in the rotated configuration.
+  int bonded_rigid_body = -1;
 };
 
 // A rigid body: its translation is either prescribed (translation_mm) or, when load_controlled,
 // unknown along free_directions so that the contact force it transmits equals force_n.
+// Its motion is x -> c + R (x - c) + t: the rotation R about c (the hip joint centre) is always
+// prescribed (identity by default), t is prescribed or solved for.
 struct RigidBody {
   std::string name;
   std::shared_ptr<const RigidSurface> surface;  // null for a bone that is only bonded
@@ -55,6 +62,8 @@ struct RigidBody {
   bool load_controlled = false;
   std::vector<dealii::Tensor<1, 3>> free_directions;  // unit vectors
   dealii::Tensor<1, 3> force_n;  // force the body applies to the deformable bodies
+  dealii::Tensor<2, 3> rotation = dealii::unit_symmetric_tensor<3>();  // R, proper orthogonal
+  dealii::Point<3> rotation_center_mm;                                 // c
 };
 
 // Boundary bonded to bone: u = translation of rigid_body (if >= 0) + extra_displacement_mm(x).
@@ -114,6 +123,13 @@ struct ContactResult {
   std::vector<dealii::Tensor<1, 3>> pair_force_n;  // force on the slave bodies, per pair
   std::vector<dealii::Tensor<1, 3>> rigid_translation_mm;
   double max_penetration_mm = 0.0;
+  // Summaries over the active contact nodes (all pairs).
+  double contact_area_mm2 = 0.0;
+  double max_pressure_mpa = 0.0;
+  double mean_pressure_mpa = 0.0;  // total normal force / contact area
+  // Von Mises stress per body (index into ContactProblem::bodies), over the Gauss points.
+  std::vector<double> max_von_mises_mpa;
+  std::vector<double> p95_von_mises_mpa;
 };
 
 class ContactProblem {

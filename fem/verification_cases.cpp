@@ -133,11 +133,11 @@ VerificationResult uniaxial_layer(const VerificationOptions& options, MPI_Comm c
     else if (std::abs(c[0]) < 1e-9 || std::abs(c[0] - width) < 1e-9) face->set_boundary_id(layer_ids::kWallX);
     else face->set_boundary_id(layer_ids::kWallY);
   }
-  problem.bodies = {{"cartilage", 0, cartilage}};
-  RigidBody bone{"bone", nullptr, {}, false, {}, {}};
+  problem.bodies = {{"cartilage", 0, cartilage, -1}};
+  RigidBody bone{"bone", nullptr, {}, false, {}, {}, dealii::unit_symmetric_tensor<3>(), {}};
   RigidBody plate{"plate",
                   std::make_shared<RigidPlane>(Point<3>(0, 0, thickness), Tensor<1, 3>({0, 0, -1})),
-                  Tensor<1, 3>({0, 0, -indentation}), false, {}, {}};
+                  Tensor<1, 3>({0, 0, -indentation}), false, {}, {}, dealii::unit_symmetric_tensor<3>(), {}};
   if (load_control) {
     plate.translation_mm = Tensor<1, 3>();  // unknown: start from the touching position
     plate.load_controlled = true;
@@ -212,11 +212,11 @@ VerificationResult stacked_layers(const VerificationOptions& options, MPI_Comm c
       else face->set_boundary_id(layer_ids::kWallY);
     }
   }
-  problem.bodies = {{"cartilage", 0, upper}, {"labrum-like", 1, lower}};
+  problem.bodies = {{"cartilage", 0, upper, -1}, {"labrum-like", 1, lower, -1}};
   problem.rigid_bodies = {
-      {"bone", nullptr, {}, false, {}, {}},
+      {"bone", nullptr, {}, false, {}, {}, dealii::unit_symmetric_tensor<3>(), {}},
       {"plate", std::make_shared<RigidPlane>(Point<3>(0, 0, top), Tensor<1, 3>({0, 0, -1})),
-       Tensor<1, 3>({0, 0, -indentation}), false, {}, {}}};
+       Tensor<1, 3>({0, 0, -indentation}), false, {}, {}, dealii::unit_symmetric_tensor<3>(), {}}};
   problem.bonded_boundaries = {{layer_ids::kBondedBottom, 0, {}}};
   problem.symmetry_boundaries = {{layer_ids::kWallX, 0}, {layer_ids::kWallY, 1}};
   problem.contact_pairs = {{layer_ids::kTopSurface, 1, 0},
@@ -324,8 +324,8 @@ VerificationResult spherical_shells(const VerificationOptions& options, MPI_Comm
   }
   tria.execute_coarsening_and_refinement();
 
-  problem.bodies = {{"femoral cartilage", 0, cartilage}, {"acetabular cartilage", 1, cartilage}};
-  problem.rigid_bodies = {{"core", nullptr, {}, false, {}, {}}, {"cup", nullptr, {}, false, {}, {}}};
+  problem.bodies = {{"femoral cartilage", 0, cartilage, -1}, {"acetabular cartilage", 1, cartilage, -1}};
+  problem.rigid_bodies = {{"core", nullptr, {}, false, {}, {}, dealii::unit_symmetric_tensor<3>(), {}}, {"cup", nullptr, {}, false, {}, {}, dealii::unit_symmetric_tensor<3>(), {}}};
   problem.bonded_boundaries = {
       {kCore, 0, [=](const Point<3>& p) { return Tensor<1, 3>(expansion * p / p.norm()); }},
       {kCup, 1, {}}};
@@ -382,12 +382,12 @@ VerificationResult hertz(const VerificationOptions& options, MPI_Comm comm) {
     }
     tria.execute_coarsening_and_refinement();
   }
-  problem.bodies = {{"block", 0, block}};
+  problem.bodies = {{"block", 0, block, -1}};
   RigidBody sphere{"sphere",
                    std::make_shared<RigidSphere>(Point<3>(0, 0, radius), radius),
                    {}, true, {Tensor<1, 3>({0, 0, 1})},
-                   Tensor<1, 3>({0, 0, -force / 4.0})};  // quarter model
-  problem.rigid_bodies = {{"base", nullptr, {}, false, {}, {}}, sphere};
+                   Tensor<1, 3>({0, 0, -force / 4.0}), dealii::unit_symmetric_tensor<3>(), {}};  // quarter model
+  problem.rigid_bodies = {{"base", nullptr, {}, false, {}, {}, dealii::unit_symmetric_tensor<3>(), {}}, sphere};
   problem.bonded_boundaries = {{kBottom, 0, {}}};
   problem.symmetry_boundaries = {{kPlaneX, 0}, {kPlaneY, 1}};
   problem.contact_pairs = {{kTop, 1, 0}};
