@@ -1,5 +1,6 @@
 #include "studies/penetration_run.h"
 
+#include "contact/cylindrical_cache_io.h"
 #include "contact/cylindrical_segmenting.h"
 #include "contact/radial_segmenting.h"
 #include "core/error.h"
@@ -92,6 +93,32 @@ contact::RadialTable radial_table_for(const geometry::TriMesh& fixed, const std:
   return table;
 }
 
+// The pose cache of `mobile` against `fixed` about `axis` through `centre` (§3.2.3.2): loaded from
+// the cache folder when an identical one was built before, else built (table + cache) and saved.
+contact::CylindricalPoseCache pose_cache_for(const geometry::TriMesh& fixed, const std::string& fixed_hash,
+                                             const geometry::TriMesh& mobile, const std::string& mobile_hash,
+                                             const geometry::Vec3& centre, const Eigen::Vector3d& axis,
+                                             const PenetrationOptions& options, StageLog& log) {
+  std::filesystem::path file;
+  if (!options.cache_dir.empty()) {
+    Hasher key;
+    key.add(fixed_hash).add(mobile_hash).add(centre.x()).add(centre.y()).add(centre.z());
+    key.add(axis.x()).add(axis.y()).add(axis.z());
+    file = options.cache_dir / ("cylindrical-pose-cache-" + key.hex() + ".bin");
+    if (auto cached = contact::load_pose_cache(file)) {
+      log.hit(StageKind::kCylindricalTable);
+      return std::move(*cached);
+    }
+  }
+  contact::CylindricalQueryOptions query;
+  query.num_threads = options.threads;
+  const auto table = contact::CylindricalTable::build(fixed, centre, axis, {}, &mobile);
+  contact::CylindricalPoseCache cache(table, mobile, query);
+  log.ran(StageKind::kCylindricalTable);
+  if (!file.empty()) contact::save_pose_cache(cache, file);
+  return cache;
+}
+
 }  // namespace
 
 double PenetrationRun::max_curvilinear_mm() const {
@@ -145,14 +172,12 @@ PenetrationRun compute_penetration(const LoadedHip& hip, const Motion& motion,
     for (const auto& shared_axis : distinct_axes(motion)) {
       const Eigen::Vector3d model_axis = (hip.frame * shared_axis).normalized();
       const auto start = Clock::now();
-      const auto labrum_table = contact::CylindricalTable::build(labrum, centre, model_axis, {}, &femur);
-      const contact::CylindricalPoseCache femur_cache(labrum_table, femur, query);
-      log.ran(StageKind::kCylindricalTable);
+      const contact::CylindricalPoseCache femur_cache = pose_cache_for(
+          labrum, hip.mesh_hash.at("labrum"), femur, hip.mesh_hash.at("femur_bone"), centre, model_axis, options, log);
       contact::CylindricalPoseCache labrum_cache;
       if (options.swap_roles) {
-        const auto femur_table = contact::CylindricalTable::build(femur, centre, model_axis, {}, &labrum);
-        labrum_cache = contact::CylindricalPoseCache(femur_table, labrum, query);
-        log.ran(StageKind::kCylindricalTable);
+        labrum_cache = pose_cache_for(femur, hip.mesh_hash.at("femur_bone"), labrum, hip.mesh_hash.at("labrum"),
+                                      centre, model_axis, options, log);
       }
       run.curvilinear_preprocessing_ms += ms_since(start);
       for (std::size_t k = 0; k < steps; ++k) {

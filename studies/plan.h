@@ -17,7 +17,7 @@ enum class StageKind {
   kGenerateHip,        // parametric hip -> meshes (cached by parameter hash)
   kLocateHip,          // user model folder with model.json
   kLoadTissue,         // read one tissue mesh
-  kCylindricalTable,   // ring table of the fixed tissue about one motion axis
+  kCylindricalTable,   // ring table + pose cache (crossings) about one motion axis (cached)
   kCylindricalQuery,   // per step: curvilinear depth of the mobile vertices
   kRadialTable,        // radial table of the fixed tissue(s) about the HJC
   kRadialQuery,        // per step: radial depth

@@ -64,5 +64,25 @@ TEST(SceneRunner, RadialOnlyRunsOnlyItsStagesAndReusesTheCache) {
   EXPECT_FALSE(std::filesystem::exists(options.out_dir / "results.h5.partial"));
 }
 
+// Curvilinear depth: the pose caches (table + crossings per axis) come from the cache on a re-run
+// whose motion has the same axis (standing to sitting with fewer sub-motions).
+TEST(SceneRunner, CurvilinearPoseCachesAreReused) {
+  const auto cache = scratch("cache_curvilinear");
+  SceneRunOptions options;
+  options.out_dir = scratch("out3");
+  options.cache_dir = cache;
+  Scene scene = radial_scene(10);
+  scene.outputs = {Output::kCurvilinearDepth};
+  scene.tissues = tissues_for(Output::kCurvilinearDepth);
+  const auto a = run_scene(scene, motion_of(scene), options);
+  EXPECT_EQ(a.log.executed_count(StageKind::kCylindricalTable), 2);
+  EXPECT_EQ(a.log.executed_count(StageKind::kRadialTable), 0);
+  scene.motion.sub_motions = 5;
+  const auto b = run_scene(scene, motion_of(scene), options);
+  EXPECT_EQ(b.log.executed_count(StageKind::kCylindricalTable), 0);
+  EXPECT_EQ(b.log.reused_count(StageKind::kCylindricalTable), 2);
+  EXPECT_NEAR(a.run.steps.back().curvilinear_max_mm(), b.run.steps.back().curvilinear_max_mm(), 1e-12);
+}
+
 }  // namespace
 }  // namespace hipfai::studies
