@@ -72,7 +72,30 @@ ModelRun run_model(double ce, double alpha, double edge_mm, const Motion& motion
   penetration.threads = options.threads;
   penetration.cache_dir = options.cache_dir;
   const auto compute_start = Clock::now();
-  model.run = compute_penetration(model.hip, motion, penetration, log);
+  const std::string id = model_id(ce, alpha);
+  const bool wants_vtp = edge_mm == options.edge_mm &&
+                         std::find(options.vtp_models.begin(), options.vtp_models.end(), id) != options.vtp_models.end();
+  auto write_step_vtp = [&](std::size_t step, const DepthFields& fields) {
+    bool wanted = false;
+    for (int s : options.vtp_steps) {
+      wanted = wanted || (s == 0 ? step + 1 == motion.steps.size() : step + 1 == static_cast<std::size_t>(s));
+    }
+    if (!wanted) return;
+    std::filesystem::create_directories(options.out_dir / "vtp");
+    std::map<std::string, geometry::TriMesh> coloured;
+    for (const auto& [key, values] : fields) {
+      const std::string tissue = key.substr(0, key.find('/'));
+      auto [it, inserted] = coloured.try_emplace(tissue, model.hip.tissues.at(tissue));
+      it->second.vertex_fields[key.substr(key.find('/') + 1)] = values;
+    }
+    for (const auto& [tissue, mesh] : coloured) {
+      std::ostringstream name;
+      name << id << '_' << tissue << "_step" << std::setw(3) << std::setfill('0') << (step + 1) << ".vtp";
+      geometry::write_mesh(mesh, options.out_dir / "vtp" / name.str());
+    }
+  };
+  model.run = wants_vtp ? compute_penetration(model.hip, motion, penetration, log, write_step_vtp)
+                        : compute_penetration(model.hip, motion, penetration, log);
   model.summary.penetration_ms = 1e3 * seconds_since(compute_start);
   model.summary.ce_deg = ce;
   model.summary.alpha_deg = alpha;

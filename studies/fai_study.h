@@ -30,6 +30,10 @@ struct FaiStudyOptions {
   std::int64_t table_size = 20000;
   int threads = 2;
   bool progress = true;
+  // Per-step VTP files (each tissue with that step's depth fields) for these models and steps
+  // (1-based; 0 = the last step): <out>/vtp/<model>_<tissue>_stepNNN.vtp.
+  std::vector<std::string> vtp_models{"ce40_alpha80", "ce20_alpha80", "ce40_alpha40"};
+  std::vector<int> vtp_steps{0};
 };
 
 // Thesis Table 10 / Fig. 63 classification from the angles: acetabulum dysplastic (CE < 20),

@@ -29,6 +29,7 @@ TEST(FaiStudy, QuickRunWritesCompleteFiniteResults) {
                            "fig60_ce40_alpha60.svg", "hip_ce40_alpha80.svg"}) {
     EXPECT_TRUE(std::filesystem::exists(options.out_dir / file)) << file;
   }
+  EXPECT_TRUE(std::filesystem::exists(options.out_dir / "vtp" / "ce40_alpha80_labrum_step010.vtp"));
   const auto h5 = options.out_dir / "results.h5";
   std::size_t rows = 0;
   const auto curvilinear = read_dataset(h5, "/summary/max_curvilinear_mm", &rows);
