@@ -77,21 +77,38 @@ std::vector<MortarPoint> MortarSegmenter::integrate(const FacePatch& slave) cons
     // Only faces that face each other can touch.
     if (master.normal(0.5, 0.5) * slave_normal >= 0.0) continue;
 
-    // The master boundary in the slave's parameter square, counter-clockwise in the master's.
-    const unsigned samples = (slave_straight && master_straight_[m]) ? 1 : options_.curved_edge_samples;
+    // Curved pairs: the master face is cut into sub-squares, each projected on its own. A
+    // whole face that reaches far past the slave would project onto the slave patch's
+    // polynomial extension where that no longer follows the surface; its sub-squares near the
+    // slave project well, and the far ones are rejected by the distance test below.
+    const bool straight = slave_straight && master_straight_[m];
+    const unsigned samples = straight ? 1 : options_.curved_edge_samples;
+    const unsigned pieces = straight ? 1 : options_.curved_subdivisions;
+    for (unsigned piece = 0; piece < pieces * pieces; ++piece) {
+    const double s0 = double(piece % pieces) / pieces, t0 = double(piece / pieces) / pieces;
+    const double size = 1.0 / pieces;
     static constexpr double kS[5] = {0, 1, 1, 0, 0}, kT[5] = {0, 0, 1, 1, 0};
     std::vector<Point2> polygon;
     bool ok = true;
     for (unsigned edge = 0; edge < 4 && ok; ++edge) {
       for (unsigned k = 0; k < samples; ++k) {
         const double f = double(k) / samples;
-        const double sm = kS[edge] + f * (kS[edge + 1] - kS[edge]);
-        const double tm = kT[edge] + f * (kT[edge + 1] - kT[edge]);
+        const double sm = s0 + size * (kS[edge] + f * (kS[edge + 1] - kS[edge]));
+        const double tm = t0 + size * (kT[edge] + f * (kT[edge + 1] - kT[edge]));
         dealii::Point<3> y;
         dealii::Tensor<1, 3> ds, dt;
         master.evaluate(sm, tm, y, ds, dt);
         double s, t;
+        // A point far from the slave patch can project onto a spurious point of the patch's
+        // extension; a master point opposite the slave lies within the search radius.
+        dealii::Point<3> foot;
+        dealii::Tensor<1, 3> fs, ft;
         if (!slave.project(y, s, t)) {
+          ok = false;
+          break;
+        }
+        slave.evaluate(s, t, foot, fs, ft);
+        if (foot.distance(y) > options_.search_radius_mm) {
           ok = false;
           break;
         }
@@ -144,6 +161,7 @@ std::vector<MortarPoint> MortarSegmenter::integrate(const FacePatch& slave) cons
         }
       }
     }
+    }  // pieces
   }
   return points;
 }

@@ -14,8 +14,9 @@
 // against [0,1]^2 (Sutherland-Hodgman), fanned into triangles, and each triangle integrated
 // with a collapsed (Duffy) tensor Gauss rule. At each point the master point is where the slave
 // normal line meets the master face, consistent with the projection that made the polygon.
-// Curved faces: master edges are sampled at several points, so the polygon follows them to
-// second order.
+// Curved faces: master faces are cut into sub-squares whose edges are sampled at several
+// points, so the polygons follow the curved edges to second order and no master point is
+// projected far outside the slave face (where the patch's polynomial extension is unreliable).
 #pragma once
 
 #include "fem/face_patch.h"
@@ -40,7 +41,8 @@ struct MortarPoint {
 struct MortarSegmentOptions {
   double search_radius_mm = 0.0;  // master faces farther than this from the slave face are ignored
   unsigned int gauss_points = 5;  // per direction of the collapsed rule: exact to degree 8 on flat Q2 faces
-  unsigned int curved_edge_samples = 4;  // polygon vertices per curved master edge
+  unsigned int curved_edge_samples = 2;  // polygon vertices per curved master sub-square edge
+  unsigned int curved_subdivisions = 3;  // curved master faces are cut into n x n sub-squares
 };
 
 class MortarSegmenter {
