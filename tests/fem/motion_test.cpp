@@ -2,6 +2,7 @@
 // dimensions (full spheres, no symmetry planes): a prescribed rotation of the core about the
 // centre must not change the contact pressure (a spherical joint), and a load on the freely
 // translating core must be balanced by the contact resultant at every step.
+#include "fem/fem_results.h"
 #include "fem/motion_solver.h"
 
 #include <deal.II/grid/grid_generator.h>
@@ -9,6 +10,7 @@
 #include <deal.II/grid/tria.h>
 
 #include <gtest/gtest.h>
+#include <hdf5.h>
 
 #include <algorithm>
 #include <cmath>
@@ -169,7 +171,11 @@ TEST(FemMotion, LoadedCoreRelocatesAndTheContactResultantBalancesTheLoad) {
   }
   MotionOptions options;
   options.moving_body = 0;
-  const std::vector<ContactResult> results = run_motion(problem, steps, options);
+  const std::string file = std::string(HIPFAI_BINARY_DIR) + "/fem_motion_test.h5";
+  FemResultsWriter writer(file, {"femoral cartilage", "acetabular cartilage"}, 0);
+  const std::vector<ContactResult> results = run_motion(
+      problem, steps, options,
+      [&](std::size_t k, const ContactResult& result) { writer.append(steps[k], result); });
   ASSERT_EQ(results.size(), steps.size());
   for (std::size_t k = 0; k < steps.size(); ++k) {
     ASSERT_EQ(results[k].status, ContactStatus::kConverged) << "step " << k;
@@ -184,6 +190,46 @@ TEST(FemMotion, LoadedCoreRelocatesAndTheContactResultantBalancesTheLoad) {
     std::cout << "step " << k << ": translation " << t << " mm, resultant residual "
               << residual.norm() / force.norm() << ", " << results[k].active_set_iterations
               << " active-set iterations, " << results[k].wall_time_s << " s\n";
+  }
+
+  // The HDF5 file holds every step, read back independently with the C API.
+  const hid_t h5 = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  ASSERT_GE(h5, 0);
+  const auto read = [&](const char* name, std::vector<double>& values, std::string& unit) {
+    const hid_t dataset = H5Dopen2(h5, name, H5P_DEFAULT);
+    const hid_t space = H5Dget_space(dataset);
+    values.resize(static_cast<std::size_t>(H5Sget_simple_extent_npoints(space)));
+    H5Dread(dataset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data());
+    const hid_t attribute = H5Aopen(dataset, "unit", H5P_DEFAULT);
+    const hid_t type = H5Aget_type(attribute);
+    unit.assign(H5Tget_size(type), '\0');
+    H5Aread(attribute, type, unit.data());
+    unit = unit.c_str();
+    H5Tclose(type);
+    H5Aclose(attribute);
+    H5Sclose(space);
+    H5Dclose(dataset);
+  };
+  std::vector<double> resultant, translation, status, von_mises;
+  std::string unit;
+  read("/steps/contact_resultant_n", resultant, unit);
+  EXPECT_EQ(unit, "N");
+  read("/steps/femur_translation_mm", translation, unit);
+  EXPECT_EQ(unit, "mm");
+  read("/steps/status", status, unit);
+  read("/steps/max_von_mises_mpa", von_mises, unit);
+  EXPECT_EQ(unit, "MPa");
+  H5Fclose(h5);
+  ASSERT_EQ(resultant.size(), 3 * steps.size());
+  ASSERT_EQ(von_mises.size(), 2 * steps.size());
+  for (std::size_t k = 0; k < steps.size(); ++k) {
+    EXPECT_EQ(status[k], 0.0);
+    for (unsigned d = 0; d < 3; ++d) {
+      // Stored as computed: exact copies of the in-memory doubles.
+      EXPECT_EQ(resultant[3 * k + d], results[k].pair_force_n[0][d]);
+      EXPECT_EQ(translation[3 * k + d], results[k].rigid_translation_mm[0][d]);
+    }
+    EXPECT_GT(von_mises[2 * k], 0.0);
   }
 }
 
