@@ -427,6 +427,58 @@ VerificationResult hertz(const VerificationOptions& options, MPI_Comm comm) {
 
 }  // namespace
 
+void build_concentric_shells(ContactProblem& problem, double expansion_mm) {
+  const double core_radius = literature::kArticularRadiusMm - literature::kFemoralCartilageMaxThicknessMm;
+  const double contact_radius = literature::kArticularRadiusMm;
+  const double cup_radius = contact_radius + literature::kAcetabularCartilageThicknessMm;
+  constexpr dealii::types::boundary_id kCore = 0, kCup = 1, kInnerShellOuter = 2, kOuterShellInner = 3;
+  std::vector<Point<3>> vertices;
+  std::vector<dealii::CellData<3>> cells;
+  for (unsigned shell = 0; shell < 2; ++shell) {
+    dealii::Triangulation<3> part;
+    dealii::GridGenerator::hyper_shell(part, Point<3>(), shell == 0 ? core_radius : contact_radius,
+                                       shell == 0 ? contact_radius : cup_radius, 6);
+    const unsigned offset = static_cast<unsigned>(vertices.size());
+    vertices.insert(vertices.end(), part.get_vertices().begin(), part.get_vertices().end());
+    for (const auto& cell : part.active_cell_iterators()) {
+      dealii::CellData<3> data;
+      for (unsigned v = 0; v < 8; ++v) data.vertices[v] = offset + cell->vertex_index(v);
+      data.material_id = shell;
+      cells.push_back(data);
+    }
+  }
+  auto& tria = problem.triangulation();
+  tria.create_triangulation(vertices, cells, dealii::SubCellData());
+  for (const auto& cell : tria.active_cell_iterators()) {
+    for (const unsigned f : cell->face_indices()) {
+      const auto face = cell->face(f);
+      if (!face->at_boundary()) continue;
+      const double r = face->vertex(0).norm();
+      if (std::abs(r - core_radius) < 1e-6) face->set_boundary_id(kCore);
+      else if (std::abs(r - cup_radius) < 1e-6) face->set_boundary_id(kCup);
+      else face->set_boundary_id(cell->material_id() == 0 ? kInnerShellOuter : kOuterShellInner);
+    }
+  }
+  tria.set_all_manifold_ids(0);
+  tria.set_manifold(0, dealii::SphericalManifold<3>(Point<3>()));
+  tria.refine_global(1);
+  for (const auto& cell : tria.active_cell_iterators()) {
+    if (cell->material_id() == 1) cell->set_refine_flag();  // non-matching interface
+  }
+  tria.execute_coarsening_and_refinement();
+  const ElasticMaterial cartilage{literature::kCartilageYoungsModulusMPa,
+                                  literature::kCartilagePoissonRatio};
+  problem.bodies = {{"femoral cartilage", 0, cartilage, 0}, {"acetabular cartilage", 1, cartilage, 1}};
+  problem.rigid_bodies = {
+      {"femur", nullptr, {}, false, {}, {}, dealii::unit_symmetric_tensor<3>(), Point<3>()},
+      {"pelvis", nullptr, {}, false, {}, {}, dealii::unit_symmetric_tensor<3>(), Point<3>()}};
+  problem.bonded_boundaries = {
+      {kCore, 0, [=](const Point<3>& p) { return Tensor<1, 3>(expansion_mm * p / p.norm()); }},
+      {kCup, 1, {}}};
+  problem.symmetry_boundaries.clear();
+  problem.contact_pairs = {{kInnerShellOuter, -1, kOuterShellInner}};
+}
+
 VerificationResult run_verification_case(const std::string& name,
                                           const VerificationOptions& options, MPI_Comm comm) {
   if (name == "uniaxial_layer") return uniaxial_layer(options, comm, false);

@@ -45,6 +45,12 @@ struct VerificationResult {
 
 const std::vector<std::string>& verification_case_names();
 
+// Full concentric spherical shells with the hip's dimensions (core 23 mm, contact 25 mm, cup
+// 27 mm; femoral and acetabular cartilage, E = 12 MPa, nu = 0.45): rigid body 0 is the femur
+// (core, rotating about the origin, its shell expanded radially by expansion_mm), rigid body 1
+// the pelvis (cup). A spherical joint on which the motion machinery is checked and demonstrated.
+void build_concentric_shells(ContactProblem& problem, double expansion_mm);
+
 // Throws hipfai::Error for an unknown case name.
 VerificationResult run_verification_case(const std::string& name,
                                           const VerificationOptions& options, MPI_Comm comm);

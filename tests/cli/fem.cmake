@@ -27,3 +27,11 @@ if ($12 != 2) { print \"expected 2 ranks, got \" $12 > \"/dev/stderr\"; bad = 1 
     endforeach()
   endif()
 endif()
+
+# Motion on concentric shells: option errors are one stderr line, before any solve.
+if(TARGET hipfai_fem)
+  hipfai_cli_test(NAME fem_shells_bad_out EXIT nonzero STDERR "no-such-dir/r.h5"
+                  COMMAND fem shells --steps 1 --out @TMP@/no-such-dir/r.h5)
+  hipfai_cli_test(NAME fem_shells_missing_motion EXIT nonzero STDERR "no-such.csv"
+                  COMMAND fem shells --motion @TMP@/no-such.csv --out @TMP@/r.h5)
+endif()
