@@ -792,8 +792,20 @@ ContactResult ContactProblem::Impl::run(ContactProblem& model) {
     evaluate_nodes(state, translations, force, gap);
     std::vector<bool> next(nodes.size());
     std::size_t n_active = 0, changes = 0;
+    // Load control starts from the touching nodes only, so the first balance overshoots the
+    // translation and the plain rule would activate the whole geometric overlap, which then
+    // shrinks one ring per iteration. For smooth profiles the elastic contact area is about
+    // half the geometric overlap (Hertz: a^2 = R d against 2 R d), i.e. the nodes penetrating
+    // by more than half the maximum: enter only those after the first iteration. Later
+    // iterations use the exact rule, so the converged set is unaffected.
+    double enter_threshold = gap_tolerance;
+    if (iteration == 1 && !free_directions.empty()) {
+      double deepest = 0.0;
+      for (std::size_t n = 0; n < nodes.size(); ++n) deepest = std::max(deepest, -gap[n]);
+      enter_threshold = std::max(gap_tolerance, 0.5 * deepest);
+    }
     for (std::size_t n = 0; n < nodes.size(); ++n) {
-      next[n] = active[n] ? force[n] > 0.0 : gap[n] < -gap_tolerance;
+      next[n] = active[n] ? force[n] > 0.0 : gap[n] < -enter_threshold;
       n_active += next[n];
       changes += next[n] != active[n];
     }
