@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <thread>
 
 namespace hipfai::contact {
@@ -84,21 +85,22 @@ bool resolve_union(const geometry::TriMesh& fixed, std::vector<Crossing>& crossi
     if (c.t > 1.0) winding += c.facing;
   }
   if (winding <= 0) return false;
-  if (inside_fixed) {
-    // Walk towards O: passing an entering crossing (-1) leaves a solid.
-    // Crossings at the same distance (a shared face of two touching solids: one exits, the
-    // other enters) are passed together before the winding number is looked at.
-    for (auto it = unique.rbegin(); it != unique.rend();) {
-      if (it->t > 1.0) {
+  // Walk away from v (towards O for kMobileInsideFixed, away from O otherwise) over the sorted
+  // crossings; crossings at the same distance (the shared face of two touching solids: one exits,
+  // the other enters) are passed together before the winding number is looked at.
+  const int step = inside_fixed ? 1 : -1;  // winding change per unit facing when passing a crossing
+  auto walk = [&](auto first, auto last) {
+    for (auto it = first; it != last;) {
+      if ((it->t - 1.0) * step > 0.0) {  // on v's other side
         ++it;
         continue;
       }
       auto group_end = it;
       std::int32_t lowest = it->triangle;
       bool facing_found = false;
-      while (group_end != unique.rend() && group_end->t >= it->t * (1.0 - 1e-12)) {
-        winding += group_end->facing;
-        if (group_end->facing < 0) {
+      while (group_end != last && std::abs(group_end->t - it->t) <= 1e-12 * it->t) {
+        winding += step * group_end->facing;
+        if (group_end->facing == -step) {  // the boundary crossing faces back towards v
           lowest = facing_found ? std::min(lowest, group_end->triangle) : group_end->triangle;
           facing_found = true;
         }
@@ -111,33 +113,15 @@ bool resolve_union(const geometry::TriMesh& fixed, std::vector<Crossing>& crossi
       }
       it = group_end;
     }
+    return false;
+  };
+  if (inside_fixed) {
+    if (walk(unique.rbegin(), unique.rend())) return true;
     t_out = 0.0;  // the union reaches O
     triangle_out = -1;
     return true;
   }
-  for (auto it = unique.begin(); it != unique.end();) {
-    if (it->t < 1.0) {
-      ++it;
-      continue;
-    }
-    auto group_end = it;
-    std::int32_t lowest = it->triangle;
-    bool facing_found = false;
-    while (group_end != unique.end() && group_end->t <= it->t * (1.0 + 1e-12)) {
-      winding -= group_end->facing;
-      if (group_end->facing > 0) {
-        lowest = facing_found ? std::min(lowest, group_end->triangle) : group_end->triangle;
-        facing_found = true;
-      }
-      ++group_end;
-    }
-    if (winding == 0) {
-      t_out = it->t;
-      triangle_out = lowest;
-      return true;
-    }
-    it = group_end;
-  }
+  if (walk(unique.begin(), unique.end())) return true;
   return false;  // cannot happen for closed solids; an open surface leaves v unresolved
 }
 
