@@ -53,3 +53,25 @@ inline constexpr double kStandToSitPeakForcePercentBW = 156.0;
 inline constexpr double kSignificanceLevel = 0.05;
 
 }  // namespace hipfai::literature
+
+// ==== Sitting-down joint load (fem-parts; appended block, see studies/motion.h) ================
+// What is taken from Bergmann et al. (2001, J Biomech 34:859-871) is only the peak resultant for
+// sitting down of their average patient, kStandToSitPeakForcePercentBW above (about 156 %BW).
+// The numbers below are NOT read from the paper: they are the assumptions that turn that one
+// number into a per-step load, named here so that nobody mistakes them for measurements, and
+// each is a parameter of studies::SittingDownLoadOptions that a user may replace.
+namespace hipfai::literature {
+// Assumption: resultant at the start of the motion (upright stance), of the order of body
+// weight; the curve then rises smoothly (half-cosine) to the peak.
+inline constexpr double kSitDownAssumedStartForcePercentBW = 100.0;
+// Assumption: the peak falls on the last sub-motion, because the thesis's end pose
+// (59.6, 13.6, 10.9) deg is the pose of largest contact stress (thesis §4.3.2.3).
+inline constexpr double kSitDownAssumedPeakPhase = 1.0;
+// Assumption: resultant after the peak (when peak phase < 1), seated load of the order of half
+// body weight; half-cosine decay from the peak.
+inline constexpr double kSitDownAssumedEndForcePercentBW = 50.0;
+// Assumption: direction fixed in the hip frame, tilted medially from +Z by this angle in the
+// frontal plane (the usual inclination of the hip resultant) and not tilted in the sagittal plane.
+inline constexpr double kSitDownAssumedFrontalAngleDeg = 15.0;
+inline constexpr double kSitDownAssumedSagittalAngleDeg = 0.0;
+}  // namespace hipfai::literature

@@ -9,6 +9,9 @@
 #include <charconv>
 #include <cmath>
 #include <fstream>
+#include <iomanip>
+#include <limits>
+#include <numbers>
 #include <sstream>
 
 namespace hipfai::studies {
@@ -147,6 +150,67 @@ Motion read_motion_csv(const std::filesystem::path& path) {
   }
   if (motion.steps.empty()) throw_error(path.string(), ": motion file has no steps");
   return motion;
+}
+
+void write_motion_csv(const Motion& motion, const std::filesystem::path& path) {
+  const bool with_force = !motion.steps.empty() &&
+                          std::all_of(motion.steps.begin(), motion.steps.end(),
+                                      [](const MotionStep& step) { return step.force_N.has_value(); });
+  std::ofstream out(path);
+  if (!out) throw_error(path.string(), ": cannot write motion file");
+  out << std::setprecision(std::numeric_limits<double>::max_digits10);
+  out << "step,flexion_deg,adduction_deg,internal_rotation_deg" << (with_force ? ",Fx_N,Fy_N,Fz_N" : "")
+      << '\n';
+  for (std::size_t k = 0; k < motion.steps.size(); ++k) {
+    const MotionStep& step = motion.steps[k];
+    out << k + 1 << ',' << step.pose.flexion_deg << ',' << step.pose.adduction_deg << ','
+        << step.pose.internal_rotation_deg;
+    if (with_force) out << ',' << step.force_N->x() << ',' << step.force_N->y() << ',' << step.force_N->z();
+    out << '\n';
+  }
+  if (!out) throw_error(path.string(), ": cannot write motion file");
+}
+
+Eigen::Vector3d sitting_down_force_n(double phase, const SittingDownLoadOptions& options) {
+  if (!(options.body_weight_n > 0.0) || !std::isfinite(options.body_weight_n)) {
+    throw_error("sitting-down load: body weight must be > 0 N, got ", options.body_weight_n);
+  }
+  if (!(options.peak_phase > 0.0 && options.peak_phase <= 1.0)) {
+    throw_error("sitting-down load: peak phase must be in (0, 1], got ", options.peak_phase);
+  }
+  for (const double percent : {options.start_percent_bw, options.peak_percent_bw, options.end_percent_bw}) {
+    if (!(percent >= 0.0) || !std::isfinite(percent)) {
+      throw_error("sitting-down load: %BW values must be finite and >= 0, got ", percent);
+    }
+  }
+  if (!(std::abs(options.frontal_angle_deg) < 90.0 && std::abs(options.sagittal_angle_deg) < 90.0)) {
+    throw_error("sitting-down load: direction angles must be within (-90, 90) deg");
+  }
+  if (!(phase >= 0.0 && phase <= 1.0)) throw_error("sitting-down load: phase must be in [0, 1], got ", phase);
+  // Half-cosine blend: zero slope at both ends of each phase, so the peak is a smooth maximum
+  // and the curve is monotonic within each phase.
+  const auto blend = [](double from, double to, double s) {
+    return from + (to - from) * 0.5 * (1.0 - std::cos(std::numbers::pi * s));
+  };
+  double percent = 0.0;
+  if (phase <= options.peak_phase) {
+    percent = blend(options.start_percent_bw, options.peak_percent_bw, phase / options.peak_phase);
+  } else {
+    percent = blend(options.peak_percent_bw, options.end_percent_bw,
+                    (phase - options.peak_phase) / (1.0 - options.peak_phase));
+  }
+  const Eigen::Vector3d direction =
+      Eigen::Vector3d(-std::tan(options.frontal_angle_deg * geometry::kDegToRad),
+                      std::tan(options.sagittal_angle_deg * geometry::kDegToRad), 1.0)
+          .normalized();
+  return percent / 100.0 * options.body_weight_n * direction;
+}
+
+void attach_sitting_down_load(Motion& motion, const SittingDownLoadOptions& options) {
+  const std::size_t n = motion.steps.size();
+  for (std::size_t k = 0; k < n; ++k) {
+    motion.steps[k].force_N = sitting_down_force_n(static_cast<double>(k + 1) / n, options);
+  }
 }
 
 }  // namespace hipfai::studies

@@ -6,6 +6,7 @@
 // force for the FE.
 #pragma once
 
+#include "core/literature.h"
 #include "geometry/hip_frame.h"
 
 #include <Eigen/Core>
@@ -49,5 +50,42 @@ const std::vector<std::string>& medical_rotation_names();
 // Reads a motion CSV: header `step,flexion_deg,adduction_deg,internal_rotation_deg` with optional
 // `,Fx_N,Fy_N,Fz_N`; one row per step. Errors name the file and line.
 Motion read_motion_csv(const std::filesystem::path& path);
+
+// Writes `motion` in the format read_motion_csv reads (force columns when every step has a
+// force), with round-trip precision. Throws hipfai::Error naming the file when it cannot write.
+void write_motion_csv(const Motion& motion, const std::filesystem::path& path);
+
+// Joint reaction force of sitting down after Bergmann et al. (2001, J Biomech 34:859-871).
+//
+// Sign convention: the force the FEMUR APPLIES TO THE PELVIS (to the acetabular tissues), in the
+// hip frame (+X lateral for a right hip, +Y anterior, +Z superior): mostly superior, tilted
+// medially (-X). This is fem::MotionStep::force_n, "force the moving body applies to the
+// tissues", so it is copied over unchanged (the pelvis pushes back on the femur with -force).
+//
+// Taken from the paper: only the peak resultant, peak_percent_bw (156 %BW, average patient).
+// Assumptions (core/literature.h, kSitDownAssumed*): the resultant rises by a half-cosine from
+// start_percent_bw at phase 0 (upright) to the peak at peak_phase, then falls by a half-cosine to
+// end_percent_bw at phase 1; its direction is fixed in the hip frame. The shape between these
+// points is not the published curve, only a smooth stand-in with the published peak.
+struct SittingDownLoadOptions {
+  double body_weight_n = 0.0;  // required, > 0
+  double start_percent_bw = literature::kSitDownAssumedStartForcePercentBW;
+  double peak_percent_bw = literature::kStandToSitPeakForcePercentBW;
+  double end_percent_bw = literature::kSitDownAssumedEndForcePercentBW;
+  double peak_phase = literature::kSitDownAssumedPeakPhase;  // in (0, 1]
+  // Angle of the force from +Z towards -X (medial) in the frontal plane, and towards +Y
+  // (anterior) in the sagittal plane.
+  double frontal_angle_deg = literature::kSitDownAssumedFrontalAngleDeg;
+  double sagittal_angle_deg = literature::kSitDownAssumedSagittalAngleDeg;
+};
+
+// Force (N, hip frame, convention above) at `phase` in [0, 1] of the sitting-down activity.
+// Throws hipfai::Error for an invalid option.
+Eigen::Vector3d sitting_down_force_n(double phase, const SittingDownLoadOptions& options);
+
+// Sets force_N of every step of `motion`: step k of n (0-based) sits at phase (k + 1) / n, so the
+// last sub-motion, the thesis's end pose, is phase 1 (step 0 is the first sub-motion, not the
+// neutral pose: see Motion).
+void attach_sitting_down_load(Motion& motion, const SittingDownLoadOptions& options);
 
 }  // namespace hipfai::studies

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -66,6 +68,81 @@ TEST(Motion, BadCsvNamesTheLine) {
   const auto units = write_file("hipfai_motion_units.csv",
                                 "step,flexion_deg,adduction_deg,internal_rotation_deg\n1,200,0,0\n");
   EXPECT_THROW(read_motion_csv(units), hipfai::Error);
+}
+
+// The one published number: the resultant of the last sub-motion (phase 1, the default peak)
+// is 156 %BW x W exactly (closed form); the direction is the stated one (superior, medial).
+TEST(SittingDownLoad, PeakIsTheBergmannValueAtTheEndPose) {
+  Motion motion = standing_to_sitting(30);
+  SittingDownLoadOptions options;
+  options.body_weight_n = 700.0;
+  attach_sitting_down_load(motion, options);
+  const Eigen::Vector3d peak = *motion.steps.back().force_N;
+  // Pure arithmetic on doubles: relative 1e-12.
+  EXPECT_NEAR(peak.norm(), 1.56 * 700.0, 1e-12 * 1092.0);
+  EXPECT_EQ(literature::kStandToSitPeakForcePercentBW, 156.0);
+  EXPECT_GT(peak.z(), 0.0);  // femur pushes the pelvis superiorly
+  EXPECT_LT(peak.x(), 0.0);  // and medially (-X for a right hip)
+  EXPECT_NEAR(std::atan2(-peak.x(), peak.z()) * geometry::kRadToDeg,
+              literature::kSitDownAssumedFrontalAngleDeg, 1e-9);
+  double largest = 0.0;
+  for (std::size_t k = 0; k < motion.steps.size(); ++k) {
+    const double magnitude = motion.steps[k].force_N->norm();
+    if (k > 0) EXPECT_GT(magnitude, motion.steps[k - 1].force_N->norm()) << "step " << k;
+    largest = std::max(largest, magnitude);
+  }
+  EXPECT_EQ(largest, peak.norm());
+  // Start of the activity (phase 0): the assumed upright value.
+  EXPECT_NEAR(sitting_down_force_n(0.0, options).norm(),
+              literature::kSitDownAssumedStartForcePercentBW / 100.0 * 700.0, 1e-9);
+}
+
+// Peak inside the motion: strictly rising before it, strictly falling after it, the maximum at
+// the step whose phase is the peak phase, the end value at phase 1.
+TEST(SittingDownLoad, RisesToThePeakThenFalls) {
+  Motion motion = standing_to_sitting(20);
+  SittingDownLoadOptions options;
+  options.body_weight_n = 800.0;
+  options.peak_phase = 0.6;  // step 11 (0-based) of 20 sits at phase 12/20
+  options.sagittal_angle_deg = 10.0;
+  attach_sitting_down_load(motion, options);
+  const std::size_t peak_step = 11;
+  for (std::size_t k = 1; k < motion.steps.size(); ++k) {
+    const double change = motion.steps[k].force_N->norm() - motion.steps[k - 1].force_N->norm();
+    if (k <= peak_step) EXPECT_GT(change, 0.0) << "step " << k;
+    else EXPECT_LT(change, 0.0) << "step " << k;
+  }
+  EXPECT_NEAR(motion.steps[peak_step].force_N->norm(), 1.56 * 800.0, 1e-9);
+  EXPECT_NEAR(motion.steps.back().force_N->norm(),
+              literature::kSitDownAssumedEndForcePercentBW / 100.0 * 800.0, 1e-9);
+  EXPECT_GT(motion.steps.back().force_N->y(), 0.0);  // anterior tilt asked for
+  options.body_weight_n = 0.0;
+  EXPECT_THROW(attach_sitting_down_load(motion, options), hipfai::Error);
+  options.body_weight_n = 800.0;
+  options.peak_phase = 0.0;
+  EXPECT_THROW(attach_sitting_down_load(motion, options), hipfai::Error);
+}
+
+// write_motion_csv -> read_motion_csv gives back the poses (rotation rebuilt from the written
+// Cardan angles) and the forces.
+TEST(SittingDownLoad, CsvRoundTripKeepsPosesAndForces) {
+  Motion motion = standing_to_sitting(30);
+  SittingDownLoadOptions options;
+  options.body_weight_n = 650.0;
+  attach_sitting_down_load(motion, options);
+  const auto path = std::filesystem::temp_directory_path() / "hipfai_motion_sitting_down.csv";
+  write_motion_csv(motion, path);
+  const Motion back = read_motion_csv(path);
+  ASSERT_EQ(back.steps.size(), motion.steps.size());
+  for (std::size_t k = 0; k < back.steps.size(); ++k) {
+    ASSERT_TRUE(back.steps[k].force_N.has_value());
+    // Written with max_digits10: the forces come back bit for bit.
+    EXPECT_EQ(*back.steps[k].force_N, *motion.steps[k].force_N) << "step " << k;
+    // Rotation rebuilt from Cardan angles that were themselves recovered from the rotation:
+    // round-off of eulerAngles, ~1e-15; bound 1e-12.
+    EXPECT_LT((back.steps[k].rotation - motion.steps[k].rotation).norm(), 1e-12) << "step " << k;
+  }
+  EXPECT_THROW(write_motion_csv(motion, "/nonexistent-dir/motion.csv"), hipfai::Error);
 }
 
 }  // namespace
