@@ -8,11 +8,17 @@
 #include "geometry/hip_generator.h"
 #include "geometry/hip_measure.h"
 #include "geometry/hip_model.h"
+#include "geometry/hip_volume_mesh.h"
 
+#include <nlohmann/json.hpp>
+
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <memory>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -27,6 +33,8 @@ struct GenerateOptions {
   std::string format = "ply";
   bool grid = false;
   bool volume = false;
+  double volume_edge_mm = 0.0;  // 0: the surface edge
+  int volume_layers = 2;
   bool figures = false;
 };
 
@@ -38,8 +46,46 @@ struct GeneratedRow {
   std::size_t vertices = 0;
   std::size_t triangles = 0;
   double seconds = 0.0;
+  std::size_t hexahedra = 0;          // volume.msh, when written
+  double min_scaled_jacobian = 0.0;
+  double volume_seconds = 0.0;
   std::string dir;
 };
+
+// Adds "volume" to DIR/model.json (written just before by write_hip_model): which file holds the
+// hexahedral soft-tissue mesh and the options that made it. Atomic like model.json itself.
+void record_volume(const std::filesystem::path& dir, const geometry::HipVolumeMesh& volume) {
+  const auto path = dir / "model.json";
+  std::ifstream in(path);
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  nlohmann::ordered_json json;
+  try {
+    json = nlohmann::ordered_json::parse(buffer.str());
+  } catch (const nlohmann::json::exception& e) {
+    throw_error(path.string(), ": cannot add the volume record: ", e.what());
+  }
+  nlohmann::ordered_json record;
+  record["file"] = "volume.msh";
+  record["format"] = "gmsh MSH 2.2 ASCII: hexahedra tagged by tissue, boundary quadrangles by surface";
+  record["edge_mm"] = volume.options.edge_mm;
+  record["layers"] = volume.options.layers;
+  record["min_thickness_mm"] = volume.options.min_thickness_mm;
+  record["hexahedra"] = volume.mesh.hexes.size();
+  record["nodes"] = volume.mesh.vertices.size();
+  record["boundary_quadrangles"] = volume.mesh.quads.size();
+  record["min_scaled_jacobian"] = volume.min_scaled_jacobian;
+  json["volume"] = record;
+  const auto temporary = dir / "model.json.tmp";
+  {
+    std::ofstream out(temporary);
+    out << json.dump(2) << '\n';
+    if (!out) throw_error(temporary.string(), ": write failed");
+  }
+  std::error_code error;
+  std::filesystem::rename(temporary, path, error);
+  if (error) throw_error(path.string(), ": cannot replace: ", error.message());
+}
 
 GeneratedRow generate_one(const GenerateOptions& options, double ce_deg, double alpha_deg,
                           const std::filesystem::path& dir) {
@@ -58,9 +104,20 @@ GeneratedRow generate_one(const GenerateOptions& options, double ce_deg, double 
       model.neck_axis, model.superior, model.superior.cross(model.lateral));
   geometry::write_hip_model(model, dir, options.format);
   if (options.figures) geometry::write_hip_figures(model, ce, alpha, dir);
-  if (options.volume) geometry::write_hip_volume_mesh(parameters, dir / "volume.msh");
-
   GeneratedRow row;
+  if (options.volume) {
+    const auto start = std::chrono::steady_clock::now();
+    geometry::HipVolumeOptions volume_options;
+    volume_options.edge_mm = options.volume_edge_mm > 0.0 ? options.volume_edge_mm : options.edge_mm;
+    volume_options.layers = options.volume_layers;
+    const auto volume = geometry::build_hip_volume_mesh(model, volume_options);
+    geometry::write_hex_msh(volume.mesh, dir / "volume.msh");
+    record_volume(dir, volume);
+    row.hexahedra = volume.mesh.hexes.size();
+    row.min_scaled_jacobian = volume.min_scaled_jacobian;
+    row.volume_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+
   row.ce_deg = ce_deg;
   row.alpha_deg = alpha_deg;
   row.measured_ce_deg = ce.status == geometry::MeasureStatus::ok ? ce.ce_deg : std::nan("");
@@ -74,13 +131,17 @@ GeneratedRow generate_one(const GenerateOptions& options, double ce_deg, double 
   return row;
 }
 
-void print_table(const std::vector<GeneratedRow>& rows) {
-  std::printf("%6s %9s %10s %13s %9s %10s %8s  %s\n", "CE", "alpha", "CE meas.", "alpha meas.",
-              "vertices", "triangles", "time s", "directory");
+void print_table(const std::vector<GeneratedRow>& rows, bool volume) {
+  std::printf("%6s %9s %10s %13s %9s %10s %8s", "CE", "alpha", "CE meas.", "alpha meas.",
+              "vertices", "triangles", "time s");
+  if (volume) std::printf(" %10s %8s %8s", "hexahedra", "min SJ", "vol. s");
+  std::printf("  %s\n", "directory");
   for (const auto& row : rows) {
-    std::printf("%6.1f %9.1f %10.2f %13.2f %9zu %10zu %8.2f  %s\n", row.ce_deg, row.alpha_deg,
+    std::printf("%6.1f %9.1f %10.2f %13.2f %9zu %10zu %8.2f", row.ce_deg, row.alpha_deg,
                 row.measured_ce_deg, row.measured_alpha_deg, row.vertices, row.triangles,
-                row.seconds, row.dir.c_str());
+                row.seconds);
+    if (volume) std::printf(" %10zu %8.3f %8.2f", row.hexahedra, row.min_scaled_jacobian, row.volume_seconds);
+    std::printf("  %s\n", row.dir.c_str());
   }
 }
 
@@ -107,7 +168,7 @@ void run(const GenerateOptions& options) {
     }
     progress.finish();
   }
-  print_table(rows);
+  print_table(rows, options.volume);
 }
 
 const CommandRegistrar registrar("generate", [](CLI::App& parent) {
@@ -133,8 +194,19 @@ const CommandRegistrar registrar("generate", [](CLI::App& parent) {
   command->add_flag("--grid", options->grid,
                     "Generate the 25 study hips (CE 0..40 x alpha 40..80, step 10) into "
                     "OUT/ce<CE>_alpha<A>/ and print requested vs measured angles");
-  command->add_flag("--volume", options->volume,
-                    "Also write volume.msh: tetrahedra tagged by tissue (gmsh physical groups)");
+  CLI::Option* volume = command->add_flag(
+      "--volume", options->volume,
+      "Also write volume.msh (gmsh MSH 2.2): hexahedral meshes of femoral cartilage, acetabular "
+      "cartilage and labrum for the FE, cells tagged by tissue, boundary quadrangles by surface "
+      "(articular, bonded, free); recorded under \"volume\" in model.json");
+  command->add_option("--volume-edge-mm", options->volume_edge_mm,
+                      "Target hexahedron edge on the articular faces, mm (default: --edge-mm)")
+      ->check(CLI::Range(0.5, 10.0))
+      ->needs(volume);
+  command->add_option("--volume-layers", options->volume_layers, "Hexahedra through the tissue thickness")
+      ->check(CLI::Range(1, 8))
+      ->capture_default_str()
+      ->needs(volume);
   command->add_flag("--figures", options->figures,
                     "Also write frontal.svg and axial.svg with the CE and alpha constructions");
   command->callback([options] { run(*options); });

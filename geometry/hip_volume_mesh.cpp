@@ -1,0 +1,937 @@
+#include "geometry/hip_volume_mesh.h"
+
+#include "core/error.h"
+
+#include <gmsh.h>
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <mutex>
+#include <set>
+#include <numbers>
+#include <sstream>
+#include <unordered_map>
+#include <unordered_set>
+#include <utility>
+
+namespace hipfai::geometry {
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// Construction (see the header): every tissue is a single radial interval [r_near, r_far] along
+// each ray from the HJC through it. The rays through the tissue form its "shadow" on the unit
+// sphere; the faces through which the rays leave on the articular side project one to one onto
+// that shadow, so their boundary loops bound it. The shadow is mapped to a plane by a
+// stereographic projection (conformal: a size field undoes its scale, and quads keep their
+// shape on the sphere), quad-meshed there by gmsh, mapped back, and every node becomes a column
+// of `layers` hexahedra between the tissue's two faces along its ray.
+
+struct TissueRecipe {
+  const char* name;
+  VolumeTag volume;
+  bool articular_outer;      // the articular face is the far one from the HJC (femoral side)
+  SurfaceTag articular;      // articular-side faces whose columns all hit the articular surface
+  SurfaceTag far;            // the opposite face
+  bool rim_side_bonded;      // side faces lying in the acetabular rim plane are kLabrumBonded
+};
+
+constexpr std::array<TissueRecipe, 3> kRecipes{{
+    {"femoral_cartilage", VolumeTag::kFemoralCartilage, true,
+     SurfaceTag::kFemoralCartilageArticular, SurfaceTag::kFemoralCartilageBonded, false},
+    {"acetabular_cartilage", VolumeTag::kAcetabularCartilage, false,
+     SurfaceTag::kAcetabularCartilageArticular, SurfaceTag::kAcetabularCartilageBonded, false},
+    {"labrum", VolumeTag::kLabrum, false, SurfaceTag::kLabrumArticular, SurfaceTag::kFree, true},
+}};
+
+// Faces this close to containing the ray direction (|n . d| below it) have no extent in the
+// shadow (the rim-plane faces through the HJC): they bound neither side.
+constexpr double kGrazingCosine = 1e-4;
+// A face whose normal is within 45 deg of the ray counts as "radial" (the articular sphere, the
+// bone shells), steeper ones are side walls (fossa, notch): columns hitting a wall are not
+// articular.
+constexpr double kRadialCosine = 0.7071067811865476;
+// Barycentric slack of the ray-triangle test (relative): rays through a shared edge or vertex
+// must hit at least one of its triangles.
+constexpr double kBarycentricSlack = 1e-9;
+
+const Vec3& vertex(const TriMesh& mesh, std::int32_t index) {
+  return mesh.vertices[static_cast<std::size_t>(index)];
+}
+
+// --- ray casting --------------------------------------------------------------------------------
+
+// Per-triangle data for rays from the HJC: a cone of directions bounding the triangle culls
+// most tests.
+struct RayCaster {
+  const TriMesh* mesh = nullptr;
+  Vec3 origin = Vec3::Zero();
+  std::vector<Vec3> cone_axis;
+  std::vector<double> cone_cos;
+  std::vector<Vec3> unit_normal;
+
+  RayCaster(const TriMesh& tissue, const Vec3& hjc) : mesh(&tissue), origin(hjc) {
+    const std::size_t count = tissue.triangles.size();
+    cone_axis.resize(count);
+    cone_cos.resize(count);
+    unit_normal.resize(count);
+    for (std::size_t t = 0; t < count; ++t) {
+      const auto& tri = tissue.triangles[t];
+      Vec3 axis = Vec3::Zero();
+      for (int k = 0; k < 3; ++k) axis += (vertex(tissue, tri[k]) - hjc).normalized();
+      axis.normalize();
+      double widest = 0.0;
+      for (int k = 0; k < 3; ++k) {
+        const double cosine = std::clamp(axis.dot((vertex(tissue, tri[k]) - hjc).normalized()), -1.0, 1.0);
+        widest = std::max(widest, std::acos(cosine));
+      }
+      cone_axis[t] = axis;
+      cone_cos[t] = std::cos(std::min(std::numbers::pi, widest + 1e-6));
+      unit_normal[t] = triangle_unit_normal(tissue, t);
+    }
+  }
+
+  struct Interval {
+    bool hit = false;
+    double near_mm = std::numeric_limits<double>::infinity();
+    double far_mm = -std::numeric_limits<double>::infinity();
+    double near_radial = 0.0;  // largest |n . d| among the faces hit at near_mm / far_mm
+    double far_radial = 0.0;
+  };
+
+  // First and last crossing of the ray origin + t d (d unit) with the surface.
+  Interval cast(const Vec3& direction) const {
+    Interval interval;
+    std::vector<std::pair<double, double>> hits;  // (t, n . d)
+    for (std::size_t t = 0; t < cone_axis.size(); ++t) {
+      if (direction.dot(cone_axis[t]) < cone_cos[t]) continue;
+      const auto& tri = mesh->triangles[t];
+      const Vec3 a = vertex(*mesh, tri[0]) - origin;
+      const Vec3 e1 = vertex(*mesh, tri[1]) - origin - a;
+      const Vec3 e2 = vertex(*mesh, tri[2]) - origin - a;
+      // Moeller-Trumbore with the slack above.
+      const Vec3 p = direction.cross(e2);
+      const double det = e1.dot(p);
+      if (std::abs(det) < 1e-14 * e1.norm() * e2.norm()) continue;  // ray in the triangle's plane
+      const Vec3 s = -a;
+      const double u = s.dot(p) / det;
+      if (u < -kBarycentricSlack || u > 1.0 + kBarycentricSlack) continue;
+      const Vec3 q = s.cross(e1);
+      const double v = direction.dot(q) / det;
+      if (v < -kBarycentricSlack || u + v > 1.0 + kBarycentricSlack) continue;
+      const double distance = e2.dot(q) / det;
+      if (distance <= 0.0) continue;
+      hits.emplace_back(distance, unit_normal[t].dot(direction));
+    }
+    if (hits.empty()) return interval;
+    interval.hit = true;
+    for (const auto& [distance, facing] : hits) {
+      interval.near_mm = std::min(interval.near_mm, distance);
+      interval.far_mm = std::max(interval.far_mm, distance);
+    }
+    // Crossings at the same point (a shared edge) within rounding: the most radial face wins, so
+    // a column on the rim of the articular face still counts as articular.
+    const double same = 1e-9 * interval.far_mm;
+    for (const auto& [distance, facing] : hits) {
+      if (distance <= interval.near_mm + same && facing < 0.0) interval.near_radial = std::max(interval.near_radial, -facing);
+      if (distance >= interval.far_mm - same && facing > 0.0) interval.far_radial = std::max(interval.far_radial, facing);
+    }
+    return interval;
+  }
+};
+
+// --- the shadow's boundary -------------------------------------------------------------------
+
+// Boundary loops (vertex indices, closed implicitly) of the triangles in `selected`.
+std::vector<std::vector<std::int32_t>> boundary_loops(const TriMesh& mesh,
+                                                      const std::vector<std::size_t>& selected,
+                                                      const std::string& name) {
+  auto key = [](std::int32_t u, std::int32_t v) {
+    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(u)) << 32) | static_cast<std::uint32_t>(v);
+  };
+  std::unordered_set<std::uint64_t> directed;
+  for (std::size_t t : selected) {
+    const auto& tri = mesh.triangles[t];
+    for (int k = 0; k < 3; ++k) directed.insert(key(tri[k], tri[(k + 1) % 3]));
+  }
+  std::unordered_multimap<std::int32_t, std::int32_t> next;
+  for (std::size_t t : selected) {
+    const auto& tri = mesh.triangles[t];
+    for (int k = 0; k < 3; ++k) {
+      const std::int32_t u = tri[k];
+      const std::int32_t v = tri[(k + 1) % 3];
+      if (!directed.contains(key(v, u))) next.emplace(u, v);
+    }
+  }
+  std::vector<std::vector<std::int32_t>> loops;
+  while (!next.empty()) {
+    const std::int32_t start = next.begin()->first;
+    std::vector<std::int32_t> loop{start};
+    std::int32_t at = start;
+    while (true) {
+      const auto it = next.find(at);
+      if (it == next.end()) throw_error("hip volume mesh: ", name, ": the articular face has an open boundary");
+      at = it->second;
+      next.erase(it);
+      if (at == start) break;
+      loop.push_back(at);
+    }
+    if (loop.size() >= 3) loops.push_back(std::move(loop));
+  }
+  if (loops.empty()) throw_error("hip volume mesh: ", name, ": the articular face has no boundary");
+  return loops;
+}
+
+// Stereographic projection of directions about `centre` onto the tangent plane, scaled to the
+// sphere of radius `radius_mm` (lengths near the centre are true lengths on that sphere).
+struct Stereographic {
+  Vec3 centre, u, v;
+  double radius_mm = 1.0;
+
+  Eigen::Vector2d project(const Vec3& direction) const {
+    const double denominator = 1.0 + direction.dot(centre);
+    return 2.0 * radius_mm * Eigen::Vector2d(direction.dot(u), direction.dot(v)) / denominator;
+  }
+  Vec3 unproject(const Eigen::Vector2d& point) const {
+    const Eigen::Vector2d q = point / (2.0 * radius_mm);
+    const double s = q.squaredNorm();
+    return ((2.0 * q.x()) * u + (2.0 * q.y()) * v + (1.0 - s) * centre) / (1.0 + s);
+  }
+};
+
+// Centre of projection: among the mean direction and the principal directions of the shadow
+// (a ring-shaped shadow such as the labrum's is centred on its axis, not on its mean), the one
+// with the smallest largest angle to the shadow, which keeps the projection's scale lowest.
+Stereographic choose_projection(const std::vector<Vec3>& directions, double radius_mm,
+                                const std::string& name) {
+  Vec3 mean = Vec3::Zero();
+  Eigen::Matrix3d moment = Eigen::Matrix3d::Zero();
+  for (const Vec3& d : directions) {
+    mean += d;
+    moment += d * d.transpose();
+  }
+  std::vector<Vec3> candidates;
+  if (mean.norm() > 1e-9) candidates.push_back(mean.normalized());
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(moment);
+  for (int k = 0; k < 3; ++k) {
+    candidates.push_back(solver.eigenvectors().col(k));
+    candidates.push_back(-solver.eigenvectors().col(k));
+  }
+  Vec3 best = candidates.front();
+  double best_cos = -2.0;
+  for (const Vec3& c : candidates) {
+    double lowest = 1.0;
+    for (const Vec3& d : directions) lowest = std::min(lowest, c.dot(d));
+    if (lowest > best_cos) {
+      best_cos = lowest;
+      best = c;
+    }
+  }
+  // Beyond 150 deg from the centre the projection stretches lengths more than 15-fold.
+  if (best_cos < std::cos(150.0 * std::numbers::pi / 180.0)) {
+    throw_error("hip volume mesh: ", name, ": the tissue surrounds the HJC (no projection centre within 150 deg of all of it)");
+  }
+  Stereographic projection;
+  projection.centre = best;
+  const Vec3 hint = std::abs(best.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
+  projection.u = (hint - hint.dot(best) * best).normalized();
+  projection.v = best.cross(projection.u);
+  projection.radius_mm = radius_mm;
+  return projection;
+}
+
+// Resamples a closed polyline at about `spacing_mm` (arc length), keeping its sharp corners,
+// with an even number of points so that the enclosed domain can be meshed with quadrangles only.
+// The new points lie on the polyline's edges: rays from the HJC through them meet the surface.
+std::vector<Vec3> resample_loop(const std::vector<Vec3>& points, double spacing_mm) {
+  const std::size_t n = points.size();
+  // Arc length at each vertex (arc[n] = whole loop) and the point at arc length s (periodic).
+  std::vector<double> arc(n + 1, 0.0);
+  for (std::size_t k = 0; k < n; ++k) arc[k + 1] = arc[k] + (points[(k + 1) % n] - points[k]).norm();
+  const double perimeter = arc[n];
+  auto point_at = [&](double position) {
+    position = std::fmod(std::fmod(position, perimeter) + perimeter, perimeter);
+    const std::size_t k = static_cast<std::size_t>(std::upper_bound(arc.begin(), arc.end(), position) - arc.begin()) - 1;
+    const std::size_t edge = std::min(k, n - 1);
+    const double length = arc[edge + 1] - arc[edge];
+    const double fraction = length > 0.0 ? (position - arc[edge]) / length : 0.0;
+    return Vec3(points[edge] + fraction * (points[(edge + 1) % n] - points[edge]));
+  };
+  // Corners: where the curve turns more than 40 deg over half a spacing on either side. Measured
+  // over that stretch, a faceted smooth curve (a few degrees per edge) or a jagged one (the
+  // selection of faces along a side wall) does not count; where two surfaces meet (the cam circle
+  // and the cartilage edge, the labrum's tip and its notch face) it does. One corner per stretch.
+  constexpr double kCornerRad = 40.0 * std::numbers::pi / 180.0;
+  const double reach = std::min(0.5 * spacing_mm, 0.25 * perimeter);
+  std::vector<double> turning(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3 before = points[i] - point_at(arc[i] - reach);
+    const Vec3 after = point_at(arc[i] + reach) - points[i];
+    turning[i] = std::acos(std::clamp(before.normalized().dot(after.normalized()), -1.0, 1.0));
+  }
+  std::vector<std::size_t> corners;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (turning[i] <= kCornerRad) continue;
+    bool largest = true;
+    for (std::size_t j = 0; j < n && largest; ++j) {
+      const double gap = std::abs(arc[j] - arc[i]);
+      const double distance = std::min(gap, perimeter - gap);
+      if (j != i && distance < reach && (turning[j] > turning[i] || (turning[j] == turning[i] && j < i))) largest = false;
+    }
+    if (largest) corners.push_back(i);
+  }
+  if (corners.empty()) corners.push_back(0);
+  // Pieces between consecutive corners: arc lengths and segment counts.
+  struct Piece {
+    std::size_t first = 0, edges = 0;
+    double length = 0.0;
+    std::size_t segments = 1;
+  };
+  std::vector<Piece> pieces;
+  for (std::size_t c = 0; c < corners.size(); ++c) {
+    Piece piece;
+    piece.first = corners[c];
+    const std::size_t last = c + 1 < corners.size() ? corners[c + 1] : corners[0] + n;
+    piece.edges = last - piece.first;
+    for (std::size_t k = piece.first; k < last; ++k) piece.length += (points[(k + 1) % n] - points[k % n]).norm();
+    piece.segments = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(piece.length / spacing_mm)));
+    pieces.push_back(piece);
+  }
+  std::size_t total = 0;
+  for (const auto& piece : pieces) total += piece.segments;
+  if (total < 4) {
+    pieces.front().segments += 4 - total;
+    total = 4;
+  }
+  if (total % 2 == 1) {
+    // The piece whose segments deviate most from the spacing takes one more.
+    std::size_t worst = 0;
+    double worst_ratio = 0.0;
+    for (std::size_t k = 0; k < pieces.size(); ++k) {
+      const double ratio = pieces[k].length / spacing_mm / static_cast<double>(pieces[k].segments);
+      if (ratio > worst_ratio) {
+        worst_ratio = ratio;
+        worst = k;
+      }
+    }
+    ++pieces[worst].segments;
+  }
+  std::vector<Vec3> resampled;
+  for (const auto& piece : pieces) {
+    std::size_t edge = 0;
+    double walked = 0.0;  // arc length at the start of `edge`
+    for (std::size_t s = 0; s < piece.segments; ++s) {
+      const double target = piece.length * static_cast<double>(s) / static_cast<double>(piece.segments);
+      while (edge + 1 < piece.edges) {
+        const double length = (points[(piece.first + edge + 1) % n] - points[(piece.first + edge) % n]).norm();
+        if (walked + length > target) break;
+        walked += length;
+        ++edge;
+      }
+      const Vec3& a = points[(piece.first + edge) % n];
+      const Vec3& b = points[(piece.first + edge + 1) % n];
+      const double length = (b - a).norm();
+      const double fraction = length > 0.0 ? std::clamp((target - walked) / length, 0.0, 1.0) : 0.0;
+      resampled.push_back(a + fraction * (b - a));
+    }
+  }
+  return resampled;
+}
+
+// --- gmsh ----------------------------------------------------------------------------------
+
+std::mutex& gmsh_mutex() {
+  static std::mutex mutex;
+  return mutex;
+}
+
+// gmsh's runtime is process-wide and shared with the hip generator (a second initialize() is
+// ignored). Every option changed here is restored on exit, so the generator's surface meshes are
+// not recombined into quads after a volume mesh.
+class GmshQuadSession {
+ public:
+  GmshQuadSession() : lock_(gmsh_mutex()) {
+    static const bool initialised = [] {
+      gmsh::initialize();
+      gmsh::option::setNumber("General.Terminal", 0);
+      return true;
+    }();
+    (void)initialised;
+    for (const char* name : kOptions) {
+      double value = 0.0;
+      gmsh::option::getNumber(name, value);
+      saved_.emplace_back(name, value);
+    }
+    gmsh::clear();
+    gmsh::model::add("hipfai-hip-volume");
+  }
+  ~GmshQuadSession() {
+    try {
+      gmsh::clear();
+      for (const auto& [name, value] : saved_) gmsh::option::setNumber(name, value);
+    } catch (...) {
+    }
+  }
+  GmshQuadSession(const GmshQuadSession&) = delete;
+  GmshQuadSession& operator=(const GmshQuadSession&) = delete;
+
+  static constexpr std::array<const char*, 13> kOptions{
+      "General.Terminal", "General.NumThreads", "General.AbortOnError", "Mesh.Algorithm", "Mesh.RecombineAll",
+      "Mesh.RecombinationAlgorithm", "Mesh.SubdivisionAlgorithm", "Mesh.MeshSizeExtendFromBoundary",
+      "Mesh.MeshSizeFromPoints", "Mesh.MeshSizeFromCurvature", "Mesh.MeshSizeMin", "Mesh.MeshSizeMax",
+      "Mesh.Smoothing"};
+
+ private:
+  std::lock_guard<std::mutex> lock_;
+  std::vector<std::pair<std::string, double>> saved_;
+};
+
+struct PlanarQuadMesh {
+  std::vector<Eigen::Vector2d> nodes;
+  std::vector<bool> on_boundary;
+  std::vector<std::array<std::int32_t, 4>> quads;  // counter-clockwise in the plane
+};
+
+// Quad mesh of the plane domain bounded by `loops` (the first is the outer one), with mesh size
+// size_mm * (1 + |p|^2 / (4 radius^2)) — the stereographic scale — so edges come out near
+// size_mm on the sphere.
+// One way of asking gmsh for quadrangles: triangulation algorithm, recombination algorithm, the
+// boundary spacing relative to the edge length, and whether every element is split into
+// quadrangles afterwards. Blossom recombination needs a perfect matching of the triangles, which
+// a sharp corner of the domain (the horns of the horseshoe) can prevent; another boundary
+// spacing usually has one. Subdivision is all-quad always, at the price of quads with a
+// boundary angle near 180 deg: the last resort.
+struct QuadAttempt {
+  int algorithm;
+  int recombination;
+  double spacing;
+  bool subdivide;
+};
+// Frontal-Delaunay (6), Delaunay (5), MeshAdapt (1), each recombined by Blossom (1). The
+// frontal-quad algorithm (8) crashes in gmsh 4.8 with a background size field
+// (MElementOctree::find from backgroundMesh::getAngle).
+constexpr std::array<QuadAttempt, 12> kQuadAttempts{{{6, 1, 1.0, false}, {5, 1, 1.0, false},
+                                                     {6, 1, 0.93, false}, {5, 1, 0.93, false},
+                                                     {6, 1, 1.07, false}, {5, 1, 1.07, false},
+                                                     {6, 1, 0.87, false}, {5, 1, 0.87, false},
+                                                     {6, 1, 1.15, false}, {5, 1, 1.15, false},
+                                                     {6, 1, 2.0, true}, {5, 1, 2.0, true}}};
+
+PlanarQuadMesh mesh_plane_domain(const std::vector<std::vector<Eigen::Vector2d>>& loops, double size_mm,
+                                 double radius_mm, const QuadAttempt& attempt) {
+  const bool subdivide = attempt.subdivide;
+  namespace geo = gmsh::model::geo;
+  GmshQuadSession session;
+  gmsh::option::setNumber("General.Terminal", std::getenv("HIPFAI_GMSH_VERBOSE") != nullptr ? 1 : 0);
+  std::vector<int> curve_loops;
+  std::vector<int> lines;
+  for (const auto& loop : loops) {
+    std::vector<int> points;
+    for (const auto& p : loop) points.push_back(geo::addPoint(p.x(), p.y(), 0.0, size_mm));
+    std::vector<int> loop_lines;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      loop_lines.push_back(geo::addLine(points[i], points[(i + 1) % points.size()]));
+    }
+    lines.insert(lines.end(), loop_lines.begin(), loop_lines.end());
+    curve_loops.push_back(geo::addCurveLoop(loop_lines));
+  }
+  geo::addPlaneSurface(curve_loops);
+  geo::synchronize();
+  // Without subdivision the loop points are the boundary nodes (an even number per loop).
+  if (!subdivide) {
+    for (int line : lines) gmsh::model::mesh::setTransfiniteCurve(line, 2);
+  }
+  const double scale = subdivide ? 2.0 : 1.0;  // subdivision halves every edge
+  std::ostringstream expression;
+  expression.precision(17);
+  expression << scale * size_mm << "*(1+(x*x+y*y)/" << 4.0 * radius_mm * radius_mm << ")";
+  const int field = gmsh::model::mesh::field::add("MathEval");
+  gmsh::model::mesh::field::setString(field, "F", expression.str());
+  gmsh::model::mesh::field::setAsBackgroundMesh(field);
+  gmsh::option::setNumber("Mesh.MeshSizeExtendFromBoundary", 0);
+  gmsh::option::setNumber("Mesh.MeshSizeFromPoints", 0);
+  gmsh::option::setNumber("Mesh.MeshSizeFromCurvature", 0);
+  gmsh::option::setNumber("Mesh.MeshSizeMin", 0.0);
+  gmsh::option::setNumber("Mesh.MeshSizeMax", 1e22);
+  gmsh::option::setNumber("General.NumThreads", 1);
+  gmsh::option::setNumber("Mesh.Algorithm", attempt.algorithm);
+  gmsh::option::setNumber("Mesh.RecombineAll", 1);
+  gmsh::option::setNumber("Mesh.RecombinationAlgorithm", attempt.recombination);
+  gmsh::option::setNumber("Mesh.SubdivisionAlgorithm", subdivide ? 1 : 0);
+  gmsh::option::setNumber("Mesh.Smoothing", 5);
+  // The mesher reports errors from inside OpenMP regions, where a thrown exception would end the
+  // process: let it log them; a failed attempt shows as missing or non-quad elements.
+  gmsh::option::setNumber("General.AbortOnError", 0);
+  try {
+    gmsh::model::mesh::generate(2);
+  } catch (const std::exception&) {
+    return {};  // the next attempt may succeed
+  }
+
+  PlanarQuadMesh result;
+  std::vector<std::size_t> tags;
+  std::vector<double> coords, parametric;
+  gmsh::model::mesh::getNodes(tags, coords, parametric, -1, -1, true, false);
+  std::unordered_map<std::size_t, std::int32_t> index_of;
+  for (std::size_t i = 0; i < tags.size(); ++i) {
+    index_of.emplace(tags[i], static_cast<std::int32_t>(result.nodes.size()));
+    result.nodes.emplace_back(coords[3 * i], coords[3 * i + 1]);
+  }
+  result.on_boundary.assign(result.nodes.size(), false);
+  for (int dim : {0, 1}) {
+    std::vector<std::size_t> boundary_tags;
+    gmsh::model::mesh::getNodes(boundary_tags, coords, parametric, dim, -1, true, false);
+    for (std::size_t tag : boundary_tags) result.on_boundary[static_cast<std::size_t>(index_of.at(tag))] = true;
+  }
+  std::vector<int> types;
+  std::vector<std::vector<std::size_t>> element_tags, node_tags;
+  gmsh::model::mesh::getElements(types, element_tags, node_tags, 2, -1);
+  for (std::size_t k = 0; k < types.size(); ++k) {
+    if (types[k] != 3) {
+      if (element_tags[k].empty()) continue;
+      result.quads.clear();  // triangles left: the caller retries with subdivision
+      return result;
+    }
+    for (std::size_t i = 0; i + 3 < node_tags[k].size(); i += 4) {
+      std::array<std::int32_t, 4> quad{};
+      for (int c = 0; c < 4; ++c) quad[static_cast<std::size_t>(c)] = index_of.at(node_tags[k][i + static_cast<std::size_t>(c)]);
+      // Signed area: the loops' orientation decides gmsh's, make every quad counter-clockwise.
+      double area = 0.0;
+      for (int c = 0; c < 4; ++c) {
+        const auto& p = result.nodes[static_cast<std::size_t>(quad[static_cast<std::size_t>(c)])];
+        const auto& q = result.nodes[static_cast<std::size_t>(quad[static_cast<std::size_t>((c + 1) % 4)])];
+        area += p.x() * q.y() - q.x() * p.y();
+      }
+      if (area < 0.0) std::swap(quad[1], quad[3]);
+      result.quads.push_back(quad);
+    }
+  }
+  return result;
+}
+
+// Smallest sine of a corner angle over all quads (negative for a reflex corner): quads keep
+// their corner angles on the sphere (the projection is conformal), and so, nearly, do the
+// hexahedra extruded from them.
+double planar_quality(const PlanarQuadMesh& plane) {
+  double lowest = 1.0;
+  for (const auto& quad : plane.quads) {
+    for (std::size_t c = 0; c < 4; ++c) {
+      const Eigen::Vector2d& p = plane.nodes[static_cast<std::size_t>(quad[c])];
+      const Eigen::Vector2d u = plane.nodes[static_cast<std::size_t>(quad[(c + 1) % 4])] - p;
+      const Eigen::Vector2d w = plane.nodes[static_cast<std::size_t>(quad[(c + 3) % 4])] - p;
+      const double lengths = u.norm() * w.norm();
+      lowest = std::min(lowest, lengths > 0.0 ? (u.x() * w.y() - u.y() * w.x()) / lengths : -1.0);
+    }
+  }
+  return lowest;
+}
+
+// Closest point to the line through the HJC along `direction` on the polyline edges of `loops`.
+Vec3 snap_to_boundary(const std::vector<std::vector<Vec3>>& loops, const Vec3& direction) {
+  Vec3 best = Vec3::Zero();
+  double best_distance = std::numeric_limits<double>::infinity();
+  for (const auto& loop : loops) {
+    for (std::size_t i = 0; i < loop.size(); ++i) {
+      const Vec3& a = loop[i];
+      const Vec3 edge = loop[(i + 1) % loop.size()] - a;
+      // Distance to the line: |P (a + l edge)| with P = I - d d^T; minimise over l in [0, 1].
+      const Vec3 pa = a - a.dot(direction) * direction;
+      const Vec3 pe = edge - edge.dot(direction) * direction;
+      const double denominator = pe.squaredNorm();
+      const double l = denominator > 0.0 ? std::clamp(-pa.dot(pe) / denominator, 0.0, 1.0) : 0.0;
+      const Vec3 point = a + l * edge;
+      if (point.dot(direction) <= 0.0) continue;
+      const double distance = (pa + l * pe).norm();
+      if (distance < best_distance) {
+        best_distance = distance;
+        best = point;
+      }
+    }
+  }
+  return best;
+}
+
+// --- one tissue ------------------------------------------------------------------------------
+
+// rim_axis: normal of the acetabular opening plane through the HJC (the labrum's base lies in it).
+void mesh_tissue(const TissueRecipe& recipe, const TriMesh& tissue, const Vec3& hjc, const Vec3& rim_axis,
+                 const HipVolumeOptions& options, HexMesh& out) {
+  const std::string name = recipe.name;
+  validate_mesh(tissue, name);
+  const RayCaster caster(tissue, hjc);
+
+  // Faces through which the rays leave the tissue on its articular side.
+  std::vector<std::size_t> articular_side;
+  for (std::size_t t = 0; t < tissue.triangles.size(); ++t) {
+    const auto& tri = tissue.triangles[t];
+    const Vec3 centroid = (vertex(tissue, tri[0]) + vertex(tissue, tri[1]) + vertex(tissue, tri[2])) / 3.0;
+    const double facing = caster.unit_normal[t].dot((centroid - hjc).normalized());
+    if (recipe.articular_outer ? facing > kGrazingCosine : facing < -kGrazingCosine) articular_side.push_back(t);
+  }
+  if (articular_side.empty()) throw_error("hip volume mesh: ", name, ": no face of the tissue faces the joint");
+  const auto loops = boundary_loops(tissue, articular_side, name);
+
+  std::vector<Vec3> shadow;
+  double radius_sum = 0.0;
+  for (std::size_t t : articular_side) {
+    for (std::int32_t i : tissue.triangles[t]) {
+      shadow.push_back((vertex(tissue, i) - hjc).normalized());
+      radius_sum += (vertex(tissue, i) - hjc).norm();
+    }
+  }
+  const Stereographic projection = choose_projection(shadow, radius_sum / static_cast<double>(shadow.size()), name);
+
+  // Boundary loops in 3D (relative to the HJC) and coarsened in the plane, outer loop first.
+  std::vector<std::vector<Vec3>> loops_3d;
+  for (const auto& loop : loops) {
+    std::vector<Vec3> points;
+    for (std::int32_t i : loop) points.push_back(vertex(tissue, i) - hjc);
+    loops_3d.push_back(std::move(points));
+  }
+  auto plane_loops = [&](double spacing_mm) {
+    std::vector<std::vector<Eigen::Vector2d>> plane;
+    std::vector<double> areas;
+    for (const auto& points : loops_3d) {
+      std::vector<Eigen::Vector2d> loop;
+      for (const Vec3& point : resample_loop(points, spacing_mm)) loop.push_back(projection.project(point.normalized()));
+      double area = 0.0;
+      for (std::size_t i = 0; i < loop.size(); ++i) {
+        const auto& p = loop[i];
+        const auto& q = loop[(i + 1) % loop.size()];
+        area += 0.5 * (p.x() * q.y() - q.x() * p.y());
+      }
+      plane.push_back(std::move(loop));
+      areas.push_back(std::abs(area));
+    }
+    const auto outer = std::max_element(areas.begin(), areas.end()) - areas.begin();
+    std::swap(plane[0], plane[static_cast<std::size_t>(outer)]);
+    return plane;
+  };
+  PlanarQuadMesh plane;
+  double plane_quality = -std::numeric_limits<double>::infinity();
+  for (const auto& attempt : kQuadAttempts) {
+    const double spacing_mm = attempt.spacing * options.edge_mm;
+    PlanarQuadMesh candidate = mesh_plane_domain(plane_loops(spacing_mm), options.edge_mm, projection.radius_mm, attempt);
+    if (candidate.quads.empty()) continue;
+    const double quality = planar_quality(candidate);
+    if (quality > plane_quality) {
+      plane_quality = quality;
+      plane = std::move(candidate);
+    }
+    // Corner angles within 30..150 deg: good enough, a later attempt is rarely better.
+    if (plane_quality >= 0.5) break;
+  }
+  if (plane.quads.empty()) throw_error("hip volume mesh: ", name, ": gmsh could not mesh the articular face with quadrangles");
+
+  // Columns: one per plane node, layers + 1 vertices from the inner to the outer face.
+  const std::size_t layers = static_cast<std::size_t>(options.layers);
+  const auto first_vertex = static_cast<std::int32_t>(out.vertices.size());
+  std::vector<bool> articular_column(plane.nodes.size(), false);
+  auto column_vertex = [&](std::size_t node, std::size_t layer) {
+    return first_vertex + static_cast<std::int32_t>(node * (layers + 1) + layer);
+  };
+  for (std::size_t node = 0; node < plane.nodes.size(); ++node) {
+    Vec3 direction = projection.unproject(plane.nodes[node]).normalized();
+    if (plane.on_boundary[node]) direction = snap_to_boundary(loops_3d, direction).normalized();
+    auto interval = caster.cast(direction);
+    if (!interval.hit) {
+      // Just outside a concave stretch of the boundary: move onto it.
+      direction = snap_to_boundary(loops_3d, direction).normalized();
+      interval = caster.cast(direction);
+    }
+    if (!interval.hit) {
+      throw_error("hip volume mesh: ", name, ": the ray from the HJC along (", direction.x(), ", ",
+                  direction.y(), ", ", direction.z(), ") misses the tissue");
+    }
+    double inner = interval.near_mm;
+    double outer = interval.far_mm;
+    const double articular_radial = recipe.articular_outer ? interval.far_radial : interval.near_radial;
+    const double far_radial = recipe.articular_outer ? interval.near_radial : interval.far_radial;
+    articular_column[node] = articular_radial >= kRadialCosine;
+    // Tapered edges: keep the articular face where it is and push the far face away — unless the
+    // ray meets a side wall on the articular side (the fossa's silhouette) and the bone on the
+    // far side: then the bonded face stays on the bone.
+    if (outer - inner < options.min_thickness_mm) {
+      const bool keep_articular = articular_column[node] || far_radial < kRadialCosine;
+      if (recipe.articular_outer == keep_articular) {
+        inner = outer - options.min_thickness_mm;
+      } else {
+        outer = inner + options.min_thickness_mm;
+      }
+    }
+    for (std::size_t layer = 0; layer <= layers; ++layer) {
+      const double r = inner + (outer - inner) * static_cast<double>(layer) / static_cast<double>(layers);
+      out.vertices.push_back(hjc + r * direction);
+    }
+  }
+
+  // Plane edges used by one quad: the domain boundary, where the columns' side faces are.
+  std::map<std::pair<std::int32_t, std::int32_t>, int> edge_uses;
+  for (const auto& quad : plane.quads) {
+    for (std::size_t c = 0; c < 4; ++c) {
+      const auto a = quad[c];
+      const auto b = quad[(c + 1) % 4];
+      ++edge_uses[{std::min(a, b), std::max(a, b)}];
+    }
+  }
+  const double rim_tolerance_mm = 1e-6 * projection.radius_mm;
+  for (const auto& quad : plane.quads) {
+    auto at = [&](std::size_t c, std::size_t layer) {
+      return column_vertex(static_cast<std::size_t>(quad[c % 4]), layer);
+    };
+    for (std::size_t layer = 0; layer < layers; ++layer) {
+      out.hexes.push_back({at(0, layer), at(1, layer), at(2, layer), at(3, layer), at(0, layer + 1),
+                           at(1, layer + 1), at(2, layer + 1), at(3, layer + 1)});
+      out.hex_tags.push_back(recipe.volume);
+    }
+    bool all_articular = true;
+    for (std::size_t c = 0; c < 4; ++c) all_articular = all_articular && articular_column[static_cast<std::size_t>(quad[c])];
+    const SurfaceTag articular_tag = all_articular ? recipe.articular : SurfaceTag::kFree;
+    // Inner face seen from the HJC side (outward = towards the HJC), outer face seen from outside.
+    out.quads.push_back({at(0, 0), at(3, 0), at(2, 0), at(1, 0)});
+    out.quad_tags.push_back(recipe.articular_outer ? recipe.far : articular_tag);
+    out.quads.push_back({at(0, layers), at(1, layers), at(2, layers), at(3, layers)});
+    out.quad_tags.push_back(recipe.articular_outer ? articular_tag : recipe.far);
+    for (std::size_t c = 0; c < 4; ++c) {
+      const auto a = quad[c];
+      const auto b = quad[(c + 1) % 4];
+      if (edge_uses[{std::min(a, b), std::max(a, b)}] != 1) continue;
+      for (std::size_t layer = 0; layer < layers; ++layer) {
+        const std::array<std::int32_t, 4> side{at(c, layer), at(c + 1, layer), at(c + 1, layer + 1), at(c, layer + 1)};
+        SurfaceTag tag = SurfaceTag::kFree;
+        if (recipe.rim_side_bonded) {
+          bool on_rim = true;
+          for (std::int32_t v : side) {
+            on_rim = on_rim && std::abs((out.vertices[static_cast<std::size_t>(v)] - hjc).dot(rim_axis)) < rim_tolerance_mm;
+          }
+          if (on_rim) tag = SurfaceTag::kLabrumBonded;
+        }
+        out.quads.push_back(side);
+        out.quad_tags.push_back(tag);
+      }
+    }
+  }
+}
+
+// Scaled Jacobian of a hexahedron: the smallest, over its 8 corners, determinant of the three
+// unit edge vectors leaving the corner (in right-handed order for gmsh's numbering).
+double hex_scaled_jacobian(const HexMesh& mesh, const std::array<std::int32_t, 8>& hex) {
+  static constexpr std::array<std::array<int, 4>, 8> kCorners{{{0, 1, 3, 4}, {1, 2, 0, 5}, {2, 3, 1, 6}, {3, 0, 2, 7},
+                                                              {4, 7, 5, 0}, {5, 4, 6, 1}, {6, 5, 7, 2}, {7, 6, 4, 3}}};
+  double lowest = std::numeric_limits<double>::infinity();
+  for (const auto& corner : kCorners) {
+    auto at = [&](int k) { return mesh.vertices[static_cast<std::size_t>(hex[static_cast<std::size_t>(corner[static_cast<std::size_t>(k)])])]; };
+    const Vec3 e1 = at(1) - at(0);
+    const Vec3 e2 = at(2) - at(0);
+    const Vec3 e3 = at(3) - at(0);
+    const double lengths = e1.norm() * e2.norm() * e3.norm();
+    lowest = std::min(lowest, lengths > 0.0 ? e1.cross(e2).dot(e3) / lengths : -1.0);
+  }
+  return lowest;
+}
+
+}  // namespace
+
+const char* to_string(VolumeTag tag) {
+  switch (tag) {
+    case VolumeTag::kFemoralCartilage: return "femoral_cartilage";
+    case VolumeTag::kAcetabularCartilage: return "acetabular_cartilage";
+    case VolumeTag::kLabrum: return "labrum";
+  }
+  return "unknown";
+}
+
+const char* to_string(SurfaceTag tag) {
+  switch (tag) {
+    case SurfaceTag::kFree: return "free";
+    case SurfaceTag::kFemoralCartilageArticular: return "femoral_cartilage_articular";
+    case SurfaceTag::kFemoralCartilageBonded: return "femoral_cartilage_bonded";
+    case SurfaceTag::kAcetabularCartilageArticular: return "acetabular_cartilage_articular";
+    case SurfaceTag::kAcetabularCartilageBonded: return "acetabular_cartilage_bonded";
+    case SurfaceTag::kLabrumArticular: return "labrum_articular";
+    case SurfaceTag::kLabrumBonded: return "labrum_bonded";
+  }
+  return "unknown";
+}
+
+double min_scaled_jacobian(const HexMesh& mesh) {
+  double lowest = std::numeric_limits<double>::infinity();
+  for (const auto& hex : mesh.hexes) lowest = std::min(lowest, hex_scaled_jacobian(mesh, hex));
+  return lowest;
+}
+
+HipVolumeMesh build_hip_volume_mesh(const HipModel& model, const HipVolumeOptions& options) {
+  if (!(options.edge_mm > 0.0) || !std::isfinite(options.edge_mm)) {
+    throw_error("hip volume mesh: edge_mm = ", options.edge_mm, " must be positive");
+  }
+  if (options.layers < 1) throw_error("hip volume mesh: layers = ", options.layers, " must be at least 1");
+  if (!(options.min_thickness_mm > 0.0)) {
+    throw_error("hip volume mesh: min_thickness_mm = ", options.min_thickness_mm, " must be positive");
+  }
+  HipVolumeMesh result;
+  result.options = options;
+  for (const auto& recipe : kRecipes) {
+    mesh_tissue(recipe, model.tissue(recipe.name), model.hjc_mm, model.acetabular_axis.normalized(), options,
+                result.mesh);
+  }
+  result.min_scaled_jacobian = min_scaled_jacobian(result.mesh);
+  if (!(result.min_scaled_jacobian > 0.0)) {
+    throw_error("hip volume mesh: an inverted hexahedron (scaled Jacobian ", result.min_scaled_jacobian, ")");
+  }
+  return result;
+}
+
+// --- MSH 2.2 ---------------------------------------------------------------------------------
+
+void write_hex_msh(const HexMesh& mesh, const std::filesystem::path& file) {
+  if (mesh.hex_tags.size() != mesh.hexes.size() || mesh.quad_tags.size() != mesh.quads.size()) {
+    throw_error(file.string(), ": hex mesh has ", mesh.hexes.size(), " hexahedra with ", mesh.hex_tags.size(),
+                " tags and ", mesh.quads.size(), " quadrangles with ", mesh.quad_tags.size(), " tags");
+  }
+  std::error_code error;
+  if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path(), error);
+  const std::filesystem::path temporary = file.string() + ".tmp";
+  {
+    std::ofstream out(temporary);
+    if (!out) throw_error(file.string(), ": cannot write");
+    out.precision(17);
+    out << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n";
+    std::set<int> volume_tags, surface_tags;
+    for (VolumeTag tag : mesh.hex_tags) volume_tags.insert(static_cast<int>(tag));
+    for (SurfaceTag tag : mesh.quad_tags) surface_tags.insert(static_cast<int>(tag));
+    out << "$PhysicalNames\n" << surface_tags.size() + volume_tags.size() << '\n';
+    for (int tag : surface_tags) out << "2 " << tag << " \"" << to_string(static_cast<SurfaceTag>(tag)) << "\"\n";
+    for (int tag : volume_tags) out << "3 " << tag << " \"" << to_string(static_cast<VolumeTag>(tag)) << "\"\n";
+    out << "$EndPhysicalNames\n$Nodes\n" << mesh.vertices.size() << '\n';
+    for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+      const Vec3& p = mesh.vertices[i];
+      out << i + 1 << ' ' << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
+    }
+    out << "$EndNodes\n$Elements\n" << mesh.quads.size() + mesh.hexes.size() << '\n';
+    std::size_t id = 0;
+    // Element line: id type 2 physical elementary nodes... (both tags the same).
+    for (std::size_t i = 0; i < mesh.quads.size(); ++i) {
+      const int tag = static_cast<int>(mesh.quad_tags[i]);
+      out << ++id << " 3 2 " << tag << ' ' << tag;
+      for (std::int32_t v : mesh.quads[i]) out << ' ' << v + 1;
+      out << '\n';
+    }
+    for (std::size_t i = 0; i < mesh.hexes.size(); ++i) {
+      const int tag = static_cast<int>(mesh.hex_tags[i]);
+      out << ++id << " 5 2 " << tag << ' ' << tag;
+      for (std::int32_t v : mesh.hexes[i]) out << ' ' << v + 1;
+      out << '\n';
+    }
+    out << "$EndElements\n";
+    out.close();
+    if (!out) throw_error(file.string(), ": write failed");
+  }
+  std::filesystem::rename(temporary, file, error);
+  if (error) throw_error(file.string(), ": cannot rename the temporary file: ", error.message());
+}
+namespace {
+
+bool is_volume_tag(int tag) { return tag >= 1 && tag <= 3; }
+
+bool is_surface_tag(int tag) {
+  return tag == 10 || tag == 11 || tag == 12 || tag == 21 || tag == 22 || tag == 31 || tag == 32;
+}
+
+}  // namespace
+
+HexMesh read_hex_msh(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  if (!in) throw_error(file.string(), ": cannot open");
+  const std::string where = file.string();
+  std::string line;
+  auto expect = [&](const std::string& wanted) {
+    if (!(in >> line) || line != wanted) throw_error(where, ": expected ", wanted, (in ? " but found " + line : std::string(" at the end")));
+  };
+  expect("$MeshFormat");
+  std::string version;
+  int binary = -1, size = 0;
+  if (!(in >> version >> binary >> size) || version != "2.2" || binary != 0) {
+    throw_error(where, ": not an ASCII MSH 2.2 file");
+  }
+  expect("$EndMeshFormat");
+  HexMesh mesh;
+  std::unordered_map<long long, std::int32_t> index_of;
+  bool have_nodes = false, have_elements = false;
+  while (in >> line) {
+    if (line == "$PhysicalNames") {
+      std::size_t count = 0;
+      if (!(in >> count)) throw_error(where, ": bad $PhysicalNames count");
+      std::getline(in, line);
+      for (std::size_t i = 0; i < count; ++i) {
+        if (!std::getline(in, line)) throw_error(where, ": truncated $PhysicalNames");
+      }
+      expect("$EndPhysicalNames");
+    } else if (line == "$Nodes") {
+      std::size_t count = 0;
+      if (!(in >> count)) throw_error(where, ": bad $Nodes count");
+      for (std::size_t i = 0; i < count; ++i) {
+        long long id = 0;
+        double x = 0, y = 0, z = 0;
+        if (!(in >> id >> x >> y >> z)) throw_error(where, ": truncated $Nodes at node ", i + 1);
+        if (!index_of.emplace(id, static_cast<std::int32_t>(mesh.vertices.size())).second) {
+          throw_error(where, ": node ", id, " defined twice");
+        }
+        mesh.vertices.emplace_back(x, y, z);
+      }
+      expect("$EndNodes");
+      have_nodes = true;
+    } else if (line == "$Elements") {
+      if (!have_nodes) throw_error(where, ": $Elements before $Nodes");
+      std::size_t count = 0;
+      if (!(in >> count)) throw_error(where, ": bad $Elements count");
+      for (std::size_t i = 0; i < count; ++i) {
+        long long id = 0;
+        int type = 0, tag_count = 0;
+        if (!(in >> id >> type >> tag_count) || tag_count < 1) throw_error(where, ": bad element line ", i + 1);
+        std::vector<int> tags(static_cast<std::size_t>(tag_count));
+        for (int& tag : tags) {
+          if (!(in >> tag)) throw_error(where, ": bad tags of element ", id);
+        }
+        const int physical = tags.front();
+        const std::size_t nodes = type == 5 ? 8 : type == 3 ? 4 : 0;
+        if (nodes == 0) throw_error(where, ": element ", id, " has type ", type, " (only quadrangles 3 and hexahedra 5)");
+        std::array<std::int32_t, 8> vertices{};
+        for (std::size_t k = 0; k < nodes; ++k) {
+          long long node = 0;
+          if (!(in >> node)) throw_error(where, ": truncated element ", id);
+          const auto found = index_of.find(node);
+          if (found == index_of.end()) throw_error(where, ": element ", id, " uses unknown node ", node);
+          vertices[k] = found->second;
+        }
+        if (type == 5) {
+          if (!is_volume_tag(physical)) throw_error(where, ": hexahedron ", id, " has unknown physical tag ", physical);
+          mesh.hexes.push_back(vertices);
+          mesh.hex_tags.push_back(static_cast<VolumeTag>(physical));
+        } else {
+          if (!is_surface_tag(physical)) throw_error(where, ": quadrangle ", id, " has unknown physical tag ", physical);
+          mesh.quads.push_back({vertices[0], vertices[1], vertices[2], vertices[3]});
+          mesh.quad_tags.push_back(static_cast<SurfaceTag>(physical));
+        }
+      }
+      expect("$EndElements");
+      have_elements = true;
+    } else if (!line.empty() && line.front() == '$') {
+      // Another section (e.g. $NodeData): skip to its end marker.
+      const std::string end = "$End" + line.substr(1);
+      while (in >> line && line != end) {
+      }
+      if (line != end) throw_error(where, ": unterminated section ", end);
+    } else {
+      throw_error(where, ": unexpected '", line, "' between sections");
+    }
+  }
+  if (!have_elements) throw_error(where, ": no $Elements section");
+  return mesh;
+}
+
+}  // namespace hipfai::geometry

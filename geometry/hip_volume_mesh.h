@@ -1,0 +1,80 @@
+// hipfai — hexahedral volume meshes of a hip's soft tissues, for the finite-element ground truth.
+//
+// The FE model (fem/) needs the deformable tissues — femoral cartilage, acetabular cartilage,
+// labrum — as hexahedral meshes (Q2 elements do not lock at nu = 0.45) with tagged cells and
+// tagged boundary faces: where a tissue is bonded to bone, where it can touch the other side of
+// the joint, and where it is free. Thin layers that taper to zero thickness (the cartilage edge,
+// the labrum tip) are meshed as layers of hexahedra between the articular face and the far face
+// of the tissue along rays from the hip joint centre, with a minimum thickness.
+//
+// Files are gmsh MSH 2.2 ASCII: hexahedra (type 5) with their tissue as physical tag, boundary
+// quadrangles (type 3) with their surface tag as physical tag, $PhysicalNames naming both.
+#pragma once
+
+#include "geometry/hip_model.h"
+#include "geometry/tri_mesh.h"
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace hipfai::geometry {
+
+// Physical tags of the hexahedra (one per deformable tissue).
+enum class VolumeTag : int {
+  kFemoralCartilage = 1,
+  kAcetabularCartilage = 2,
+  kLabrum = 3,
+};
+
+// Physical tags of the boundary quadrangles.
+enum class SurfaceTag : int {
+  kFree = 10,                          // touches nothing in the model
+  kFemoralCartilageArticular = 11,     // faces the acetabulum: contact surface
+  kFemoralCartilageBonded = 12,        // on the femoral bone: moves rigidly with the femur
+  kAcetabularCartilageArticular = 21,  // faces the femoral head: contact surface
+  kAcetabularCartilageBonded = 22,     // on the acetabular bone: fixed
+  kLabrumArticular = 31,               // faces the femoral head and neck: contact surface
+  kLabrumBonded = 32,                  // its base on the acetabular rim: fixed
+};
+
+const char* to_string(VolumeTag tag);
+const char* to_string(SurfaceTag tag);
+
+struct HexMesh {
+  std::vector<Vec3> vertices;                         // mm, hip frame
+  std::vector<std::array<std::int32_t, 8>> hexes;     // gmsh order: bottom face 0-1-2-3, top 4-5-6-7
+  std::vector<VolumeTag> hex_tags;                    // one per hexahedron
+  std::vector<std::array<std::int32_t, 4>> quads;     // every boundary face, once
+  std::vector<SurfaceTag> quad_tags;                  // one per boundary quad
+};
+
+struct HipVolumeOptions {
+  double edge_mm = 2.0;            // target edge length on the articular faces
+  int layers = 2;                  // hexahedra through the thickness
+  double min_thickness_mm = 0.25;  // tapered edges (cartilage edge, labrum tip) are blunted to this
+};
+
+struct HipVolumeMesh {
+  HexMesh mesh;
+  HipVolumeOptions options;
+  // Smallest scaled Jacobian over all hexahedra (1 = perfect cube corner, <= 0 = inverted).
+  double min_scaled_jacobian = 0.0;
+};
+
+// Builds the hexahedral meshes of femoral_cartilage, acetabular_cartilage and labrum of `model`
+// (their surfaces must be loaded). Throws hipfai::Error on a model it cannot mesh.
+HipVolumeMesh build_hip_volume_mesh(const HipModel& model, const HipVolumeOptions& options = {});
+
+// Smallest scaled Jacobian over all hexahedra and their 8 corners: at each corner the determinant
+// of the three unit edge vectors leaving it (1 for a cube, <= 0 when inverted or degenerate).
+double min_scaled_jacobian(const HexMesh& mesh);
+
+// MSH 2.2 ASCII, written atomically (a temporary file renamed at the end).
+void write_hex_msh(const HexMesh& mesh, const std::filesystem::path& file);
+// Reads what write_hex_msh writes; throws hipfai::Error "<file>: <problem>" on anything else.
+HexMesh read_hex_msh(const std::filesystem::path& file);
+
+}  // namespace hipfai::geometry

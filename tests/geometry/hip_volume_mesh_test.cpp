@@ -1,0 +1,491 @@
+// Tests of the hexahedral soft-tissue meshes (geometry/hip_volume_mesh.h) on generated hips:
+// valid hexahedra, closed tagged boundaries, volumes against the tissues' own surfaces, articular
+// quads on the articular surface, the femoral cartilage's pole thickness, the MSH 2.2 round trip
+// and gmsh reading the file.
+#include "core/error.h"
+#include "geometry/hip_frame.h"
+#include "geometry/hip_generator.h"
+#include "geometry/hip_model.h"
+#include "geometry/hip_volume_mesh.h"
+
+#include <gmsh.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <numbers>
+#include <set>
+#include <tuple>
+
+namespace hipfai::geometry {
+namespace {
+
+constexpr double kSurfaceEdgeMm = 3.0;   // generation at 3 mm: a few seconds per hip
+constexpr double kVolumeEdgeMm = 3.0;
+
+struct Case {
+  double ce_deg;
+  double alpha_deg;
+};
+constexpr std::array<Case, 3> kCases{{{0.0, 40.0}, {20.0, 40.0}, {40.0, 80.0}}};
+
+const HipModel& hip(double ce, double alpha) {
+  static std::map<std::pair<double, double>, HipModel> cache;
+  auto it = cache.find({ce, alpha});
+  if (it == cache.end()) {
+    HipParameters p;
+    p.ce_deg = ce;
+    p.alpha_deg = alpha;
+    p.edge_mm = kSurfaceEdgeMm;
+    it = cache.emplace(std::make_pair(ce, alpha), generate_hip(p).model).first;
+  }
+  return it->second;
+}
+
+const HipVolumeMesh& volume(double ce, double alpha) {
+  static std::map<std::pair<double, double>, HipVolumeMesh> cache;
+  auto it = cache.find({ce, alpha});
+  if (it == cache.end()) {
+    HipVolumeOptions options;
+    options.edge_mm = kVolumeEdgeMm;
+    it = cache.emplace(std::make_pair(ce, alpha), build_hip_volume_mesh(hip(ce, alpha), options)).first;
+  }
+  return it->second;
+}
+
+const Vec3& at(const HexMesh& mesh, std::int32_t index) { return mesh.vertices[static_cast<std::size_t>(index)]; }
+
+// Jacobian matrix of the trilinear map of a hexahedron at reference point xi in [-1, 1]^3
+// (gmsh's reference hexahedron: node k at the signs below).
+Eigen::Matrix3d trilinear_jacobian(const HexMesh& mesh, const std::array<std::int32_t, 8>& hex, const Vec3& xi) {
+  static constexpr std::array<std::array<double, 3>, 8> kSigns{{{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
+                                                                {-1, -1, 1}, {1, -1, 1}, {1, 1, 1}, {-1, 1, 1}}};
+  Eigen::Matrix3d jacobian = Eigen::Matrix3d::Zero();
+  for (std::size_t k = 0; k < 8; ++k) {
+    const auto& s = kSigns[k];
+    const Vec3 gradient(s[0] * (1 + s[1] * xi.y()) * (1 + s[2] * xi.z()) / 8.0,
+                        s[1] * (1 + s[0] * xi.x()) * (1 + s[2] * xi.z()) / 8.0,
+                        s[2] * (1 + s[0] * xi.x()) * (1 + s[1] * xi.y()) / 8.0);
+    jacobian += at(mesh, hex[k]) * gradient.transpose();
+  }
+  return jacobian;
+}
+
+// Exact volume of a trilinear hexahedron: det J is of degree <= 2 in each reference coordinate,
+// so the 2-point Gauss rule per direction integrates it exactly.
+double hex_volume(const HexMesh& mesh, const std::array<std::int32_t, 8>& hex) {
+  const double g = 1.0 / std::sqrt(3.0);
+  double sum = 0.0;
+  for (double x : {-g, g}) {
+    for (double y : {-g, g}) {
+      for (double z : {-g, g}) sum += trilinear_jacobian(mesh, hex, Vec3(x, y, z)).determinant();
+    }
+  }
+  return sum;
+}
+
+double point_triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  // Closest point by the region tests of Ericson (Real-Time Collision Detection, 5.1.5).
+  const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return (p - a).norm();
+  const Vec3 bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return (p - b).norm();
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return (p - (a + d1 / (d1 - d3) * ab)).norm();
+  const Vec3 cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return (p - c).norm();
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return (p - (a + d2 / (d2 - d6) * ac)).norm();
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return (p - (b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b))).norm();
+  const double denominator = 1.0 / (va + vb + vc);
+  return (p - (a + ab * (vb * denominator) + ac * (vc * denominator))).norm();
+}
+
+double distance_to_mesh(const Vec3& p, const TriMesh& mesh) {
+  double best = 1e300;
+  for (const auto& tri : mesh.triangles) {
+    best = std::min(best, point_triangle_distance(p, mesh.vertices[static_cast<std::size_t>(tri[0])],
+                                                  mesh.vertices[static_cast<std::size_t>(tri[1])],
+                                                  mesh.vertices[static_cast<std::size_t>(tri[2])]));
+  }
+  return best;
+}
+
+constexpr std::array<VolumeTag, 3> kTissues{VolumeTag::kFemoralCartilage, VolumeTag::kAcetabularCartilage,
+                                             VolumeTag::kLabrum};
+
+std::array<std::int32_t, 4> sorted_face(std::array<std::int32_t, 4> face) {
+  std::sort(face.begin(), face.end());
+  return face;
+}
+
+// The six faces of a gmsh hexahedron, each counter-clockwise seen from outside.
+std::array<std::array<std::int32_t, 4>, 6> hex_faces(const std::array<std::int32_t, 8>& h) {
+  return {{{h[0], h[3], h[2], h[1]}, {h[4], h[5], h[6], h[7]}, {h[0], h[1], h[5], h[4]},
+           {h[1], h[2], h[6], h[5]}, {h[2], h[3], h[7], h[6]}, {h[3], h[0], h[4], h[7]}}};
+}
+
+Vec3 quad_centre(const HexMesh& mesh, const std::array<std::int32_t, 4>& quad) {
+  return (at(mesh, quad[0]) + at(mesh, quad[1]) + at(mesh, quad[2]) + at(mesh, quad[3])) / 4.0;
+}
+
+double max_edge(const TriMesh& mesh) {
+  double longest = 0.0;
+  for (const auto& tri : mesh.triangles) {
+    for (int k = 0; k < 3; ++k) {
+      longest = std::max(longest, (mesh.vertices[static_cast<std::size_t>(tri[k])] -
+                                   mesh.vertices[static_cast<std::size_t>(tri[(k + 1) % 3])]).norm());
+    }
+  }
+  return longest;
+}
+
+// One generated hip and its volume mesh; the checks below take it as `s`.
+struct Subject {
+  const HipModel& hip_model;
+  const HipVolumeMesh& volume_mesh;
+  const HipModel& model() const { return hip_model; }
+  const HipVolumeMesh& result() const { return volume_mesh; }
+  const HexMesh& mesh() const { return volume_mesh.mesh; }
+};
+
+// Every hexahedron maps its reference cube one to one: det J > 0 at the 8 corners (where the
+// trilinear Jacobian is extreme along the edges) and at the centre. The scaled Jacobian the
+// library reports is recomputed here from the shape functions.
+void check_every_hexahedron_has_positive_jacobian_at_its_corners(const Subject& s) {
+  ASSERT_FALSE(s.mesh().hexes.empty());
+  double lowest = 2.0;
+  for (const auto& hex : s.mesh().hexes) {
+    for (double x : {-1.0, 1.0}) {
+      for (double y : {-1.0, 1.0}) {
+        for (double z : {-1.0, 1.0}) {
+          const Eigen::Matrix3d j = trilinear_jacobian(s.mesh(), hex, Vec3(x, y, z));
+          lowest = std::min(lowest, j.determinant() / (j.col(0).norm() * j.col(1).norm() * j.col(2).norm()));
+        }
+      }
+    }
+    ASSERT_GT(trilinear_jacobian(s.mesh(), hex, Vec3::Zero()).determinant(), 0.0);
+  }
+  EXPECT_GT(lowest, 0.0);
+  EXPECT_NEAR(s.result().min_scaled_jacobian, lowest, 1e-12);
+  // Quality floor for Q2 elements: the worst corners sit where a side wall (labrum notch face,
+  // fossa wall) slants against the rays, measured 0.30 at edge 3 mm.
+  EXPECT_GT(lowest, 0.2);
+}
+
+// The boundary of the hexahedra (faces used once) is exactly the tagged quads, each once and
+// facing out of its hexahedron; tissues share no node (each is its own body for the FE).
+void check_boundary_is_closed_and_every_boundary_face_is_tagged_once(const Subject& s) {
+  std::map<std::array<std::int32_t, 4>, std::pair<int, Vec3>> faces;  // uses, hexahedron centre
+  for (const auto& hex : s.mesh().hexes) {
+    Vec3 centre = Vec3::Zero();
+    for (auto v : hex) centre += at(s.mesh(), v) / 8.0;
+    for (const auto& face : hex_faces(hex)) {
+      auto& entry = faces[sorted_face(face)];
+      ++entry.first;
+      entry.second = centre;
+    }
+  }
+  std::size_t boundary = 0;
+  for (const auto& [face, entry] : faces) {
+    ASSERT_LE(entry.first, 2) << "a face shared by three hexahedra";
+    if (entry.first == 1) ++boundary;
+  }
+  ASSERT_EQ(s.mesh().quads.size(), s.mesh().quad_tags.size());
+  EXPECT_EQ(s.mesh().quads.size(), boundary);
+  std::set<std::array<std::int32_t, 4>> seen;
+  for (const auto& quad : s.mesh().quads) {
+    const auto key = sorted_face(quad);
+    ASSERT_TRUE(seen.insert(key).second) << "boundary quad listed twice";
+    const auto found = faces.find(key);
+    ASSERT_NE(found, faces.end()) << "quad is no hexahedron face";
+    ASSERT_EQ(found->second.first, 1) << "interior face listed as boundary";
+    const Vec3 normal = (at(s.mesh(), quad[2]) - at(s.mesh(), quad[0])).cross(at(s.mesh(), quad[3]) - at(s.mesh(), quad[1]));
+    EXPECT_GT(normal.dot(quad_centre(s.mesh(), quad) - found->second.second), 0.0) << "quad faces inward";
+  }
+  std::vector<int> owner(s.mesh().vertices.size(), -1);
+  for (std::size_t h = 0; h < s.mesh().hexes.size(); ++h) {
+    for (auto v : s.mesh().hexes[h]) {
+      int& o = owner[static_cast<std::size_t>(v)];
+      if (o < 0) o = static_cast<int>(s.mesh().hex_tags[h]);
+      ASSERT_EQ(o, static_cast<int>(s.mesh().hex_tags[h])) << "two tissues share a node";
+    }
+  }
+}
+
+// Where the tags sit: femoral articular quads on the 25 mm sphere, acetabular bonded quads on
+// the R + 2 mm socket, labrum bonded quads in the acetabular rim plane; every tissue has its
+// articular and bonded surfaces.
+void check_surface_tags_sit_on_their_surfaces(const Subject& s) {
+  const double radius = s.model().parameters.articular_radius_mm;
+  const double socket = radius + s.model().parameters.acetabular_cartilage_mm;
+  std::map<SurfaceTag, int> count;
+  // Quad vertices are ray hits on the faceted spheres: a triangle with edges up to e inscribed in
+  // a sphere of radius r dips below it by at most rho^2 / (2 r) with circumradius rho^2 <= e^2 / 3
+  // (the deepest point of an obtuse one is its longest edge's midpoint, e^2 / (8 r)).
+  auto dip = [&](const char* tissue, double r) {
+    const double e = max_edge(s.model().tissue(tissue));
+    return e * e / (6.0 * r);
+  };
+  const double femoral_dip = dip("femoral_cartilage", radius);
+  const double socket_dip = dip("acetabular_cartilage", socket);
+  for (std::size_t q = 0; q < s.mesh().quads.size(); ++q) {
+    const SurfaceTag tag = s.mesh().quad_tags[q];
+    ++count[tag];
+    for (auto v : s.mesh().quads[q]) {
+      const double r = (at(s.mesh(), v) - s.model().hjc_mm).norm();
+      if (tag == SurfaceTag::kFemoralCartilageArticular) {
+        EXPECT_NEAR(r, radius - femoral_dip / 2, femoral_dip / 2 + 1e-9);
+      } else if (tag == SurfaceTag::kAcetabularCartilageBonded) {
+        EXPECT_NEAR(r, socket - socket_dip / 2, socket_dip / 2 + 1e-9);
+      } else if (tag == SurfaceTag::kLabrumBonded) {
+        EXPECT_NEAR((at(s.mesh(), v) - s.model().hjc_mm).dot(s.model().acetabular_axis), 0.0, 1e-6);
+      }
+    }
+  }
+  for (SurfaceTag tag : {SurfaceTag::kFree, SurfaceTag::kFemoralCartilageArticular, SurfaceTag::kFemoralCartilageBonded,
+                         SurfaceTag::kAcetabularCartilageArticular, SurfaceTag::kAcetabularCartilageBonded,
+                         SurfaceTag::kLabrumArticular, SurfaceTag::kLabrumBonded}) {
+    EXPECT_GT(count[tag], 0) << to_string(tag);
+  }
+  // The femoral cartilage is bonded on all of its inner face and articular on all of its outer.
+  EXPECT_EQ(count[SurfaceTag::kFemoralCartilageArticular], count[SurfaceTag::kFemoralCartilageBonded]);
+}
+
+// Each tissue's hexahedra fill the volume its surface encloses. The difference has three
+// sources, each bounded for the 3 mm columns (h) of these meshes:
+//   blunting  the tapered edges are thickened to t_min = 0.25 mm; linear between the edge column
+//             and its neighbour that adds <= t_min h / 2 per unit edge length: 0.25 * 1.5 *
+//             (111 mm femoral edge) = 42 mm^3 = 0.65 % of the femoral cartilage;
+//   walls     a side wall slanted against the rays (fossa cylinder, 3.7 deg over 2 mm; labrum
+//             notch) is followed only from column to column: the wedge cut off is < t h / 2 per
+//             unit length, 2 * 1.5 * (80 mm of fossa edge) / 2 = 120 mm^3 = 1.8 % of the
+//             acetabular cartilage, at most (half of it is gained back on the other side);
+//   faces     bilinear faces between columns versus the triangles: radius interpolated linearly
+//             over h where it curves by r'' = 49 mm/rad^2 on the labrum's outer face (a line in
+//             the section: r = p sec(beta - beta0)): r'' (h/r)^2 / 8 = 0.09 mm at most, 2/3 of
+//             that on average over its ~1300 mm^2: 78 mm^3 = 3.3 % of the labrum at most;
+//             spherical faces cancel between inner and outer faces to second order.
+// Tolerance 2.5 % of each tissue (the labrum bound above is not reached: its tip and base
+// columns are exact; measured 1.9 %).
+void check_hexahedra_fill_the_tissue_volumes(const Subject& s) {
+  std::map<VolumeTag, double> volumes;
+  for (std::size_t h = 0; h < s.mesh().hexes.size(); ++h) volumes[s.mesh().hex_tags[h]] += hex_volume(s.mesh(), s.mesh().hexes[h]);
+  for (VolumeTag tag : kTissues) {
+    const double expected = signed_volume(s.model().tissue(to_string(tag)));
+    EXPECT_NEAR(volumes[tag], expected, 0.025 * expected) << to_string(tag);
+  }
+}
+
+// Articular quads lie on the tissue's surface: their corners are ray hits on its triangles, and
+// their centres are off the surface by no more than a bilinear patch bends away from the
+// sphere (diagonal^2 / (8 r)) plus the triangles' own sagitta (edge^2 / (8 r)).
+void check_articular_quads_lie_on_the_articular_surface(const Subject& s) {
+  const double radius = s.model().parameters.articular_radius_mm - 1.0;  // smallest radius involved
+  const std::map<SurfaceTag, const char*> articular{{SurfaceTag::kFemoralCartilageArticular, "femoral_cartilage"},
+                                                    {SurfaceTag::kAcetabularCartilageArticular, "acetabular_cartilage"},
+                                                    {SurfaceTag::kLabrumArticular, "labrum"}};
+  for (std::size_t q = 0; q < s.mesh().quads.size(); ++q) {
+    const auto found = articular.find(s.mesh().quad_tags[q]);
+    if (found == articular.end()) continue;
+    const TriMesh& surface = s.model().tissue(found->second);
+    const auto& quad = s.mesh().quads[q];
+    for (auto v : quad) ASSERT_LT(distance_to_mesh(at(s.mesh(), v), surface), 1e-6) << found->second;
+    const double diagonal = std::max((at(s.mesh(), quad[2]) - at(s.mesh(), quad[0])).norm(),
+                                     (at(s.mesh(), quad[3]) - at(s.mesh(), quad[1])).norm());
+    const double edge = max_edge(surface);
+    ASSERT_LT(distance_to_mesh(quad_centre(s.mesh(), quad), surface),
+              (diagonal * diagonal + edge * edge) / (8.0 * radius))
+        << found->second;
+  }
+}
+
+// The femoral cartilage is 2 mm thick at its pole (-neck axis). Reference: the exact head ball
+// of the generator's construction (centre s n, radius R - t + s) along the column nearest the
+// pole; tolerance: the two faceted spheres' sagittas (< 0.05 mm each).
+void check_femoral_cartilage_is_two_millimetres_thick_at_the_pole(const Subject& s) {
+  const HipParameters& p = s.model().parameters;
+  const Vec3 pole = -s.model().neck_axis;
+  const double radius = p.articular_radius_mm;
+  const double inner = radius - p.femoral_cartilage_mm;
+  const double edge = p.femoral_cartilage_edge_deg * kDegToRad;
+  const double shift = (radius * radius - inner * inner) / (2.0 * (inner + radius * std::cos(edge)));
+  const double head_radius = inner + shift;
+  // Outer (articular) femoral vertex nearest the pole, and the innermost vertex on its ray.
+  std::int32_t top = -1;
+  double best = -2.0;
+  for (std::size_t h = 0; h < s.mesh().hexes.size(); ++h) {
+    if (s.mesh().hex_tags[h] != VolumeTag::kFemoralCartilage) continue;
+    for (auto v : s.mesh().hexes[h]) {
+      const Vec3 x = at(s.mesh(), v) - s.model().hjc_mm;
+      if (std::abs(x.norm() - radius) < 0.1 && x.normalized().dot(pole) > best) {
+        best = x.normalized().dot(pole);
+        top = v;
+      }
+    }
+  }
+  ASSERT_GE(top, 0);
+  const Vec3 direction = (at(s.mesh(), top) - s.model().hjc_mm).normalized();
+  double bottom = 1e300;
+  for (std::size_t h = 0; h < s.mesh().hexes.size(); ++h) {
+    if (s.mesh().hex_tags[h] != VolumeTag::kFemoralCartilage) continue;
+    for (auto v : s.mesh().hexes[h]) {
+      const Vec3 x = at(s.mesh(), v) - s.model().hjc_mm;
+      if (x.normalized().dot(direction) > 1.0 - 1e-12) bottom = std::min(bottom, x.norm());
+    }
+  }
+  const double thickness = (at(s.mesh(), top) - s.model().hjc_mm).norm() - bottom;
+  const double along = direction.dot(s.model().neck_axis);
+  const double exact_inner = shift * along + std::sqrt(shift * shift * along * along - shift * shift + head_radius * head_radius);
+  EXPECT_NEAR(thickness, radius - exact_inner, 0.1);
+  EXPECT_NEAR(thickness, p.femoral_cartilage_mm, 0.1);
+  EXPECT_GT(best, std::cos(10.0 * kDegToRad)) << "no column within 10 deg of the pole";
+}
+
+class HipVolumeMeshTest : public ::testing::TestWithParam<Case> {};
+
+// All checks on one hip in one test: generating the hip is what costs, and ctest runs every test
+// in its own process.
+TEST_P(HipVolumeMeshTest, MeshIsValidClosedTaggedAndFillsTheTissues) {
+  const Subject s{hip(GetParam().ce_deg, GetParam().alpha_deg), volume(GetParam().ce_deg, GetParam().alpha_deg)};
+  {
+    SCOPED_TRACE("every_hexahedron_has_positive_jacobian_at_its_corners");
+    check_every_hexahedron_has_positive_jacobian_at_its_corners(s);
+  }
+  {
+    SCOPED_TRACE("boundary_is_closed_and_every_boundary_face_is_tagged_once");
+    check_boundary_is_closed_and_every_boundary_face_is_tagged_once(s);
+  }
+  {
+    SCOPED_TRACE("surface_tags_sit_on_their_surfaces");
+    check_surface_tags_sit_on_their_surfaces(s);
+  }
+  {
+    SCOPED_TRACE("hexahedra_fill_the_tissue_volumes");
+    check_hexahedra_fill_the_tissue_volumes(s);
+  }
+  {
+    SCOPED_TRACE("articular_quads_lie_on_the_articular_surface");
+    check_articular_quads_lie_on_the_articular_surface(s);
+  }
+  {
+    SCOPED_TRACE("femoral_cartilage_is_two_millimetres_thick_at_the_pole");
+    check_femoral_cartilage_is_two_millimetres_thick_at_the_pole(s);
+  }
+}
+
+std::string case_name(const ::testing::TestParamInfo<Case>& test) {
+  return "ce" + std::to_string(static_cast<int>(test.param.ce_deg)) + "_alpha" +
+         std::to_string(static_cast<int>(test.param.alpha_deg));
+}
+
+INSTANTIATE_TEST_SUITE_P(GeneratedHips, HipVolumeMeshTest, ::testing::ValuesIn(kCases), case_name);
+
+std::filesystem::path scratch(const std::string& name) {
+  const auto dir = std::filesystem::path(HIPFAI_BINARY_DIR) / "test-scratch" / "hip_volume_mesh";
+  std::filesystem::create_directories(dir);
+  return dir / name;
+}
+
+// write -> read gives back the same mesh bit for bit (coordinates printed with 17 digits), and
+// gmsh reads the file with every element and both kinds of physical groups.
+TEST(HipVolumeMeshFile, RoundTripIsExactAndGmshReadsIt) {
+  const HexMesh& mesh = volume(20.0, 40.0).mesh;
+  const auto file = scratch("round_trip.msh");
+  write_hex_msh(mesh, file);
+  const HexMesh back = read_hex_msh(file);
+  ASSERT_EQ(back.vertices.size(), mesh.vertices.size());
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) ASSERT_EQ(back.vertices[i], mesh.vertices[i]);
+  EXPECT_EQ(back.hexes, mesh.hexes);
+  EXPECT_EQ(back.hex_tags, mesh.hex_tags);
+  EXPECT_EQ(back.quads, mesh.quads);
+  EXPECT_EQ(back.quad_tags, mesh.quad_tags);
+  EXPECT_FALSE(std::filesystem::exists(file.string() + ".tmp"));
+
+  gmsh::initialize();  // a second initialize() is ignored: the generator shares the runtime
+  gmsh::option::setNumber("General.Terminal", 0);
+  gmsh::clear();
+  gmsh::open(file.string());
+  std::size_t hexes = 0, quads = 0;
+  for (int dim : {2, 3}) {
+    std::vector<int> types;
+    std::vector<std::vector<std::size_t>> tags, nodes;
+    gmsh::model::mesh::getElements(types, tags, nodes, dim, -1);
+    for (std::size_t k = 0; k < types.size(); ++k) {
+      if (types[k] == 5) hexes += tags[k].size();
+      if (types[k] == 3) quads += tags[k].size();
+    }
+  }
+  gmsh::vectorpair groups;
+  gmsh::model::getPhysicalGroups(groups);
+  std::string name;
+  gmsh::model::getPhysicalName(3, static_cast<int>(VolumeTag::kLabrum), name);
+  gmsh::clear();
+  EXPECT_EQ(hexes, mesh.hexes.size());
+  EXPECT_EQ(quads, mesh.quads.size());
+  EXPECT_EQ(groups.size(), 10u);  // 3 tissues + 7 surface tags
+  EXPECT_EQ(name, "labrum");
+}
+
+TEST(HipVolumeMeshFile, ReadRejectsWhatItDoesNotWrite) {
+  const auto file = scratch("bad.msh");
+  auto expect_error = [&](const std::string& text, const std::string& needle) {
+    std::ofstream(file) << text;
+    try {
+      read_hex_msh(file);
+      ADD_FAILURE() << "no error for: " << needle;
+    } catch (const Error& e) {
+      const std::string message = e.what();
+      EXPECT_NE(message.find(file.string()), std::string::npos) << message;
+      EXPECT_NE(message.find(needle), std::string::npos) << message;
+    }
+  };
+  const std::string header = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n";
+  const std::string nodes = "$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n$EndNodes\n";
+  expect_error("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n", "MSH 2.2");
+  expect_error(header + nodes + "$Elements\n1\n1 2 2 10 10 1 2 3\n$EndElements\n", "type 2");
+  expect_error(header + nodes + "$Elements\n1\n1 3 2 99 99 1 2 3 4\n$EndElements\n", "physical tag 99");
+  expect_error(header + nodes + "$Elements\n1\n1 3 2 10 10 1 2 3 7\n$EndElements\n", "unknown node 7");
+  expect_error(header + "$Nodes\n4\n1 0 0 0\n", "truncated");
+  expect_error(header + nodes, "no $Elements");
+  EXPECT_THROW(read_hex_msh(scratch("missing.msh")), Error);
+}
+
+TEST(HipVolumeMeshOptions, InvalidOptionsAndMissingTissuesThrow) {
+  const HipModel& model = hip(20.0, 40.0);
+  HipVolumeOptions options;
+  options.layers = 0;
+  EXPECT_THROW(build_hip_volume_mesh(model, options), Error);
+  options = {};
+  options.edge_mm = 0.0;
+  EXPECT_THROW(build_hip_volume_mesh(model, options), Error);
+  options = {};
+  options.min_thickness_mm = -1.0;
+  EXPECT_THROW(build_hip_volume_mesh(model, options), Error);
+  HipModel without_labrum = model;
+  without_labrum.tissues.erase("labrum");
+  EXPECT_THROW(build_hip_volume_mesh(without_labrum, {}), Error);
+}
+
+// One layer instead of two halves the hexahedra and leaves the boundary quads' count of the
+// articular and bonded faces unchanged.
+TEST(HipVolumeMeshOptions, LayersMultiplyTheHexahedra) {
+  HipVolumeOptions options;
+  options.edge_mm = kVolumeEdgeMm;
+  options.layers = 1;
+  const HipVolumeMesh one = build_hip_volume_mesh(hip(20.0, 40.0), options);
+  const HipVolumeMesh& two = volume(20.0, 40.0);
+  EXPECT_EQ(2 * one.mesh.hexes.size(), two.mesh.hexes.size());
+  EXPECT_GT(one.min_scaled_jacobian, 0.0);
+}
+
+}  // namespace
+}  // namespace hipfai::geometry
