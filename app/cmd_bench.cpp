@@ -3,6 +3,7 @@
 // in the same process, with exactness against the oracle; writes CSV + report.md + SVG plots.
 #include "app/command_registry.h"
 #include "bench/collision_bench.h"
+#include "bench/radial_probe.h"
 
 #include <cstdio>
 #include <memory>
@@ -46,6 +47,15 @@ const CommandRegistrar registrar("bench", [](CLI::App& parent) {
                         "Folder of the real CT bones (hip.json, femur and pelvis); skipped in --quick")
       ->check(CLI::ExistingDirectory);
   collision->callback([args] { run(*args); });
+  auto probe = std::make_shared<bench::RadialProbeOptions>();
+  auto* radial = bench->add_subcommand(
+      "radial", "Quick probe: per-pose radial query (all mappings) vs Embree on one scenario");
+  radial->add_option("--scenario", probe->family, "cartilage or sphere_cube")
+      ->check(CLI::IsMember({"cartilage", "sphere_cube"}));
+  radial->add_option("--level", probe->level, "cartilage 0..3, sphere_cube 2..8")->check(CLI::Range(0, 8));
+  radial->add_option("--threads", probe->threads, "1 or 2")->check(CLI::Range(1, 2));
+  radial->add_option("--repeats", probe->repeats, "Timed runs per method")->check(CLI::Range(1, 100));
+  radial->callback([probe] { std::fputs(bench::run_radial_probe(*probe).c_str(), stdout); });
 });
 
 }  // namespace

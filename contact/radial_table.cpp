@@ -5,10 +5,117 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <numbers>
 
 namespace hipfai::contact {
 
 namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+// Distance from O to the closed triangle abc (relative to O): the closest point by region
+// (vertex, edge or face region, Ericson 2005 §5.1.5), computed directly.
+double distance_to_origin(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 ab = b - a, ac = c - a, ap = -a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0.0 && d2 <= 0.0) return a.norm();
+  const Vec3 bp = -b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0.0 && d4 <= d3) return b.norm();
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return (a + d1 / (d1 - d3) * ab).norm();
+  const Vec3 cp = -c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0.0 && d5 <= d6) return c.norm();
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return (a + d2 / (d2 - d6) * ac).norm();
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0) {
+    return (b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b)).norm();
+  }
+  const double denominator = 1.0 / (va + vb + vc);
+  return (a + ab * (vb * denominator) + ac * (vc * denominator)).norm();
+}
+
+// A triangle whose plane passes (nearly) through O: its cone from O degenerates toward a fan in
+// that plane, which cells_of_polygon cannot bin robustly, but every direction it covers lies
+// close to ONE great circle (the plane through O parallel to the triangle's). Let n be the unit
+// normal, h = |n . a| the plane's distance from O and d the distance from O to the triangle: a
+// point x of the triangle has direction at angle asin(|n . x| / |x|) <= asin(h / d) = delta from
+// that great circle, and its projection onto the circle lies within the angular range of the
+// triangle's projection into the plane (the vertices' range, or the full circle when the
+// projection surrounds O). Cells are collected from caps of radius step/2 + delta around points
+// of that arc spaced by step <= one cell: every direction is within step/2 along the arc plus
+// delta across it of a cap centre (triangle inequality), so the coverage is conservative; the
+// 1e-8 rad margin absorbs the rounding of the ray test and of map_direction, as in
+// cells_of_polygon.
+// Rays exactly tangent to such a triangle (lying in its plane, which happens for every ray that
+// meets it when the plane contains O exactly) never count: the exact edge signs are then all zero
+// or the facing d . N is zero, and ray_triangle_crossing reports no crossing (a crossing needs a
+// proper facing, i.e. a non-zero-length crossing parameter along N). So only triangles with
+// h > 0 can produce crossings at all, and for them the bound above holds.
+// Returns false (the caller falls back to the always-checked list) when the triangle is so close
+// to O that delta is large (>= 0.2 rad): the arc would be a thick band, no cheaper than a list.
+bool cells_of_arc_triangle(const RadialGrid& grid, const std::array<Vec3, 3>& corners,
+                           const Vec3& area_normal, std::vector<int>& cells) {
+  const Vec3 n = area_normal.normalized();
+  double scale = 0.0, h = 0.0;
+  for (const Vec3& corner : corners) {
+    scale = std::max(scale, corner.norm());
+    h = std::max(h, std::abs(n.dot(corner)));
+  }
+  h += 1e-12 * scale;  // rounding of n and of the dot products
+  const double d = distance_to_origin(corners[0], corners[1], corners[2]);
+  if (!(d > 0.0) || h >= std::sin(0.2) * d) return false;
+  const double delta = std::asin(h / d) + 1e-8;
+  const Vec3 helper = std::abs(n.x()) < 0.6 ? Vec3::UnitX() : Vec3::UnitY();
+  const Vec3 e1 = n.cross(helper).normalized();
+  const Vec3 e2 = n.cross(e1);
+  std::array<double, 3> px{}, py{}, alpha{};
+  for (int i = 0; i < 3; ++i) {
+    px[static_cast<std::size_t>(i)] = corners[static_cast<std::size_t>(i)].dot(e1);
+    py[static_cast<std::size_t>(i)] = corners[static_cast<std::size_t>(i)].dot(e2);
+    alpha[static_cast<std::size_t>(i)] = std::atan2(py[static_cast<std::size_t>(i)], px[static_cast<std::size_t>(i)]);
+  }
+  // Does the projected triangle surround O' (the projection of O)? Then the arc is the full circle.
+  int positive = 0, negative = 0;
+  for (std::size_t i = 0; i < 3; ++i) {
+    const std::size_t j = (i + 1) % 3;
+    const double side = px[i] * py[j] - py[i] * px[j];
+    positive += side >= 0.0;
+    negative += side <= 0.0;
+  }
+  double lo = 0.0, hi = 2.0 * kPi;
+  if (positive != 3 && negative != 3) {
+    // O' outside: the angular range is the vertices' range, less than pi wide, so offsets from
+    // the first vertex's angle wrapped to (-pi, pi] order them.
+    lo = hi = 0.0;
+    for (std::size_t i = 1; i < 3; ++i) {
+      double offset = alpha[i] - alpha[0];
+      if (offset > kPi) offset -= 2.0 * kPi;
+      if (offset <= -kPi) offset += 2.0 * kPi;
+      lo = std::min(lo, offset);
+      hi = std::max(hi, offset);
+    }
+    if (hi - lo > 0.9 * kPi) {  // nearly surrounding O': rounding could misorder; take the circle
+      lo = 0.0;
+      hi = 2.0 * kPi;
+    } else {
+      lo += alpha[0];
+      hi += alpha[0];
+    }
+  }
+  const double max_step = std::min(grid.nominal_cell_angle_rad(), 0.1);
+  const int samples = std::max(2, static_cast<int>(std::ceil((hi - lo) / max_step)) + 1);
+  const double step = (hi - lo) / (samples - 1);
+  for (int k = 0; k < samples; ++k) {
+    const double angle = lo + step * k;
+    cells_of_cap(grid, std::cos(angle) * e1 + std::sin(angle) * e2, 0.5 * step + delta + 1e-8, cells);
+  }
+  std::sort(cells.begin(), cells.end());
+  cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+  return true;
+}
 
 // Bins triangle t of `fixed` into the table (its cells or the always list).
 void insert_triangle(RadialTable& table, const geometry::TriMesh& fixed, std::int32_t t,
@@ -22,13 +129,16 @@ void insert_triangle(RadialTable& table, const geometry::TriMesh& fixed, std::in
   table.is_always[static_cast<std::size_t>(t)] = 0;
   const Vec3 area_normal = (corners[1] - corners[0]).cross(corners[2] - corners[0]);
   if (area_normal.isZero(0.0)) return;  // zero area: never crossed
-  if (!polygon_plane_clear_of_centre(corners[0], corners[1], corners[2])) {
-    table.is_always[static_cast<std::size_t>(t)] = 1;
-    table.always_candidates.push_back(t);
-    return;
-  }
   scratch.clear();
-  cells_of_polygon(table.grid, corners, scratch);
+  if (!polygon_plane_clear_of_centre(corners[0], corners[1], corners[2])) {
+    if (!cells_of_arc_triangle(table.grid, corners, area_normal, scratch)) {
+      table.is_always[static_cast<std::size_t>(t)] = 1;
+      table.always_candidates.push_back(t);
+      return;
+    }
+  } else {
+    cells_of_polygon(table.grid, corners, scratch);
+  }
   for (const int id : scratch) {
     table.cells[static_cast<std::size_t>(id)].push_back(t);
     own_cells.push_back(id);

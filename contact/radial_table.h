@@ -6,8 +6,13 @@
 // in the cell of that direction, every triangle it crosses. Two special lists:
 //   - zero-area triangles are stored nowhere (no ray crosses them, ray_triangle.h);
 //   - triangles whose plane passes within 1e-6 x their largest vertex distance of O (their cone
-//     degenerates toward a fan in a plane through O, which direction bins cannot hold robustly)
-//     are kept in `always_candidates` and checked by every query.
+//     degenerates toward a fan in a plane through O, which cells_of_polygon cannot bin robustly)
+//     are binned along the great-circle arc they cover, thickened by their angular distance from
+//     that circle (see cells_of_arc_triangle in radial_table.cpp for the bound and for why rays
+//     exactly tangent to them never count); only those so close to O that this band would be
+//     thick (>= 0.2 rad) are kept in `always_candidates` and checked by every query. (Revolved
+//     rim faces of cartilage and labrum are such triangles: thousands of them made the query
+//     quadratic when they were all always-checked.)
 // The table stores indices only: the fixed mesh's coordinates are read at query time, so a
 // deformation along the rays (radial, §3.3.4) needs no update at all.
 //

@@ -357,6 +357,40 @@ TEST(RadialHardCases, TrianglesWhosePlanePassesThroughTheCentre) {
   EXPECT_GT(total, 100u);
 }
 
+// Triangles whose plane passes (nearly) through O but which do not contain O (the revolved rim
+// faces of cartilage and labrum): they are binned along the great-circle arc they cover, not
+// checked for every vertex, and must still give exactly the oracle's answer, including for rays
+// grazing their plane (points placed at the plane's height and a few multiples of it).
+TEST(RadialHardCases, TrianglesNearlyInAPlaneThroughTheCentreAreBinned) {
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> across(-3.0, 3.0), x(0.0, 35.0), z(-15.0, 15.0);
+  for (const double height : {0.0, 1e-9, 1e-5}) {  // plane distance of the face from O
+    // Bottom face y = height; O = (0, 0, 0) lies outside every face (x >= 5).
+    const TriMesh box = geometry::make_box(Vec3(5, height, -10), Vec3(25, 20 + height, 10), 3);
+    std::vector<Vec3> vertices;
+    for (int i = 0; i < 300; ++i) {
+      const double px = x(rng), pz = z(rng);
+      // On rays that graze the bottom face: y / x equal to height / x' for x' in the box.
+      vertices.emplace_back(px, height * across(rng), pz);
+      vertices.emplace_back(px, height, pz);
+      vertices.emplace_back(px, 0.001 * across(rng) + height, pz);
+    }
+    const TriMesh mobile = points(vertices);
+    for (const auto mapping : kMappings) {
+      // 1e-6 x ~33 mm = 3.3e-5 mm: every bottom triangle is "nearly through O", but with the
+      // centre >= 5 mm from each, the band half-width asin(h / d) is tiny: none stays always-checked.
+      const RadialTable table = build_radial_table(box, Vec3::Zero(), {mapping, 5000});
+      EXPECT_TRUE(table.always_candidates.empty()) << to_string(mapping) << " height " << height;
+    }
+    std::size_t total = 0;
+    for (const auto configuration :
+         {RadialConfiguration::kMobileInsideFixed, RadialConfiguration::kFixedInsideMobile}) {
+      total += check_all(box, mobile, Vec3::Zero(), configuration).pairs.size();
+    }
+    EXPECT_GT(total, 50u) << "height " << height;
+  }
+}
+
 TEST(RadialHardCases, CoordinatesFarFromTheOrigin) {
   const Vec3 far(1e4, -1e4, 1e4);
   // Exact case: integer patch moved by an integer offset: same closed form as near the origin.
