@@ -27,6 +27,17 @@ inline constexpr double kStudyStepDeg = 10.0;
 // adult values (e.g. Tannast, Siebenrock & Anderson 2007, AJR 188:1540).
 inline constexpr double kNeckShaftAngleDeg = 130.0;
 inline constexpr double kFemoralAnteversionDeg = 12.0;
+// Acetabular anteversion ~ 20 deg in normal adults (Tannast, Siebenrock & Anderson 2007).
+inline constexpr double kAcetabularAnteversionDeg = 20.0;
+// Labrum base width: its triangular section is 4.7-6.4 mm wide at the rim (Seldes et al. 2001,
+// Clin Orthop Relat Res 382:232); 5 mm covers the 2 mm cartilage edge and 3 mm of bony rim.
+inline constexpr double kLabrumBaseWidthMm = 5.0;
+// Alpha angle of a hip without cam: the thesis's normal hip has alpha 40 deg (§4.3.2.2); Nötzli
+// et al. 2002 (JBJS Br 84:556) measured 42 deg on average in asymptomatic hips.
+inline constexpr double kNormalAlphaDeg = 40.0;
+// Cam position: cam lesions sit anterosuperiorly at the head-neck junction (Beck et al. 2005,
+// JBJS Br 87:1012; Nötzli et al. 2002), i.e. 45 deg from anterior towards superior about the neck.
+inline constexpr double kCamPositionDeg = 45.0;
 
 // --- Materials (thesis §4.3.2.3) --------------------------------------------------------------
 // Articular cartilage, linear elastic (Moglo & Shirazi-Adl 2003).

@@ -207,6 +207,16 @@ TissueSolids build_solids(const HipParameters& p) {
   occ::remove({{2, section}}, true);
   labrum = cut(labrum, cylinder(Vec3::Zero(), (radius + p.labrum_base_mm + 20.0) * inferior_rim,
                                 0.5 * p.notch_width_mm));
+  // Where the femoral neck passes under the rim in the neutral pose, the labrum stops short of
+  // it. With a shallow socket (CE 0-10 deg) the opening plane through the HJC is nearly
+  // vertical, so the posteroinferior rim comes within the neck's cone (the neck leaves the head
+  // sphere asin(neck_radius / R) from its axis) and a full-height labrum there would stand inside
+  // the bone before any motion. In a hip the labrum ends at the acetabular notch, which the
+  // transverse acetabular ligament bridges below the head (Seldes et al. 2001), and is never
+  // inside the neck; removing the labrum within the neck radius plus a clearance keeps the
+  // soft tissue outside the bone. Hips whose rim stays clear of the neck are unchanged.
+  labrum = cut(labrum, cylinder(Vec3::Zero(), p.neck_length_mm * n,
+                                p.neck_radius_mm + p.labrum_neck_clearance_mm));
 
   solids.tissues.emplace_back("acetabular_bone", acetabular_bone);
   solids.tissues.emplace_back("acetabular_cartilage", acetabular_cartilage);

@@ -16,7 +16,9 @@
 //   acetabular_cartilage shell R .. R + t_a in the socket half-space, minus the fossa cylinder
 //                        (horseshoe open inferiorly).
 //   labrum               triangle (R, 0), (R + base, 0), tip on the R sphere at labrum_height along
-//                        a, revolved about a; interrupted at the inferior notch.
+//                        a, revolved about a; interrupted at the inferior notch and kept
+//                        labrum_neck_clearance_mm outside the neck cylinder (shallow sockets
+//                        bring the posteroinferior rim over the neck in the neutral pose).
 // Each tissue is meshed on its own (surfaces are not shared between tissues), so each is a
 // closed manifold surface; triangles are re-oriented outward.
 #pragma once

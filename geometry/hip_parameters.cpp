@@ -19,7 +19,7 @@ struct Field {
 };
 
 // One row per field: the JSON key, the member, the allowed range (see hip_parameters.h).
-constexpr std::array<Field, 25> kFields{{
+constexpr std::array<Field, 26> kFields{{
     {"ce_deg", &HipParameters::ce_deg, 0.0, 45.0},
     {"alpha_deg", &HipParameters::alpha_deg, 35.0, 90.0},
     {"articular_radius_mm", &HipParameters::articular_radius_mm, 20.0, 30.0},
@@ -27,6 +27,7 @@ constexpr std::array<Field, 25> kFields{{
     {"acetabular_cartilage_mm", &HipParameters::acetabular_cartilage_mm, 0.5, 4.0},
     {"labrum_height_mm", &HipParameters::labrum_height_mm, 3.0, 10.0},
     {"labrum_base_mm", &HipParameters::labrum_base_mm, 3.0, 10.0},
+    {"labrum_neck_clearance_mm", &HipParameters::labrum_neck_clearance_mm, 0.0, 5.0},
     {"neck_shaft_angle_deg", &HipParameters::neck_shaft_angle_deg, 110.0, 150.0},
     {"femoral_anteversion_deg", &HipParameters::femoral_anteversion_deg, -10.0, 40.0},
     {"acetabular_anteversion_deg", &HipParameters::acetabular_anteversion_deg, 0.0, 35.0},

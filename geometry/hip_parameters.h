@@ -15,6 +15,7 @@
 //              HJC to where the bone+cartilage contour first leaves the 25 mm head sphere.
 #pragma once
 
+#include "core/literature.h"
 #include "geometry/tri_mesh.h"
 
 #include <string>
@@ -24,27 +25,30 @@ namespace hipfai::geometry {
 struct HipParameters {
   // Lateral CE angle, [0, 45] deg; study grid 0..40 (thesis §4.3.2.2).
   double ce_deg = 30.0;
-  // Alpha angle, [35, 90] deg; study grid 40..80, a normal hip has ~40 (Nötzli et al. 2002).
-  double alpha_deg = 40.0;
+  // Alpha angle, [35, 90] deg; study grid 40..80, a normal hip has ~40 (literature::kNormalAlphaDeg).
+  double alpha_deg = literature::kNormalAlphaDeg;
   // Radius shared by the articulating surfaces, [20, 30] mm (literature::kArticularRadiusMm).
-  double articular_radius_mm = 25.0;
+  double articular_radius_mm = literature::kArticularRadiusMm;
   // Femoral cartilage at the pole, [0.5, 4] mm (literature::kFemoralCartilageMaxThicknessMm).
-  double femoral_cartilage_mm = 2.0;
+  double femoral_cartilage_mm = literature::kFemoralCartilageMaxThicknessMm;
   // Acetabular cartilage, constant, [0.5, 4] mm (literature::kAcetabularCartilageThicknessMm).
-  double acetabular_cartilage_mm = 2.0;
+  double acetabular_cartilage_mm = literature::kAcetabularCartilageThicknessMm;
   // Labrum, rim to tip along the acetabular axis, [3, 10] mm (literature::kLabrumHeightMm).
-  double labrum_height_mm = 7.0;
-  // Labrum base width on the rim plane, from the articular sphere outwards, [3, 10] mm. Covers the
-  // cartilage edge (2 mm) and 3 mm of bony rim; a modelling choice (Seldes et al. 2001 report a
-  // 4.7-6.4 mm base width of the triangular labrum section).
-  double labrum_base_mm = 5.0;
+  double labrum_height_mm = literature::kLabrumHeightMm;
+  // Labrum base width on the rim plane, from the articular sphere outwards, [3, 10] mm
+  // (literature::kLabrumBaseWidthMm).
+  double labrum_base_mm = literature::kLabrumBaseWidthMm;
+  // The labrum stops this far [0, 5] mm outside the femoral neck's cylinder: where a shallow socket
+  // (CE 0-10 deg) brings the posteroinferior rim over the neck in the neutral pose, the labrum is
+  // left out there rather than standing inside the bone (see hip_generator.h). A modelling choice.
+  double labrum_neck_clearance_mm = 1.0;
   // Neck-shaft (CCD) angle, [110, 150] deg (literature::kNeckShaftAngleDeg).
-  double neck_shaft_angle_deg = 130.0;
+  double neck_shaft_angle_deg = literature::kNeckShaftAngleDeg;
   // Femoral anteversion, [-10, 40] deg (literature::kFemoralAnteversionDeg).
-  double femoral_anteversion_deg = 12.0;
-  // Acetabular anteversion, [0, 35] deg; ~20 deg in normal adults (Tannast, Siebenrock &
-  // Anderson 2007, AJR 188:1540). Tilts the opening plane about Z; it leaves the CE angle unchanged.
-  double acetabular_anteversion_deg = 20.0;
+  double femoral_anteversion_deg = literature::kFemoralAnteversionDeg;
+  // Acetabular anteversion, [0, 35] deg (literature::kAcetabularAnteversionDeg). Tilts the
+  // opening plane about Z; it leaves the CE angle unchanged.
+  double acetabular_anteversion_deg = literature::kAcetabularAnteversionDeg;
   // Neck radius, [8, 20] mm (must be below articular_radius * sin(min(alpha, 40 deg))).
   double neck_radius_mm = 13.0;
   // HJC to the shaft axis along the neck axis, [30, 70] mm (a femoral offset of ~40 mm).
@@ -53,14 +57,15 @@ struct HipParameters {
   double shaft_radius_mm = 14.0;
   double shaft_length_mm = 45.0;
   // Angle of the normal head-neck junction from the neck axis, [30, 50] deg: the alpha angle of a
-  // hip without cam. Requests below it move the junction instead of adding a cam.
-  double normal_alpha_deg = 40.0;
+  // hip without cam (literature::kNormalAlphaDeg). Requests below it move the junction instead
+  // of adding a cam.
+  double normal_alpha_deg = literature::kNormalAlphaDeg;
   // Edge of the femoral cartilage from the neck axis, [normal_alpha + 2, 80] deg; the cartilage
   // thins to zero there (Eckstein et al. 1997: thinning towards the head-neck junction).
   double femoral_cartilage_edge_deg = 45.0;
   // Cam position: angle of the cam plane from anterior towards superior about the neck axis,
-  // [0, 90] deg; anterosuperior (Beck et al. 2005: cam lesions sit anterosuperiorly).
-  double cam_position_deg = 45.0;
+  // [0, 90] deg; anterosuperior (literature::kCamPositionDeg).
+  double cam_position_deg = literature::kCamPositionDeg;
   // The cam is a ball of this radius [4, 20] mm standing this far out of the head sphere [0.5, 6] mm.
   double cam_radius_mm = 10.0;
   double cam_height_mm = 2.5;

@@ -3,6 +3,7 @@
 #include "geometry/hip_generator.h"
 #include "geometry/hip_measure.h"
 #include "geometry/primitive_meshes.h"
+#include "tests/geometry/study_hips.h"
 
 #include <gtest/gtest.h>
 
@@ -72,11 +73,7 @@ struct Measured {
 };
 
 Measured generate_and_measure(double ce, double alpha, double edge_mm) {
-  HipParameters p;
-  p.ce_deg = ce;
-  p.alpha_deg = alpha;
-  p.edge_mm = edge_mm;
-  const auto model = generate_hip(p).model;
+  const HipModel& model = test_support::study_hip(ce, alpha, edge_mm);
   const auto c = measure_ce_angle({&model.tissue("acetabular_bone"), &model.tissue("acetabular_cartilage")},
                                   model.hjc_mm, model.lateral, model.superior);
   const auto a = measure_alpha_angle({&model.tissue("femur_bone"), &model.tissue("femoral_cartilage")},
@@ -91,7 +88,7 @@ Measured generate_and_measure(double ce, double alpha, double edge_mm) {
 TEST(StudyGrid, All25HipsMeasureWithinOneDegree) {
   for (int ce = 0; ce <= 40; ce += 10) {
     for (int alpha = 40; alpha <= 80; alpha += 10) {
-      const Measured m = generate_and_measure(ce, alpha, 3.0);
+      const Measured m = generate_and_measure(ce, alpha, test_support::kStudyTestEdgeMm);
       EXPECT_NEAR(m.ce_deg, ce, 1.0) << "ce" << ce << "_alpha" << alpha;
       EXPECT_NEAR(m.alpha_deg, alpha, 1.0) << "ce" << ce << "_alpha" << alpha;
     }
