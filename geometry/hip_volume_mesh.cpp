@@ -556,6 +556,54 @@ Vec3 snap_to_boundary(const std::vector<std::vector<Vec3>>& loops, const Vec3& d
   return best;
 }
 
+// Quad mesh of the shadow bounded by `loops_3d` (relative to the HJC) in the projection plane:
+// the first of kQuadAttempts good enough, else the best of the all-quad ones.
+PlanarQuadMesh quad_mesh_shadow(const std::vector<std::vector<Vec3>>& loops_3d, const Stereographic& projection,
+                                double edge_mm, const std::string& name) {
+  // Loops resampled at the spacing and projected, outer loop first.
+  auto plane_loops = [&](double spacing_mm) {
+    std::vector<std::vector<Eigen::Vector2d>> plane;
+    std::vector<double> areas;
+    for (const auto& points : loops_3d) {
+      std::vector<Eigen::Vector2d> loop;
+      for (const Vec3& point : resample_loop(points, spacing_mm)) loop.push_back(projection.project(point.normalized()));
+      double area = 0.0;
+      for (std::size_t i = 0; i < loop.size(); ++i) {
+        const auto& p = loop[i];
+        const auto& q = loop[(i + 1) % loop.size()];
+        area += 0.5 * (p.x() * q.y() - q.x() * p.y());
+      }
+      plane.push_back(std::move(loop));
+      areas.push_back(std::abs(area));
+    }
+    const auto outer = std::max_element(areas.begin(), areas.end()) - areas.begin();
+    std::swap(plane[0], plane[static_cast<std::size_t>(outer)]);
+    return plane;
+  };
+  PlanarQuadMesh plane;
+  double plane_quality = -std::numeric_limits<double>::infinity();
+  int successes = 0;
+  for (const auto& attempt : kQuadAttempts) {
+    // Subdivision only when recombination never gave all quads.
+    if (attempt.subdivide && successes > 0) break;
+    const double spacing_mm = attempt.spacing * edge_mm;
+    PlanarQuadMesh candidate = mesh_plane_domain(plane_loops(spacing_mm), edge_mm, projection.radius_mm, attempt);
+    if (candidate.quads.empty()) continue;
+    ++successes;
+    const double quality = planar_quality(candidate);
+    if (quality > plane_quality) {
+      plane_quality = quality;
+      plane = std::move(candidate);
+    }
+    // Corner angles within 30..150 deg are good enough; otherwise the best of a few meshes
+    // (each costs seconds at 1 mm edges).
+    if (plane_quality >= 0.5 || successes >= 4) break;
+  }
+  if (plane.quads.empty()) throw_error("hip volume mesh: ", name, ": gmsh could not mesh the articular face with quadrangles");
+
+  return plane;
+}
+
 // --- one tissue ------------------------------------------------------------------------------
 
 // rim_axis: normal of the acetabular opening plane through the HJC (the labrum's base lies in it).
@@ -586,47 +634,14 @@ void mesh_tissue(const TissueRecipe& recipe, const TriMesh& tissue, const Vec3& 
   }
   const Stereographic projection = choose_projection(shadow, radius_sum / static_cast<double>(shadow.size()), name);
 
-  // Boundary loops in 3D (relative to the HJC) and coarsened in the plane, outer loop first.
+  // Boundary loops in 3D, relative to the HJC.
   std::vector<std::vector<Vec3>> loops_3d;
   for (const auto& loop : loops) {
     std::vector<Vec3> points;
     for (std::int32_t i : loop) points.push_back(vertex(tissue, i) - hjc);
     loops_3d.push_back(std::move(points));
   }
-  auto plane_loops = [&](double spacing_mm) {
-    std::vector<std::vector<Eigen::Vector2d>> plane;
-    std::vector<double> areas;
-    for (const auto& points : loops_3d) {
-      std::vector<Eigen::Vector2d> loop;
-      for (const Vec3& point : resample_loop(points, spacing_mm)) loop.push_back(projection.project(point.normalized()));
-      double area = 0.0;
-      for (std::size_t i = 0; i < loop.size(); ++i) {
-        const auto& p = loop[i];
-        const auto& q = loop[(i + 1) % loop.size()];
-        area += 0.5 * (p.x() * q.y() - q.x() * p.y());
-      }
-      plane.push_back(std::move(loop));
-      areas.push_back(std::abs(area));
-    }
-    const auto outer = std::max_element(areas.begin(), areas.end()) - areas.begin();
-    std::swap(plane[0], plane[static_cast<std::size_t>(outer)]);
-    return plane;
-  };
-  PlanarQuadMesh plane;
-  double plane_quality = -std::numeric_limits<double>::infinity();
-  for (const auto& attempt : kQuadAttempts) {
-    const double spacing_mm = attempt.spacing * options.edge_mm;
-    PlanarQuadMesh candidate = mesh_plane_domain(plane_loops(spacing_mm), options.edge_mm, projection.radius_mm, attempt);
-    if (candidate.quads.empty()) continue;
-    const double quality = planar_quality(candidate);
-    if (quality > plane_quality) {
-      plane_quality = quality;
-      plane = std::move(candidate);
-    }
-    // Corner angles within 30..150 deg: good enough, a later attempt is rarely better.
-    if (plane_quality >= 0.5) break;
-  }
-  if (plane.quads.empty()) throw_error("hip volume mesh: ", name, ": gmsh could not mesh the articular face with quadrangles");
+  const PlanarQuadMesh plane = quad_mesh_shadow(loops_3d, projection, options.edge_mm, name);
 
   // Columns: one per plane node, layers + 1 vertices from the inner to the outer face.
   const std::size_t layers = static_cast<std::size_t>(options.layers);
