@@ -137,6 +137,11 @@ Vec3 quad_centre(const HexMesh& mesh, const std::array<std::int32_t, 4>& quad) {
   return (at(mesh, quad[0]) + at(mesh, quad[1]) + at(mesh, quad[2]) + at(mesh, quad[3])) / 4.0;
 }
 
+Vec3 triangle_normal(const TriMesh& mesh, const Triangle& tri) {
+  const Vec3& a = mesh.vertices[static_cast<std::size_t>(tri[0])];
+  return (mesh.vertices[static_cast<std::size_t>(tri[1])] - a).cross(mesh.vertices[static_cast<std::size_t>(tri[2])] - a);
+}
+
 double max_edge(const TriMesh& mesh) {
   double longest = 0.0;
   for (const auto& tri : mesh.triangles) {
@@ -388,6 +393,117 @@ std::string case_name(const ::testing::TestParamInfo<Case>& test) {
 }
 
 INSTANTIATE_TEST_SUITE_P(GeneratedHips, HipVolumeMeshTest, ::testing::ValuesIn(kCases), case_name);
+
+// A closed band of a spherical shell about the unit `axis` through the origin: radii
+// inner_mm..outer_mm, polar angles theta0..theta1 from the axis, n_theta x n_phi cells per face.
+// Exact volume (2/3) pi (outer^3 - inner^3) (cos theta0 - cos theta1).
+TriMesh shell_band(const Vec3& axis, double inner_mm, double outer_mm, double theta0, double theta1, int n_theta,
+                   int n_phi) {
+  const Vec3 u = axis.unitOrthogonal();
+  const Vec3 v = axis.cross(u);
+  auto direction = [&](double theta, double phi) {
+    return Vec3(std::cos(theta) * axis + std::sin(theta) * (std::cos(phi) * u + std::sin(phi) * v));
+  };
+  TriMesh mesh;
+  // Vertex (ring i, sector j, side k): k = 0 inner, 1 outer.
+  auto index = [&](int i, int j, int k) { return static_cast<std::int32_t>((i * n_phi + (j % n_phi)) * 2 + k); };
+  for (int i = 0; i <= n_theta; ++i) {
+    for (int j = 0; j < n_phi; ++j) {
+      const Vec3 d = direction(theta0 + (theta1 - theta0) * i / n_theta, 2.0 * std::numbers::pi * j / n_phi);
+      mesh.vertices.push_back(inner_mm * d);
+      mesh.vertices.push_back(outer_mm * d);
+    }
+  }
+  // Quad a-b-c-d as two triangles whose normals point along `outward`.
+  auto add_quad = [&](std::int32_t a, std::int32_t b, std::int32_t c, std::int32_t d, const Vec3& outward) {
+    for (Triangle tri : {Triangle{a, b, c}, Triangle{a, c, d}}) {
+      if (triangle_normal(mesh, tri).dot(outward) < 0.0) std::swap(tri[1], tri[2]);
+      mesh.triangles.push_back(tri);
+    }
+  };
+  auto point = [&](std::int32_t i) { return mesh.vertices[static_cast<std::size_t>(i)]; };
+  for (int i = 0; i < n_theta; ++i) {
+    for (int j = 0; j < n_phi; ++j) {
+      for (int k : {0, 1}) {
+        const Vec3 radial = point(index(i, j, k)).normalized();
+        add_quad(index(i, j, k), index(i + 1, j, k), index(i + 1, j + 1, k), index(i, j + 1, k), k == 0 ? -radial : radial);
+      }
+    }
+  }
+  for (int i : {0, n_theta}) {
+    for (int j = 0; j < n_phi; ++j) {
+      // The side walls face away from the band's middle: towards smaller polar angles at theta0.
+      const Vec3 towards_axis = axis - axis.dot(point(index(i, j, 0)).normalized()) * point(index(i, j, 0)).normalized();
+      add_quad(index(i, j, 0), index(i, j, 1), index(i, j + 1, 1), index(i, j + 1, 0), i == 0 ? towards_axis : -towards_axis);
+    }
+  }
+  return mesh;
+}
+
+// Closed-form reference: a model whose three tissues are bands of spherical shells about the
+// HJC (each shadow an annulus: two boundary loops), with radial side walls that the hex columns
+// follow exactly. The outer face of each band is its inner face scaled by outer/inner, so every
+// hex column is the cone from the HJC over its inner face scaled likewise: the hex volume is
+// (outer^3 - inner^3) times a factor of the directions alone, and its relative error is that of
+// a cone over faceted unit spheres: 3 x the relative dip of the faces below the sphere, at most
+// (e^2 + d^2) / (6 r^2) with e the longest triangle edge and d the longest quad diagonal on the
+// inner sphere (a chord plane of circumradius rho dips rho^2 / (2 r), rho^2 <= e^2 / 3).
+TEST(HipVolumeMeshShells, VolumesEqualTheExactShellBands) {
+  const double radius = 25.0;
+  struct Band {
+    const char* name;
+    double inner, outer, theta0, theta1;
+  };
+  const double deg = kDegToRad;
+  const std::array<Band, 3> bands{{{"femoral_cartilage", radius - 2.0, radius, 20 * deg, 120 * deg},
+                                   {"acetabular_cartilage", radius, radius + 2.0, 15 * deg, 85 * deg},
+                                   {"labrum", radius, radius + 4.0, 80 * deg, 95 * deg}}};
+  HipModel model;
+  const Vec3 axis = Vec3(-1.0, 0.2, 0.1).normalized();
+  for (const auto& band : bands) {
+    model.tissues[band.name] = shell_band(axis, band.inner, band.outer, band.theta0, band.theta1,
+                                          static_cast<int>(std::ceil((band.theta1 - band.theta0) * radius / 1.5)), 120);
+  }
+  for (const auto& band : bands) ASSERT_GT(signed_volume(model.tissue(band.name)), 0.0) << "inward band";
+  model.acetabular_axis = -axis;
+  HipVolumeOptions options;
+  options.edge_mm = 1.5;
+  options.layers = 2;
+  const HipVolumeMesh result = build_hip_volume_mesh(model, options);
+  const HexMesh& mesh = result.mesh;
+  EXPECT_GT(result.min_scaled_jacobian, 0.3);
+  std::map<VolumeTag, double> volumes;
+  std::map<VolumeTag, double> longest;  // longest quad diagonal per tissue
+  for (std::size_t h = 0; h < mesh.hexes.size(); ++h) {
+    volumes[mesh.hex_tags[h]] += hex_volume(mesh, mesh.hexes[h]);
+    const auto& x = mesh.hexes[h];
+    for (auto [a, b] : {std::pair{0, 2}, std::pair{1, 3}}) {
+      longest[mesh.hex_tags[h]] = std::max(longest[mesh.hex_tags[h]], (at(mesh, x[static_cast<std::size_t>(a)]) - at(mesh, x[static_cast<std::size_t>(b)])).norm());
+    }
+  }
+  for (std::size_t k = 0; k < bands.size(); ++k) {
+    const Band& band = bands[k];
+    const VolumeTag tag = kTissues[k];
+    const double exact = 2.0 / 3.0 * std::numbers::pi * (std::pow(band.outer, 3) - std::pow(band.inner, 3)) *
+                         (std::cos(band.theta0) - std::cos(band.theta1));
+    // Longest edge of the triangles on the inner sphere.
+    const TriMesh& surface = model.tissue(band.name);
+    double edge = 0.0;
+    for (const auto& tri : surface.triangles) {
+      bool on_inner = true;
+      for (auto i : tri) on_inner = on_inner && std::abs(surface.vertices[static_cast<std::size_t>(i)].norm() - band.inner) < 1e-9;
+      for (int c = 0; c < 3 && on_inner; ++c) {
+        edge = std::max(edge, (surface.vertices[static_cast<std::size_t>(tri[c])] -
+                               surface.vertices[static_cast<std::size_t>(tri[(c + 1) % 3])]).norm());
+      }
+    }
+    // The quad diagonals were measured on the inner layer and above it (outer / inner larger).
+    const double diagonal = longest[tag] * band.inner / band.outer;
+    const double tolerance = exact * 3.0 * (edge * edge + diagonal * diagonal) / (6.0 * band.inner * band.inner);
+    EXPECT_NEAR(volumes[tag], exact, tolerance) << band.name;
+    EXPECT_LT(tolerance, 0.02 * exact) << band.name << ": the bound is too loose to test anything";
+  }
+}
 
 std::filesystem::path scratch(const std::string& name) {
   const auto dir = std::filesystem::path(HIPFAI_BINARY_DIR) / "test-scratch" / "hip_volume_mesh";
