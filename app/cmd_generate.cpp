@@ -18,6 +18,7 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -102,20 +103,24 @@ GeneratedRow generate_one(const GenerateOptions& options, double ce_deg, double 
   const auto alpha = geometry::measure_alpha_angle(
       {&model.tissue("femur_bone"), &model.tissue("femoral_cartilage")}, model.hjc_mm,
       model.neck_axis, model.superior, model.superior.cross(model.lateral));
-  geometry::write_hip_model(model, dir, options.format);
-  if (options.figures) geometry::write_hip_figures(model, ce, alpha, dir);
+  // The volume mesh is built before anything is written: a hip it cannot mesh leaves no files.
   GeneratedRow row;
+  std::optional<geometry::HipVolumeMesh> volume;
   if (options.volume) {
     const auto start = std::chrono::steady_clock::now();
     geometry::HipVolumeOptions volume_options;
     volume_options.edge_mm = options.volume_edge_mm > 0.0 ? options.volume_edge_mm : options.edge_mm;
     volume_options.layers = options.volume_layers;
-    const auto volume = geometry::build_hip_volume_mesh(model, volume_options);
-    geometry::write_hex_msh(volume.mesh, dir / "volume.msh");
-    record_volume(dir, volume);
-    row.hexahedra = volume.mesh.hexes.size();
-    row.min_scaled_jacobian = volume.min_scaled_jacobian;
+    volume = geometry::build_hip_volume_mesh(model, volume_options);
+    row.hexahedra = volume->mesh.hexes.size();
+    row.min_scaled_jacobian = volume->min_scaled_jacobian;
     row.volume_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+  geometry::write_hip_model(model, dir, options.format);
+  if (options.figures) geometry::write_hip_figures(model, ce, alpha, dir);
+  if (volume) {
+    geometry::write_hex_msh(volume->mesh, dir / "volume.msh");
+    record_volume(dir, *volume);
   }
 
   row.ce_deg = ce_deg;
