@@ -7,6 +7,24 @@
 // the labrum tip) are meshed as layers of hexahedra between the articular face and the far face
 // of the tissue along rays from the hip joint centre, with a minimum thickness.
 //
+// Construction (each tissue on its own, generic in the tissue's surface): the rays from the HJC
+// that cross the tissue form its "shadow" on the sphere of directions, bounded by the boundary
+// loops of the faces through which the rays leave on the articular side. The shadow is projected
+// stereographically (conformal) about the direction that keeps it closest, quad-meshed there by
+// gmsh (Blossom recombination under a size field that undoes the projection's scale, so edges
+// come out near edge_mm on the articular sphere), and mapped back. Each node becomes a column
+// along its ray from the first to the last crossing of the tissue's surface, split into `layers`
+// hexahedra. Consequences a user of the mesh should know:
+//   - every hex edge through the thickness lies on a ray from the HJC, and the articular and
+//     far faces' nodes lie on the tissue's triangles (a spherical manifold about the HJC fits);
+//   - a column thinner than min_thickness_mm keeps its articular end and is lengthened at the
+//     far end (at a side wall seen from the joint, e.g. the fossa silhouette, the bonded end
+//     stays on the bone instead);
+//   - an articular-side quad is tagged articular only if all four of its columns hit a face
+//     within 45 deg of radial there; quads over a side wall (fossa, labral notch) are kFree;
+//   - side faces (the columns at the shadow's boundary) are kFree, except the labrum's side
+//     faces lying in the acetabular rim plane: kLabrumBonded.
+//
 // Files are gmsh MSH 2.2 ASCII: hexahedra (type 5) with their tissue as physical tag, boundary
 // quadrangles (type 3) with their surface tag as physical tag, $PhysicalNames naming both.
 #pragma once
