@@ -92,7 +92,7 @@ void expect_clean_surfaces(const HipModel& model) {
 
 // Every study hip at the coarsest level (~2 k vertices: few triangles across the thin cartilage
 // edge, labrum tip and neck clearance, the hardest case for the mesher); three of them at the
-// default edge. (The 3 mm test level is checked with the neutral pose, hip_neutral_pose_test.cpp.)
+// default edge. (The 3 mm test level is checked in hip_study_grid_test.cpp.)
 TEST(HipGenerator, SurfacesAreClosedManifoldOutwardAtCoarsestAndDefaultEdges) {
   for (int ce = 0; ce <= 40; ce += 10) {
     for (int alpha = 40; alpha <= 80; alpha += 10) {
@@ -151,7 +151,7 @@ TEST(HipGenerator, LabrumIsSevenMillimetresHigh) {
 }
 
 // The neutral pose (no tissue inside another) is tested for all 25 study hips in
-// hip_neutral_pose_test.cpp.
+// hip_study_grid_test.cpp.
 
 // Sanity for the FAI study (thesis §4.3.2.3): at the standing-to-sitting end pose a normal hip
 // keeps its femoral bone off the labrum, a combined pincer+cam hip drives bone into it.

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "geometry/hip_generator.h"
+#include "geometry/hip_measure.h"
 #include "geometry/hip_model.h"
 
 #include <map>
@@ -28,6 +29,19 @@ inline const HipModel& study_hip(double ce_deg, double alpha_deg, double edge_mm
     it = cache.emplace(key, generate_hip(p).model).first;
   }
   return it->second;
+}
+
+struct MeasuredAngles {
+  CeMeasurement ce;
+  AlphaMeasurement alpha;
+};
+
+// CE and alpha measured on the model's meshes (bony acetabulum; femoral bone and cartilage).
+inline MeasuredAngles measure_study_angles(const HipModel& model) {
+  return {measure_ce_angle({&model.tissue("acetabular_bone"), &model.tissue("acetabular_cartilage")},
+                           model.hjc_mm, model.lateral, model.superior),
+          measure_alpha_angle({&model.tissue("femur_bone"), &model.tissue("femoral_cartilage")},
+                              model.hjc_mm, model.neck_axis, model.superior, Vec3::UnitY())};
 }
 
 }  // namespace hipfai::geometry::test_support
