@@ -5,18 +5,29 @@
 // the HJC, free translation under the joint force) on concentric cartilage shells, a spherical
 // joint, with per-step HDF5 results: the motion machinery end to end until the hip volume
 // meshes are ready.
+// hipfai fem run --model DIR [--motion CSV] [--steps N] [--level coarse|default|fine]
+// [--body-weight-n W] --out FILE.h5 [--verbose]: the hip FE model (fem/hip_fe_model.h) of a model
+// directory through a motion, per-step HDF5 (fem/fem_results.h). A sub-command `run` because
+// `fem` itself has sub-commands.
 #ifdef HIPFAI_WITH_FEM
 
 #include "app/command_registry.h"
 #include "core/error.h"
 #include "core/progress.h"
 #include "fem/fem_results.h"
+#include "fem/hip_fe_model.h"
 #include "fem/motion_solver.h"
 #include "fem/verification_cases.h"
+#include "geometry/hip_model.h"
+#include "geometry/hip_volume_mesh.h"
 #include "studies/motion.h"
 
 #include <mpi.h>
 
+#include <Eigen/Core>
+
+#include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -93,6 +104,35 @@ void run_fem_verify(const FemVerifyOptions& options) {
   }
 }
 
+// Rotation and joint force per step; steps without a force (standing-to-sitting, a CSV without
+// force columns) get `default_force_n`.
+std::vector<fem::MotionStep> to_fem_steps(const studies::Motion& motion,
+                                          const Eigen::Vector3d& default_force_n) {
+  std::vector<fem::MotionStep> steps;
+  for (const studies::MotionStep& step : motion.steps) {
+    steps.push_back(fem::make_hip_motion_step(step.rotation, step.force_N.value_or(default_force_n)));
+  }
+  return steps;
+}
+
+// The motion with a progress bar, each step appended to `writer` (rank 0 only; null elsewhere).
+std::vector<fem::ContactResult> run_motion_with_progress(const std::string& label,
+                                                         fem::ContactProblem& problem,
+                                                         const std::vector<fem::MotionStep>& steps,
+                                                         unsigned int moving_body,
+                                                         fem::FemResultsWriter* writer, bool show) {
+  ProgressBar progress(label, steps.size(), show);
+  fem::MotionOptions motion_options;
+  motion_options.moving_body = moving_body;
+  auto results = fem::run_motion(problem, steps, motion_options,
+                                 [&](std::size_t k, const fem::ContactResult& result) {
+                                   if (writer) writer->append(steps[k], result);
+                                   progress.advance();
+                                 });
+  progress.finish();
+  return results;
+}
+
 struct FemShellsOptions {
   std::string motion_file;
   int steps = 30;
@@ -109,15 +149,7 @@ void run_fem_shells(const FemShellsOptions& options) {
   const studies::Motion motion = options.motion_file.empty()
                                      ? studies::standing_to_sitting(options.steps)
                                      : studies::read_motion_csv(options.motion_file);
-  std::vector<fem::MotionStep> steps;
-  for (const studies::MotionStep& step : motion.steps) {
-    fem::MotionStep out;
-    for (unsigned i = 0; i < 3; ++i) {
-      for (unsigned j = 0; j < 3; ++j) out.rotation[i][j] = step.rotation(i, j);
-      if (step.force_N) out.force_n[i] = (*step.force_N)[i];
-    }
-    steps.push_back(out);
-  }
+  const std::vector<fem::MotionStep> steps = to_fem_steps(motion, Eigen::Vector3d::Zero());
   fem::ContactProblem problem(MPI_COMM_WORLD, [] {
     fem::ContactOptions solver;
     solver.mapping_degree = 4;  // r = 25 mm faceting would otherwise rival the 0.02 mm load
@@ -127,15 +159,7 @@ void run_fem_shells(const FemShellsOptions& options) {
   if (rank == 0) writer = std::make_unique<fem::FemResultsWriter>(
       options.out_file, std::vector<std::string>{"femoral cartilage", "acetabular cartilage"}, 0);
   fem::build_concentric_shells(problem, options.expansion_mm);
-  ProgressBar progress("fem shells", steps.size(), rank == 0);
-  fem::MotionOptions motion_options;
-  motion_options.moving_body = 0;
-  const auto results = fem::run_motion(problem, steps, motion_options,
-                                       [&](std::size_t k, const fem::ContactResult& result) {
-                                         if (writer) writer->append(steps[k], result);
-                                         progress.advance();
-                                       });
-  progress.finish();
+  const auto results = run_motion_with_progress("fem shells", problem, steps, 0, writer.get(), rank == 0);
   std::size_t failed = 0;
   for (const auto& result : results) failed += result.status != fem::ContactStatus::kConverged;
   if (rank == 0) {
@@ -143,6 +167,105 @@ void run_fem_shells(const FemShellsOptions& options) {
                 options.out_file.c_str());
   }
   if (failed > 0) throw_error("fem shells: ", failed, " step(s) did not converge (see ", options.out_file, ")");
+}
+
+struct FemRunOptions {
+  std::string model_dir;
+  std::string motion_file;
+  int steps = 30;
+  std::string level = "coarse";
+  double body_weight_n = fem::kDefaultBodyWeightN;
+  std::string out_file;
+  std::string csv_file;
+  bool verbose = false;
+};
+
+// One row per step with round-trip precision: lets a script compare runs (e.g. 1 vs 2 ranks)
+// without an HDF5 reader.
+void write_fem_run_csv(const std::string& file, const std::vector<std::string>& bodies,
+                       const std::vector<fem::ContactResult>& results) {
+  std::ofstream csv(file);
+  if (!csv) throw_error(file, ": cannot open for writing (--csv)");
+  csv << "step,status,ranks,dofs,active_set_iterations,max_pressure_mpa,mean_pressure_mpa,"
+         "contact_area_mm2,max_penetration_mm,tx_mm,ty_mm,tz_mm";
+  for (const std::string& body : bodies) csv << ",max_von_mises_mpa " << body;
+  csv << '\n';
+  csv.precision(17);
+  for (std::size_t k = 0; k < results.size(); ++k) {
+    const fem::ContactResult& r = results[k];
+    csv << k + 1 << ',' << static_cast<int>(r.status) << ',' << r.n_ranks << ',' << r.n_dofs << ','
+        << r.active_set_iterations << ',' << r.max_pressure_mpa << ',' << r.mean_pressure_mpa << ','
+        << r.contact_area_mm2 << ',' << r.max_penetration_mm;
+    for (unsigned int d = 0; d < 3; ++d) {
+      csv << ',' << (r.rigid_translation_mm.empty() ? 0.0 : r.rigid_translation_mm[fem::kFemurBody][d]);
+    }
+    for (const double v : r.max_von_mises_mpa) csv << ',' << v;
+    csv << '\n';
+  }
+  if (!csv) throw_error(file, ": write failed (--csv)");
+}
+
+void run_fem_hip(const FemRunOptions& options) {
+  fem::ensure_mpi_initialized();
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  const auto start = std::chrono::steady_clock::now();
+  // Everything that can fail on the user's input is read before the first solve.
+  // Joint force: the CSV's when it has force columns; standing-to-sitting gets the sitting-down
+  // profile after Bergmann et al. (2001) (studies/motion.h); a CSV without forces the constant
+  // peak load (kStandToSitPeakForcePercentBW of body weight, superior; fem/hip_fe_model.h).
+  studies::Motion motion;
+  if (options.motion_file.empty()) {
+    motion = studies::standing_to_sitting(options.steps);
+    studies::SittingDownLoadOptions load;
+    load.body_weight_n = options.body_weight_n;
+    studies::attach_sitting_down_load(motion, load);
+  } else {
+    motion = studies::read_motion_csv(options.motion_file);
+  }
+  const std::vector<fem::MotionStep> steps =
+      to_fem_steps(motion, fem::constant_joint_force_n(options.body_weight_n));
+  const fem::HipFeLevel level = fem::parse_hip_fe_level(options.level);
+  const geometry::HipModel model = geometry::load_hip_model(
+      options.model_dir, {"femur_bone", "femoral_cartilage", "acetabular_cartilage", "labrum"});
+  const geometry::HipVolumeMesh volume = geometry::build_hip_volume_mesh(model, fem::hip_volume_options(level));
+
+  fem::ContactOptions solver;
+  solver.verbose = options.verbose;
+  fem::ContactProblem problem(MPI_COMM_WORLD, solver);
+  fem::build_hip_fe_model(problem, volume.mesh, model.tissue("femur_bone"), model.hjc_mm);
+  std::unique_ptr<fem::FemResultsWriter> writer;
+  if (rank == 0) {
+    writer = std::make_unique<fem::FemResultsWriter>(options.out_file, fem::hip_fe_body_names(problem),
+                                                     fem::kFemurBody);
+    std::printf("fem run: %s, level %s: %zu hexahedra (min scaled Jacobian %.2f), %zu steps\n",
+                options.model_dir.c_str(), options.level.c_str(), volume.mesh.hexes.size(),
+                volume.min_scaled_jacobian, steps.size());
+    std::fflush(stdout);
+  }
+  if (rank == 0 && !options.csv_file.empty()) {
+    // Fail on an unwritable --csv before the solve, not after it.
+    if (!std::ofstream(options.csv_file)) throw_error(options.csv_file, ": cannot open for writing (--csv)");
+  }
+  const auto results = run_motion_with_progress("fem run", problem, steps, fem::kFemurBody,
+                                                writer.get(), rank == 0 && !options.verbose);
+  std::size_t failed = 0;
+  double peak_pressure = 0.0;
+  for (const auto& result : results) {
+    failed += result.status != fem::ContactStatus::kConverged;
+    peak_pressure = std::max(peak_pressure, result.max_pressure_mpa);
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (rank == 0 && !options.csv_file.empty()) {
+    write_fem_run_csv(options.csv_file, fem::hip_fe_body_names(problem), results);
+  }
+  if (rank == 0) {
+    std::printf("fem run: %zu steps, %zu not converged, %lu dofs, peak pressure %.4g MPa, %.1f s; "
+                "results in %s\n",
+                results.size(), failed, results.empty() ? 0ul : results.front().n_dofs, peak_pressure,
+                seconds, options.out_file.c_str());
+  }
+  if (failed > 0) throw_error("fem run: ", failed, " step(s) did not converge (see ", options.out_file, ")");
 }
 
 const CommandRegistrar registrar{"fem", [](CLI::App& parent) {
@@ -177,6 +300,27 @@ const CommandRegistrar registrar{"fem", [](CLI::App& parent) {
       ->check(CLI::Range(0.0, 0.5));
   shells->add_option("--out", shells_options->out_file, "HDF5 results file")->required();
   shells->callback([shells_options] { run_fem_shells(*shells_options); });
+
+  auto run_options = std::make_shared<FemRunOptions>();
+  auto* run = fem_command->add_subcommand(
+      "run", "Hip FE model of a model directory through a motion (standing-to-sitting by default)");
+  run->add_option("--model", run_options->model_dir, "Hip model directory (model.json)")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  run->add_option("--motion", run_options->motion_file,
+                  "Motion CSV: step,flexion_deg,adduction_deg,internal_rotation_deg[,Fx_N,Fy_N,Fz_N]")
+      ->check(CLI::ExistingFile);
+  run->add_option("--steps", run_options->steps, "Sub-motions of standing-to-sitting (without --motion)")
+      ->check(CLI::Range(1, 1000));
+  run->add_option("--level", run_options->level, "Mesh level (coarse, default, fine)")
+      ->check(CLI::IsMember(fem::hip_fe_level_names()));
+  run->add_option("--body-weight-n", run_options->body_weight_n,
+                  "Body weight (N) scaling the joint force when the motion has none")
+      ->check(CLI::Range(1.0, 5000.0));
+  run->add_option("--out", run_options->out_file, "HDF5 results file")->required();
+  run->add_option("--csv", run_options->csv_file, "Also write one summary row per step (CSV)");
+  run->add_flag("--verbose", run_options->verbose, "Print active-set iterations");
+  run->callback([run_options] { run_fem_hip(*run_options); });
 }};
 
 }  // namespace

@@ -35,3 +35,14 @@ if(TARGET hipfai_fem)
   hipfai_cli_test(NAME fem_shells_missing_motion EXIT nonzero STDERR "no-such.csv"
                   COMMAND fem shells --motion @TMP@/no-such.csv --out @TMP@/r.h5)
 endif()
+
+# Hip model: a bad --model fails with one line before any solve.
+if(TARGET hipfai_fem)
+  hipfai_cli_test(NAME fem_run_missing_model_dir EXIT nonzero STDERR "no-such-model"
+                  COMMAND fem run --model @TMP@/no-such-model --out @TMP@/r.h5)
+  # An existing directory without model.json: the loader's error names the file.
+  hipfai_cli_test(NAME fem_run_model_without_json EXIT nonzero STDERR "model.json"
+                  COMMAND fem run --model @TMP@ --steps 1 --out @TMP@/r.h5)
+  hipfai_cli_test(NAME fem_run_bad_level EXIT nonzero STDERR "level"
+                  COMMAND fem run --model @TMP@ --level medium --out @TMP@/r.h5)
+endif()
