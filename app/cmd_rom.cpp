@@ -30,6 +30,7 @@ struct RomArgs {
   int threads = 0;
   double resolution_mm = 0.0;
   bool no_fixed_vertices = false;
+  bool no_edge_edge = false;
   std::string csv;
 };
 
@@ -37,6 +38,7 @@ const char* kind_name(contact::ContactKind kind) {
   switch (kind) {
     case contact::ContactKind::kMobileVertexOnFixedTriangle: return "mobile_vertex";
     case contact::ContactKind::kFixedVertexOnMobileTriangle: return "fixed_vertex";
+    case contact::ContactKind::kEdgeOnEdge: return "edge_edge";
     case contact::ContactKind::kNone: break;
   }
   return "none";
@@ -49,6 +51,9 @@ std::string describe(double angle_deg, const contact::LimitingContact& limit) {
   } else if (limit.kind == contact::ContactKind::kMobileVertexOnFixedTriangle) {
     std::snprintf(buffer, sizeof(buffer), "%9.4f deg  (mobile vertex %d on fixed triangle %d)",
                   angle_deg, limit.vertex, limit.triangle);
+  } else if (limit.kind == contact::ContactKind::kEdgeOnEdge) {
+    std::snprintf(buffer, sizeof(buffer), "%9.4f deg  (mobile edge %d-%d on fixed edge %d-%d)", angle_deg,
+                  limit.mobile_edge[0], limit.mobile_edge[1], limit.fixed_edge[0], limit.fixed_edge[1]);
   } else {
     std::snprintf(buffer, sizeof(buffer), "%9.4f deg  (fixed vertex %d on mobile triangle %d)",
                   angle_deg, limit.vertex, limit.triangle);
@@ -98,6 +103,7 @@ void run(const RomArgs& args) {
 
   contact::RangeOfMotionOptions options;
   options.include_fixed_vertices = !args.no_fixed_vertices;
+  options.include_edge_edge = !args.no_edge_edge;
   options.query.num_threads = args.threads;
   options.table.resolution_r_mm = options.table.resolution_z_mm = args.resolution_mm;
 
@@ -162,6 +168,8 @@ const CommandRegistrar registrar("rom", [](CLI::App& parent) {
       ->check(CLI::Range(0.0, 1e6));
   command->add_flag("--no-fixed-vertices", args->no_fixed_vertices,
                     "Only mobile vertices against fixed triangles (skip the swapped pass)");
+  command->add_flag("--no-edge-edge", args->no_edge_edge,
+                    "Vertex contacts only (the thesis' finder; skip the exact edge-edge pass)");
   command->add_option("--threads", args->threads, "Threads (0 = all)")->check(CLI::Range(0, 256));
   command->add_option("--csv", args->csv, "CSV table: one row per axis");
   command->callback([args] { run(*args); });

@@ -1,7 +1,10 @@
 #include "contact/range_finder.h"
 
+#include <algorithm>
 #include <cmath>
+#include <memory>
 #include <numbers>
+#include <utility>
 
 namespace hipfai::contact {
 namespace {
@@ -59,6 +62,201 @@ void scan(const CylindricalPoseCache& cache, ContactKind kind, int num_threads,
   }
 }
 
+// ------------------------------------------------------------------ edge-edge contacts
+
+// An edge in the axis frame with its extent in radius and height (both kept by the rotation),
+// widened by a margin that absorbs the rounding of the extents.
+struct LocalEdge {
+  Vec3 p, d;  // start and direction (end - start), local coordinates
+  double r_lo, r_hi, z_lo, z_hi;
+  std::array<std::int32_t, 2> ends;
+};
+
+std::vector<LocalEdge> local_edges(const geometry::TriMesh& mesh, const AxisFrame& frame) {
+  std::vector<std::pair<std::int32_t, std::int32_t>> keys;
+  keys.reserve(mesh.triangles.size() * 3);
+  for (const auto& tri : mesh.triangles) {
+    for (int k = 0; k < 3; ++k) {
+      const std::int32_t a = tri[static_cast<std::size_t>(k)], b = tri[static_cast<std::size_t>((k + 1) % 3)];
+      if (a != b) keys.emplace_back(std::min(a, b), std::max(a, b));
+    }
+  }
+  std::sort(keys.begin(), keys.end());
+  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+  std::vector<LocalEdge> edges;
+  edges.reserve(keys.size());
+  for (const auto& [a, b] : keys) {
+    const Vec3 p = frame.to_local(mesh.vertices[static_cast<std::size_t>(a)]);
+    const Vec3 q = frame.to_local(mesh.vertices[static_cast<std::size_t>(b)]);
+    const Vec3 d = q - p;
+    // Radius along the segment: largest at an end, smallest at the point nearest the axis.
+    const double dxy2 = d.x() * d.x() + d.y() * d.y();
+    const double t = dxy2 > 0.0 ? std::clamp(-(p.x() * d.x() + p.y() * d.y()) / dxy2, 0.0, 1.0) : 0.0;
+    const double margin = 1e-9 * (1.0 + p.norm() + q.norm());
+    LocalEdge e;
+    e.p = p;
+    e.d = d;
+    e.r_lo = std::hypot(p.x() + t * d.x(), p.y() + t * d.y()) - margin;
+    e.r_hi = std::max(std::hypot(p.x(), p.y()), std::hypot(q.x(), q.y())) + margin;
+    e.z_lo = std::min(p.z(), q.z()) - margin;
+    e.z_hi = std::max(p.z(), q.z()) + margin;
+    e.ends = {a, b};
+    edges.push_back(e);
+  }
+  return edges;
+}
+
+// The fixed edges binned on a grid over (r, z) (compressed rows: cell -> edge indices).
+struct EdgeRingGrid {
+  double r0 = 0.0, z0 = 0.0, cell = 1.0;
+  int nr = 1, nz = 1;
+  std::vector<std::int32_t> offsets, entries;
+  int index(double value, double origin, int n) const {
+    const double scaled = std::floor((value - origin) / cell);
+    if (!(scaled >= 0.0)) return 0;
+    return scaled >= n ? n - 1 : static_cast<int>(scaled);
+  }
+  int ir(double r) const { return index(r, r0, nr); }
+  int iz(double z) const { return index(z, z0, nz); }
+};
+
+EdgeRingGrid bin_edges(const std::vector<LocalEdge>& edges) {
+  EdgeRingGrid grid;
+  if (edges.empty()) return grid;
+  double r1 = edges[0].r_hi, z1 = edges[0].z_hi, length = 0.0;
+  grid.r0 = edges[0].r_lo;
+  grid.z0 = edges[0].z_lo;
+  for (const auto& e : edges) {
+    grid.r0 = std::min(grid.r0, e.r_lo);
+    grid.z0 = std::min(grid.z0, e.z_lo);
+    r1 = std::max(r1, e.r_hi);
+    z1 = std::max(z1, e.z_hi);
+    length += e.d.norm();
+  }
+  // Cells about an edge long (the thesis' advice for the ring table), at most 2048 a side.
+  grid.cell = std::max({length / static_cast<double>(edges.size()), (r1 - grid.r0) / 2048.0,
+                        (z1 - grid.z0) / 2048.0, 1e-9});
+  grid.nr = static_cast<int>(std::floor((r1 - grid.r0) / grid.cell)) + 1;
+  grid.nz = static_cast<int>(std::floor((z1 - grid.z0) / grid.cell)) + 1;
+  const std::size_t cells = static_cast<std::size_t>(grid.nr) * static_cast<std::size_t>(grid.nz);
+  grid.offsets.assign(cells + 1, 0);
+  for (int pass = 0; pass < 2; ++pass) {
+    std::vector<std::int32_t> fill;
+    if (pass == 1) {
+      for (std::size_t c = 0; c < cells; ++c) grid.offsets[c + 1] += grid.offsets[c];
+      grid.entries.resize(static_cast<std::size_t>(grid.offsets[cells]));
+      fill.assign(grid.offsets.begin(), grid.offsets.end() - 1);
+    }
+    for (std::size_t i = 0; i < edges.size(); ++i) {
+      const auto& e = edges[i];
+      for (int r = grid.ir(e.r_lo); r <= grid.ir(e.r_hi); ++r) {
+        for (int z = grid.iz(e.z_lo); z <= grid.iz(e.z_hi); ++z) {
+          const std::size_t c = static_cast<std::size_t>(r) * static_cast<std::size_t>(grid.nz) + static_cast<std::size_t>(z);
+          if (pass == 0) {
+            ++grid.offsets[c + 1];
+          } else {
+            grid.entries[static_cast<std::size_t>(fill[c]++)] = static_cast<std::int32_t>(i);
+          }
+        }
+      }
+    }
+  }
+  return grid;
+}
+
+// The roots of det[R(theta) P - Q, R(theta) D, E] = a cos + b sin + c (see the header) where the
+// two segments meet, offered to the two directions' running minima.
+void edge_pair(const LocalEdge& m, const Vec3& w, const LocalEdge& f, const Vec3& g,
+               DirectionBest& forward, DirectionBest& backward) {
+  const Vec3& d = m.d;
+  const Vec3& e = f.d;
+  const double a = (e.x() * w.x() + e.y() * w.y()) - (g.x() * d.x() + g.y() * d.y());
+  const double b = (e.y() * w.x() - e.x() * w.y()) - (g.y() * d.x() - g.x() * d.y());
+  const double c = e.z() * w.z() - g.z() * d.z();
+  const double rho = std::hypot(a, b);
+  // rho == 0: the coplanarity does not depend on theta (parallel edges, or both parallel to the
+  // axis): any contact is an end point on the other edge, a vertex contact.
+  const double scale = e.norm() * w.norm() + g.norm() * d.norm();
+  if (!(rho > 1e-13 * scale) || std::abs(c) > rho) return;
+  const double phi = std::atan2(b, a);
+  const double beta = std::acos(std::clamp(-c / rho, -1.0, 1.0));
+  for (const double root : {phi + beta, phi - beta}) {
+    const double theta = wrap_angle(root);
+    if (std::abs(theta) <= 1e-12) continue;  // touching at the start: see the header
+    const double ahead = theta > 0.0 ? theta : theta + kTwoPi;
+    const double behind = theta < 0.0 ? -theta : kTwoPi - theta;
+    if (ahead >= forward.angle_rad && behind >= backward.angle_rad) continue;
+    const double cs = std::cos(theta), sn = std::sin(theta);
+    const Vec3 p(cs * m.p.x() - sn * m.p.y(), sn * m.p.x() + cs * m.p.y(), m.p.z());
+    const Vec3 dr(cs * d.x() - sn * d.y(), sn * d.x() + cs * d.y(), d.z());
+    // The coplanar lines' crossing: s dr - u e = f.p - p, solved in the least-squares sense.
+    const Vec3 r = f.p - p;
+    const double aa = dr.dot(dr), bb = dr.dot(e), cc = e.dot(e), d1 = dr.dot(r), e1 = e.dot(r);
+    const double den = aa * cc - bb * bb;
+    if (!(den > 1e-12 * aa * cc)) continue;  // (nearly) parallel: left to the vertex passes
+    const double s = (d1 * cc - bb * e1) / den;
+    const double u = (bb * d1 - aa * e1) / den;
+    if (s < 0.0 || s > 1.0 || u < 0.0 || u > 1.0) continue;
+    LimitingContact contact;
+    contact.kind = ContactKind::kEdgeOnEdge;
+    contact.mobile_edge = m.ends;
+    contact.fixed_edge = f.ends;
+    forward.offer(ahead, contact);
+    backward.offer(behind, contact);
+  }
+}
+
+// Every edge-edge first contact that beats the running minima `forward` / `backward`.
+void scan_edges(const geometry::TriMesh& fixed, const geometry::TriMesh& mobile, const AxisFrame& frame,
+                int num_threads, DirectionBest& forward, DirectionBest& backward) {
+  const std::vector<LocalEdge> fixed_edges = local_edges(fixed, frame);
+  const std::vector<LocalEdge> mobile_edges = local_edges(mobile, frame);
+  if (fixed_edges.empty() || mobile_edges.empty()) return;
+  const EdgeRingGrid grid = bin_edges(fixed_edges);
+  std::vector<Vec3> g(fixed_edges.size());
+  for (std::size_t i = 0; i < fixed_edges.size(); ++i) g[i] = fixed_edges[i].d.cross(fixed_edges[i].p);
+  const int threads = detail::resolve_threads(num_threads);
+  std::vector<DirectionBest> chunk_forward(static_cast<std::size_t>(threads), forward);
+  std::vector<DirectionBest> chunk_backward(static_cast<std::size_t>(threads), backward);
+  detail::parallel_chunks(mobile_edges.size(), threads, [&](std::size_t begin, std::size_t end, int chunk) {
+    DirectionBest& fwd = chunk_forward[static_cast<std::size_t>(chunk)];
+    DirectionBest& bwd = chunk_backward[static_cast<std::size_t>(chunk)];
+    for (std::size_t i = begin; i < end; ++i) {
+      const LocalEdge& m = mobile_edges[i];
+      if (m.r_hi < grid.r0 || m.z_hi < grid.z0) continue;
+      const Vec3 w = m.p.cross(m.d);
+      const int r_first = grid.ir(m.r_lo), r_last = grid.ir(m.r_hi);
+      const int z_first = grid.iz(m.z_lo), z_last = grid.iz(m.z_hi);
+      for (int r = r_first; r <= r_last; ++r) {
+        for (int z = z_first; z <= z_last; ++z) {
+          const std::size_t c = static_cast<std::size_t>(r) * static_cast<std::size_t>(grid.nz) + static_cast<std::size_t>(z);
+          for (auto k = grid.offsets[c]; k < grid.offsets[c + 1]; ++k) {
+            const auto fi = static_cast<std::size_t>(grid.entries[static_cast<std::size_t>(k)]);
+            const LocalEdge& f = fixed_edges[fi];
+            if (f.r_hi < m.r_lo || f.r_lo > m.r_hi || f.z_hi < m.z_lo || f.z_lo > m.z_hi) continue;
+            // Each pair once: in the cell of the lower corner of the two extents' overlap.
+            if (std::max(r_first, grid.ir(f.r_lo)) != r || std::max(z_first, grid.iz(f.z_lo)) != z) continue;
+            edge_pair(m, w, f, g[fi], fwd, bwd);
+          }
+        }
+      }
+    }
+  });
+  for (int c = 0; c < threads; ++c) {
+    forward.offer(chunk_forward[static_cast<std::size_t>(c)].angle_rad, chunk_forward[static_cast<std::size_t>(c)].contact);
+    backward.offer(chunk_backward[static_cast<std::size_t>(c)].angle_rad, chunk_backward[static_cast<std::size_t>(c)].contact);
+  }
+}
+
+RangeOfMotion to_range(const DirectionBest& anticlockwise, const DirectionBest& clockwise) {
+  RangeOfMotion range;
+  range.anticlockwise_deg = anticlockwise.angle_rad * kDegPerRad;
+  range.clockwise_deg = clockwise.angle_rad * kDegPerRad;
+  range.anticlockwise_limit = anticlockwise.contact;
+  range.clockwise_limit = clockwise.contact;
+  return range;
+}
+
 RangeOfMotion invalid_range(std::string message) {
   RangeOfMotion range;
   range.status = QueryStatus::kInvalidInput;
@@ -84,13 +282,28 @@ RangeOfMotion range_of_motion(const CylindricalPoseCache& mobile_on_fixed,
     scan(*fixed_on_mobile, ContactKind::kFixedVertexOnMobileTriangle, num_threads, clockwise,
          anticlockwise);
   }
-  RangeOfMotion range;
-  range.anticlockwise_deg = anticlockwise.angle_rad * kDegPerRad;
-  range.clockwise_deg = clockwise.angle_rad * kDegPerRad;
-  range.anticlockwise_limit = anticlockwise.contact;
-  range.clockwise_limit = clockwise.contact;
-  return range;
+  return to_range(anticlockwise, clockwise);
 }
+
+namespace {
+
+// The vertex passes, then the edge-edge pass bounded by their ranges.
+RangeOfMotion range_of_motion_with_edges(const CylindricalPoseCache& mobile_on_fixed,
+                                         const CylindricalPoseCache* fixed_on_mobile,
+                                         const geometry::TriMesh& fixed, const geometry::TriMesh& mobile,
+                                         const AxisFrame& frame, int num_threads) {
+  RangeOfMotion vertices = range_of_motion(mobile_on_fixed, fixed_on_mobile, num_threads);
+  if (vertices.status != QueryStatus::kOk) return vertices;
+  DirectionBest anticlockwise, clockwise;
+  anticlockwise.angle_rad = vertices.anticlockwise_deg / kDegPerRad;
+  anticlockwise.contact = vertices.anticlockwise_limit;
+  clockwise.angle_rad = vertices.clockwise_deg / kDegPerRad;
+  clockwise.contact = vertices.clockwise_limit;
+  scan_edges(fixed, mobile, frame, num_threads, anticlockwise, clockwise);
+  return to_range(anticlockwise, clockwise);
+}
+
+}  // namespace
 
 RangeOfMotion range_of_motion(const geometry::TriMesh& fixed, const geometry::TriMesh& mobile,
                               const Vec3& centre, const Vec3& axis,
@@ -99,16 +312,21 @@ RangeOfMotion range_of_motion(const geometry::TriMesh& fixed, const geometry::Tr
       CylindricalTable::build(fixed, centre, axis, options.table, &mobile);
   if (fixed_table.status() == QueryStatus::kInvalidInput) return invalid_range(fixed_table.message());
   const CylindricalPoseCache mobile_on_fixed(fixed_table, mobile, options.query);
-  if (!options.include_fixed_vertices) {
-    return range_of_motion(mobile_on_fixed, nullptr, options.query.num_threads);
+  std::unique_ptr<CylindricalPoseCache> fixed_on_mobile;
+  if (options.include_fixed_vertices) {
+    const CylindricalTable mobile_table =
+        CylindricalTable::build(mobile, centre, axis, options.table, &fixed);
+    if (mobile_table.status() == QueryStatus::kInvalidInput) {
+      return invalid_range(mobile_table.message());
+    }
+    fixed_on_mobile = std::make_unique<CylindricalPoseCache>(mobile_table, fixed, options.query);
   }
-  const CylindricalTable mobile_table =
-      CylindricalTable::build(mobile, centre, axis, options.table, &fixed);
-  if (mobile_table.status() == QueryStatus::kInvalidInput) {
-    return invalid_range(mobile_table.message());
+  if (!options.include_edge_edge) {
+    return range_of_motion(mobile_on_fixed, fixed_on_mobile.get(), options.query.num_threads);
   }
-  const CylindricalPoseCache fixed_on_mobile(mobile_table, fixed, options.query);
-  return range_of_motion(mobile_on_fixed, &fixed_on_mobile, options.query.num_threads);
+  // Same frame as the tables' (make_axis_frame of the same centre and axis).
+  return range_of_motion_with_edges(mobile_on_fixed, fixed_on_mobile.get(), fixed, mobile,
+                                    make_axis_frame(centre, axis).frame, options.query.num_threads);
 }
 
 std::vector<AxisRangeOfMotion> range_of_motion_fan(const geometry::TriMesh& fixed,

@@ -12,9 +12,21 @@
 // edge-on-edge. Both vertex-on-triangle types are covered: mobile vertices against fixed
 // triangles, and fixed vertices against mobile triangles (the same computation with the roles
 // swapped: the mobile rotating anticlockwise is the fixed mesh rotating clockwise relative to it,
-// so the swapped pass's clockwise range limits the anticlockwise one and vice versa). Edge-edge
-// first contacts are not detected; the over-estimate they can cause is bounded by how far an edge
-// can move before one of its vertices touches, i.e. by the mesh resolution (as in the thesis).
+// so the swapped pass's clockwise range limits the anticlockwise one and vice versa).
+// Edge-edge first contacts (two sharp rims crossing, no vertex touching first; the thesis'
+// vertex-only finder over-estimates them by up to the mesh resolution) are found in closed form
+// when include_edge_edge is set: in the axis frame, rotating the mobile edge P + s D by theta,
+// the two edges' lines are coplanar iff det[R P - Q, R D, E] = 0 for the fixed edge Q + u E, and
+// since det[R P, R D, E] = (P x D) . (R^T E) and det[Q, R D, E] = (E x Q) . (R D), this is
+// a cos(theta) + b sin(theta) + c = 0 with a, b, c from the edges' coordinates: at most two roots,
+// theta = atan2(b, a) +- acos(-c / hypot(a, b)). A root is a contact iff the lines meet inside
+// both segments (s, u in [0, 1]); the smallest positive root (and the smallest negative one in
+// magnitude) limit the two directions. Pairs are culled by the edges' extents in radius and
+// height (rotation keeps both, so edges can only meet where these overlap) on a grid in (r, z),
+// the ring table idea applied to edges. Parallel edges (a = b = 0) and contacts at an edge's end
+// are left to the vertex passes: an end point on the other edge is a vertex on a closed triangle.
+// Edge pairs touching at the start pose (root |theta| <= 1e-12 rad) are ignored, as if moving
+// away from them were free; the vertex passes decide resting contacts.
 //
 // A vertex already on the surface (arc distance <= touching_mm) limits a direction to 0 only if
 // moving that way enters the other solid (the crossing's outward normal opposes the motion);
@@ -28,6 +40,7 @@
 #include "contact/penetration.h"
 #include "geometry/tri_mesh.h"
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -38,12 +51,16 @@ enum class ContactKind {
   kNone,                         // no contact in this direction within a full turn
   kMobileVertexOnFixedTriangle,
   kFixedVertexOnMobileTriangle,
+  kEdgeOnEdge,                   // a mobile edge crosses a fixed edge (include_edge_edge)
 };
 
 struct LimitingContact {
   ContactKind kind = ContactKind::kNone;
   std::int32_t vertex = -1;    // of the mobile mesh (kMobileVertex...) or the fixed mesh
   std::int32_t triangle = -1;  // of the other mesh
+  // kEdgeOnEdge: the two vertices of the mobile edge and of the fixed edge (vertex/triangle -1).
+  std::array<std::int32_t, 2> mobile_edge{-1, -1};
+  std::array<std::int32_t, 2> fixed_edge{-1, -1};
 };
 
 struct RangeOfMotion {
@@ -57,6 +74,7 @@ struct RangeOfMotion {
 
 struct RangeOfMotionOptions {
   bool include_fixed_vertices = true;  // also fixed vertices against mobile triangles
+  bool include_edge_edge = true;       // also edge-edge first contacts (exact, closed form)
   CylindricalTableOptions table;
   CylindricalQueryOptions query;
 };

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -94,6 +95,45 @@ struct Scene {
   Vec3 centre, axis;
 };
 
+// Exact-enough static test (generic positions): does segment pq cross the closed triangle abc?
+// Signed volumes: p and q on opposite sides of the plane (or on it), and the line pq passing
+// inside the three edges.
+double orient(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+  return (b - a).cross(c - a).dot(d - a);
+}
+bool segment_crosses_triangle(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const double o1 = orient(a, b, c, p), o2 = orient(a, b, c, q);
+  if ((o1 > 0 && o2 > 0) || (o1 < 0 && o2 < 0)) return false;
+  const double e1 = orient(p, q, a, b), e2 = orient(p, q, b, c), e3 = orient(p, q, c, a);
+  return (e1 >= 0 && e2 >= 0 && e3 >= 0) || (e1 <= 0 && e2 <= 0 && e3 <= 0);
+}
+// Two non-coplanar triangles intersect iff an edge of one crosses the other.
+bool triangles_intersect(const std::array<Vec3, 3>& t, const std::array<Vec3, 3>& u) {
+  for (int k = 0; k < 3; ++k) {
+    if (segment_crosses_triangle(t[k], t[(k + 1) % 3], u[0], u[1], u[2])) return true;
+    if (segment_crosses_triangle(u[k], u[(k + 1) % 3], t[0], t[1], t[2])) return true;
+  }
+  return false;
+}
+// Brute force: any triangle of the rotated mobile mesh meets any fixed triangle (the surfaces
+// touch or cross: any first contact, vertex-face or edge-edge).
+bool surfaces_intersect(const TriMesh& fixed, const TriMesh& mobile, const Vec3& centre, const Vec3& axis,
+                        double angle_deg) {
+  TriMesh posed = mobile;
+  geometry::rotate_about_axis(posed, centre, axis, angle_deg / kDeg);
+  auto corners = [](const TriMesh& m, const std::array<std::int32_t, 3>& tri) {
+    return std::array<Vec3, 3>{m.vertices[static_cast<std::size_t>(tri[0])], m.vertices[static_cast<std::size_t>(tri[1])],
+                               m.vertices[static_cast<std::size_t>(tri[2])]};
+  };
+  for (const auto& tf : fixed.triangles) {
+    const auto a = corners(fixed, tf);
+    for (const auto& tm : posed.triangles) {
+      if (triangles_intersect(a, corners(posed, tm))) return true;
+    }
+  }
+  return false;
+}
+
 bool penetrates(const Scene& scene, double angle_deg) {
   TriMesh posed = scene.mobile;
   geometry::rotate_about_axis(posed, scene.centre, scene.axis, angle_deg / kDeg);
@@ -123,7 +163,10 @@ TEST(RangeFinder, EqualsOracleOnRandomScenes) {
   int limited = 0;
   for (int trial = 0; trial < 25; ++trial) {
     const Scene scene = random_scene(rng, 3);
-    const RangeOfMotion range = range_of_motion(scene.fixed, scene.mobile, scene.centre, scene.axis);
+    // The oracle enumerates vertex contacts only: compare the finder's vertex passes with it.
+    RangeOfMotionOptions vertex_contacts;
+    vertex_contacts.include_edge_edge = false;
+    const RangeOfMotion range = range_of_motion(scene.fixed, scene.mobile, scene.centre, scene.axis, vertex_contacts);
     const RangeOfMotion oracle = oracle_range_of_motion(scene.fixed, scene.mobile, scene.centre, scene.axis);
     const std::string what = "trial " + std::to_string(trial);
     ASSERT_EQ(range.status, QueryStatus::kOk) << what;
@@ -138,19 +181,26 @@ TEST(RangeFinder, EqualsOracleOnRandomScenes) {
   EXPECT_GT(limited, 10);
 }
 
+// The full finder (vertex and edge-edge contacts) against stepping with an exact static test of
+// the surfaces (every triangle pair), an independent reference that sees every kind of contact.
 TEST(RangeFinder, FinerSteppingConvergesToTheRangeFromAbove) {
   std::mt19937 rng(77);
-  int checked = 0;
-  for (int trial = 0; trial < 3; ++trial) {
+  int checked = 0, edge_limited = 0;
+  for (int trial = 0; trial < 4; ++trial) {
     const Scene scene = random_scene(rng, 2);
     const RangeOfMotion range = range_of_motion(scene.fixed, scene.mobile, scene.centre, scene.axis);
+    edge_limited += (range.anticlockwise_limit.kind == ContactKind::kEdgeOnEdge) +
+                    (range.clockwise_limit.kind == ContactKind::kEdgeOnEdge);
     for (const double direction : {1.0, -1.0}) {
       const double exact = direction > 0 ? range.anticlockwise_deg : range.clockwise_deg;
       if (exact >= 200.0) continue;  // keep the stepping short
       double previous_error = 1e300;
       for (const double step : {2.0, 0.5, 0.125}) {
         int k = 1;
-        while (k * step < 360.0 && !penetrates(scene, direction * k * step)) ++k;
+        while (k * step < 360.0 &&
+               !surfaces_intersect(scene.fixed, scene.mobile, scene.centre, scene.axis, direction * k * step)) {
+          ++k;
+        }
         const double first = k * step;
         // The first penetrating step is at or after the first contact, and the step before it is
         // not (1e-9: rounding of the exact angle).
@@ -163,13 +213,54 @@ TEST(RangeFinder, FinerSteppingConvergesToTheRangeFromAbove) {
     }
   }
   EXPECT_GE(checked, 6);
+  EXPECT_GE(edge_limited, 1);  // the scenes exercise edge-edge first contacts
+}
+
+// Two sharp rims, no vertex ever touches: a radial blade edge (3..8 mm along x at z = 0) of the
+// mobile wedge turns about z into the vertical rim edge (r = 5 at 60 degrees, z in [-1, 1]) of
+// the fixed wedge, meeting it inside both edges at exactly 60 degrees. The vertex-only finder
+// sees no contact at all; the edge-edge pass finds the closed form.
+TEST(RangeFinder, EdgeEdgeFirstContactOfSharpRims) {
+  auto at = [](double r, double deg, double z) { return Vec3(r * std::cos(deg / kDeg), r * std::sin(deg / kDeg), z); };
+  TriMesh fixed;  // tetrahedron: rim edge A-B, body behind it (larger azimuth, r in [4.6, 5])
+  fixed.vertices = {at(5, 60, -1), at(5, 60, 1), at(4.6, 75, 0.5), at(4.6, 75, -0.5)};
+  TriMesh mobile;  // tetrahedron: blade edge P0-P1, body behind it (negative azimuth), |z| <= 0.1
+  mobile.vertices = {Vec3(3, 0, 0), Vec3(8, 0, 0), Vec3(5.5, -0.3, 0.1), Vec3(5.5, -0.3, -0.1)};
+  for (TriMesh* mesh : {&fixed, &mobile}) {
+    mesh->triangles = {{0, 1, 2}, {0, 2, 3}, {0, 3, 1}, {1, 3, 2}};
+    if (geometry::signed_volume(*mesh) < 0) {
+      for (auto& tri : mesh->triangles) std::swap(tri[1], tri[2]);
+    }
+  }
+  RangeOfMotionOptions vertex_contacts;
+  vertex_contacts.include_edge_edge = false;
+  const RangeOfMotion vertices_only = range_of_motion(fixed, mobile, Vec3::Zero(), Vec3::UnitZ(), vertex_contacts);
+  EXPECT_EQ(vertices_only.anticlockwise_limit.kind, ContactKind::kNone);
+  const RangeOfMotion range = range_of_motion(fixed, mobile, Vec3::Zero(), Vec3::UnitZ());
+  // Closed form 60 degrees; 1e-9: rounding of atan2/acos.
+  EXPECT_NEAR(range.anticlockwise_deg, 60.0, 1e-9);
+  ASSERT_EQ(range.anticlockwise_limit.kind, ContactKind::kEdgeOnEdge);
+  EXPECT_EQ(range.anticlockwise_limit.mobile_edge, (std::array<std::int32_t, 2>{0, 1}));
+  EXPECT_EQ(range.anticlockwise_limit.fixed_edge, (std::array<std::int32_t, 2>{0, 1}));
+  // Both directions against stepping with the exact surface test: the first intersecting step
+  // is at or after the exact angle and less than a step after it.
+  for (const double direction : {1.0, -1.0}) {
+    const double exact = direction > 0 ? range.anticlockwise_deg : range.clockwise_deg;
+    const double step = 0.05;
+    int k = 1;
+    while (k * step < 360.0 && !surfaces_intersect(fixed, mobile, Vec3::Zero(), Vec3::UnitZ(), direction * k * step)) ++k;
+    EXPECT_LE(exact, k * step + 1e-9) << direction;
+    EXPECT_GT(exact, (k - 1) * step - 1e-9) << direction;
+  }
 }
 
 TEST(RangeFinder, FanAndSphereOfAxes) {
   std::mt19937 rng(5);
   const Scene scene = random_scene(rng, 2);
+  RangeOfMotionOptions vertex_contacts;  // the oracle enumerates vertex contacts only
+  vertex_contacts.include_edge_edge = false;
   const std::vector<AxisRangeOfMotion> fan =
-      range_of_motion_fan(scene.fixed, scene.mobile, scene.centre, Vec3(0, 0, 2), 6);
+      range_of_motion_fan(scene.fixed, scene.mobile, scene.centre, Vec3(0, 0, 2), 6, vertex_contacts);
   ASSERT_EQ(fan.size(), 6u);
   for (std::size_t i = 0; i < fan.size(); ++i) {
     EXPECT_NEAR(fan[i].axis.norm(), 1.0, 1e-15);
