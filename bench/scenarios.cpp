@@ -116,6 +116,54 @@ std::pair<Vector3d, double> impinging_pose(const geometry::TriMesh& fixed, const
 
 }  // namespace
 
+Scenario make_lever_stone() {
+  Scenario s;
+  s.family = "lever_stone";
+  s.name = "lever_stone";
+  s.radial = false;
+  s.fixed = geometry::make_octasphere(Vector3d(45, 18, 0), 10.0, 5);
+  s.mobile = geometry::make_box(Vector3d(-60, -2.5, -4), Vector3d(60, 2.5, 4), 24);
+  s.centre = Vector3d::Zero();
+  const auto [axis, angle] = impinging_pose(s.fixed, s.mobile, s.centre, {Vector3d::UnitZ()}, 2.0);
+  s.axis = axis;
+  s.angle_deg = angle;
+  return s;
+}
+
+Scenario make_torus_rough() {
+  Scenario s;
+  s.family = "torus_rough";
+  s.name = "torus_rough";
+  s.radial = false;
+  // Wheel about the y axis through (0, 0, 25): its lowest rim point touches z = 0.
+  Eigen::Isometry3d to_wheel = Eigen::Isometry3d::Identity();
+  to_wheel.linear() = Eigen::AngleAxisd(std::numbers::pi / 2.0, Vector3d::UnitX()).toRotationMatrix();
+  to_wheel.translation() = Vector3d(0, 0, 25);
+  s.mobile = transformed(geometry::make_torus(Vector3d::Zero(), 20.0, 5.0, 160, 32), to_wheel);
+  // Rough ground: a height field over [-30, 30] x [-12, 12] mm, 0.5 mm spacing, a sum of
+  // incommensurate waves between -0.6 and +1 mm; triangles counter-clockwise seen from above
+  // (outward normal +z: the solid is the ground below).
+  const int nx = 121, ny = 49;
+  for (int j = 0; j < ny; ++j) {
+    for (int i = 0; i < nx; ++i) {
+      const double x = -30.0 + 0.5 * i, y = -12.0 + 0.5 * j;
+      const double z = 0.2 + 0.5 * std::sin(0.9 * x + 0.3) * std::cos(0.7 * y) + 0.3 * std::sin(2.3 * x - 1.7 * y);
+      s.fixed.vertices.emplace_back(x, y, z);
+    }
+  }
+  for (int j = 0; j + 1 < ny; ++j) {
+    for (int i = 0; i + 1 < nx; ++i) {
+      const std::int32_t a = j * nx + i, b = a + 1, c = a + nx + 1, d = a + nx;
+      s.fixed.triangles.push_back({a, b, c});
+      s.fixed.triangles.push_back({a, c, d});
+    }
+  }
+  s.centre = Vector3d(0, 0, 25);
+  s.axis = Vector3d::UnitY();
+  s.angle_deg = 7.0;
+  return s;
+}
+
 std::vector<Scenario> make_striking_hip(const geometry::HipModel& hip, int max_level) {
   const auto& femur = hip.tissue("femur_bone");
   const auto& acetabulum = hip.tissue("acetabular_bone");

@@ -64,6 +64,15 @@ geometry::HipModel make_coarse_hip(double edge_mm = 5.5);
 std::vector<Scenario> make_striking_hip(const geometry::HipModel& hip, int max_level);
 std::vector<Scenario> make_cartilage(const geometry::HipModel& hip, int max_level);
 
+// Thesis §3.7.2, non-medical examples (cylindrical segmenting, about 10 k vertices each):
+//   lever_stone  a 120 mm lever (box) turning about its fulcrum (the z axis through the origin)
+//                against a stone (sphere of radius 10 mm); the pose is the exact first contact
+//                (range finder) plus 2 degrees.
+//   torus_rough  a torus wheel (R 20, r 5 mm, axis y) rolling by 7 degrees about its axis on a
+//                rough surface (open height field, bumps up to ~1 mm into the wheel's rim).
+Scenario make_lever_stone();
+Scenario make_torus_rough();
+
 // The real CT bones (throws hipfai::Error if the files are missing).
 Scenario make_striking_real_ct(const std::string& lhdl_dir);
 
