@@ -41,17 +41,4 @@ struct HipGeneratorResult {
 // the mesher fails (the message names the tissue). Serialised: gmsh is not re-entrant.
 HipGeneratorResult generate_hip(const HipParameters& parameters);
 
-struct HipVolumeMeshResult {
-  std::size_t num_tetrahedra = 0;
-  std::size_t num_nodes = 0;
-  double seconds = 0.0;
-};
-
-// Writes a tetrahedral mesh (gmsh .msh 4.1) of all tissues with one physical volume group per
-// tissue, named as in kHipTissueNames. Bone and soft tissue of the same side are conformal
-// (fragmented); femoral and acetabular sides are meshed independently, so their contact surfaces
-// are coincident but not shared, as a contact FE needs.
-HipVolumeMeshResult write_hip_volume_mesh(const HipParameters& parameters,
-                                          const std::filesystem::path& msh_path);
-
 }  // namespace hipfai::geometry
