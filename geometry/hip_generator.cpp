@@ -1,5 +1,7 @@
 #include "geometry/hip_generator.h"
 
+#include "geometry/gmsh_runtime.h"
+
 #include "core/error.h"
 #include "geometry/hip_frame.h"
 
@@ -21,27 +23,10 @@ namespace {
 namespace occ = gmsh::model::occ;
 using DimTags = gmsh::vectorpair;
 
-// gmsh keeps global state: initialise it once per process and serialise every use.
-std::mutex& gmsh_mutex() {
-  static std::mutex mutex;
-  return mutex;
-}
-
-struct GmshRuntime {
-  GmshRuntime() {
-    gmsh::initialize();
-    gmsh::option::setNumber("General.Terminal", 0);
-  }
-  ~GmshRuntime() { gmsh::finalize(); }
-  GmshRuntime(const GmshRuntime&) = delete;
-  GmshRuntime& operator=(const GmshRuntime&) = delete;
-};
-
 // Holds the lock and a fresh model for one construction.
 class GmshSession {
  public:
-  explicit GmshSession(const std::string& name) : lock_(gmsh_mutex()) {
-    static GmshRuntime runtime;
+  explicit GmshSession(const std::string& name) : lock_(lock_gmsh()) {
     gmsh::clear();
     gmsh::model::add(name);
     // gmsh's own log only on request (HIPFAI_GMSH_VERBOSE=1), to diagnose a failed construction.
@@ -58,7 +43,7 @@ class GmshSession {
   GmshSession& operator=(const GmshSession&) = delete;
 
  private:
-  std::lock_guard<std::mutex> lock_;
+  std::unique_lock<std::mutex> lock_;
 };
 
 DimTags ball(const Vec3& centre, double radius) {

@@ -1,5 +1,7 @@
 #include "geometry/hip_volume_mesh.h"
 
+#include "geometry/gmsh_runtime.h"
+
 #include "core/error.h"
 
 #include <gmsh.h>
@@ -345,23 +347,12 @@ std::vector<Vec3> resample_loop(const std::vector<Vec3>& points, double spacing_
 
 // --- gmsh ----------------------------------------------------------------------------------
 
-std::mutex& gmsh_mutex() {
-  static std::mutex mutex;
-  return mutex;
-}
-
-// gmsh's runtime is process-wide and shared with the hip generator (a second initialize() is
-// ignored). Every option changed here is restored on exit, so the generator's surface meshes are
+// gmsh's runtime is process-wide and shared with the hip generator (geometry/gmsh_runtime.h).
+// Every option changed here is restored on exit, so the generator's surface meshes are
 // not recombined into quads after a volume mesh.
 class GmshQuadSession {
  public:
-  GmshQuadSession() : lock_(gmsh_mutex()) {
-    static const bool initialised = [] {
-      gmsh::initialize();
-      gmsh::option::setNumber("General.Terminal", 0);
-      return true;
-    }();
-    (void)initialised;
+  GmshQuadSession() : lock_(lock_gmsh()) {
     for (const char* name : kOptions) {
       double value = 0.0;
       gmsh::option::getNumber(name, value);
@@ -387,7 +378,7 @@ class GmshQuadSession {
       "Mesh.Smoothing"};
 
  private:
-  std::lock_guard<std::mutex> lock_;
+  std::unique_lock<std::mutex> lock_;
   std::vector<std::pair<std::string, double>> saved_;
 };
 

@@ -7,6 +7,7 @@
 #include "geometry/hip_generator.h"
 #include "geometry/hip_model.h"
 #include "geometry/hip_volume_mesh.h"
+#include "geometry/gmsh_runtime.h"
 
 #include <gmsh.h>
 #include <gtest/gtest.h>
@@ -527,8 +528,7 @@ TEST(HipVolumeMeshFile, RoundTripIsExactAndGmshReadsIt) {
   EXPECT_EQ(back.quad_tags, mesh.quad_tags);
   EXPECT_FALSE(std::filesystem::exists(file.string() + ".tmp"));
 
-  gmsh::initialize();  // a second initialize() is ignored: the generator shares the runtime
-  gmsh::option::setNumber("General.Terminal", 0);
+  std::unique_lock<std::mutex> gmsh_lock = lock_gmsh();  // the runtime the library uses
   gmsh::clear();
   gmsh::open(file.string());
   std::size_t hexes = 0, quads = 0;
@@ -546,6 +546,7 @@ TEST(HipVolumeMeshFile, RoundTripIsExactAndGmshReadsIt) {
   std::string name;
   gmsh::model::getPhysicalName(3, static_cast<int>(VolumeTag::kLabrum), name);
   gmsh::clear();
+  gmsh_lock.unlock();
   EXPECT_EQ(hexes, mesh.hexes.size());
   EXPECT_EQ(quads, mesh.quads.size());
   EXPECT_EQ(groups.size(), 10u);  // 3 tissues + 7 surface tags
