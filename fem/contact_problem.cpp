@@ -48,6 +48,15 @@ const char* to_string(ContactStatus status) {
     case ContactStatus::kActiveSetNotConverged: return "active set not converged";
     case ContactStatus::kLinearSolverFailed: return "linear solver failed";
     case ContactStatus::kNoContact: return "no contact";
+    case ContactStatus::kNonFinite: return "non-finite numbers";
+  }
+  return "unknown";
+}
+
+const char* to_string(LinearSolver solver) {
+  switch (solver) {
+    case LinearSolver::kCgAmg: return "cg_amg";
+    case LinearSolver::kDirect: return "direct";
   }
   return "unknown";
 }
@@ -84,6 +93,26 @@ struct NodeData {
   std::array<std::vector<std::pair<global_dof_index, double>>, 3> master;
 };
 
+// Wall time per phase of one run (verbose output: where the time goes).
+struct PhaseTimes {
+  double setup = 0, contact_search = 0, sparsity = 0, assembly = 0, solver_setup = 0, solves = 0,
+         internal_force = 0, stress = 0;
+};
+
+// Seconds since the previous call (or construction).
+class Lap {
+ public:
+  double operator()() {
+    const auto now = std::chrono::steady_clock::now();
+    const double seconds = std::chrono::duration<double>(now - last_).count();
+    last_ = now;
+    return seconds;
+  }
+
+ private:
+  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+};
+
 struct BondedDof {
   global_dof_index dof;
   unsigned int component;
@@ -104,9 +133,21 @@ class ElasticityPreconditioner {
  public:
   ElasticityPreconditioner(const dealii::PETScWrappers::MPI::SparseMatrix& matrix,
                            const std::vector<dealii::Point<3>>& support_points,
-                           const dealii::IndexSet& owned, MPI_Comm comm) {
+                           const dealii::IndexSet& owned, MPI_Comm comm, LinearSolver solver) {
     KSPCreate(comm, &ksp_);
     KSPSetOperators(ksp_, matrix, matrix);
+    if (solver == LinearSolver::kDirect) {
+      // The condensed matrix is symmetric positive definite: Cholesky (half the fill of LU).
+      // Factorised in KSPSetUp, then every right-hand side is two triangular solves.
+      direct_ = true;
+      KSPSetType(ksp_, KSPPREONLY);
+      PC pc;
+      KSPGetPC(ksp_, &pc);
+      PCSetType(pc, PCCHOLESKY);
+      PCFactorSetMatSolverType(pc, MATSOLVERMUMPS);
+      KSPSetUp(ksp_);
+      return;
+    }
     KSPSetType(ksp_, KSPCG);
     KSPSetNormType(ksp_, KSP_NORM_UNPRECONDITIONED);
     PC pc;
@@ -151,7 +192,9 @@ class ElasticityPreconditioner {
   // Iterations, negated when CG did not reach the tolerance.
   int solve(const dealii::PETScWrappers::MPI::Vector& rhs, dealii::PETScWrappers::MPI::Vector& x,
             double relative_tolerance, unsigned int max_iterations) {
-    KSPSetTolerances(ksp_, relative_tolerance, 0.0, PETSC_DEFAULT, static_cast<PetscInt>(max_iterations));
+    if (!direct_) {
+      KSPSetTolerances(ksp_, relative_tolerance, 0.0, PETSC_DEFAULT, static_cast<PetscInt>(max_iterations));
+    }
     KSPSolve(ksp_, rhs, x);
     PetscInt iterations = 0;
     KSPGetIterationNumber(ksp_, &iterations);
@@ -162,6 +205,7 @@ class ElasticityPreconditioner {
 
  private:
   KSP ksp_ = nullptr;
+  bool direct_ = false;
 };
 
 }  // namespace
@@ -180,6 +224,7 @@ class ContactProblem::Impl {
 
   ContactResult run(ContactProblem& model);
   dealii::Tensor<1, 3> displacement_at(const dealii::Point<3>& point) const;
+  void output_results(const std::string& file) const;
 
   MPI_Comm comm;
   ContactOptions options;
@@ -200,14 +245,15 @@ class ContactProblem::Impl {
                       dealii::FEValues<3>& fe_values, dealii::FullMatrix<double>& matrix) const;
   std::vector<Linearization> solve_linear(
       const std::vector<std::vector<dealii::Tensor<1, 3>>>& translation_sets);
-  std::vector<double> internal_force(const dealii::Vector<double>& displacement) const;
+  std::vector<std::vector<double>> internal_forces(const std::vector<dealii::Vector<double>*>& displacements) const;
   std::vector<dealii::Tensor<1, 3>> transmitted_force(const ContactProblem& model,
                                                       const Linearization& state) const;
   void evaluate_nodes(const Linearization& state,
                       const std::vector<dealii::Tensor<1, 3>>& translations,
                       std::vector<double>& force, std::vector<double>& gap) const;
-  void output_results(const std::string& file) const;
-  void von_mises(const ContactProblem& model, ContactResult& result) const;
+  void von_mises(const ContactProblem& model, ContactResult& result);
+  void initial_active_set(const std::vector<dealii::Tensor<1, 3>>& translations, double gap_tolerance);
+  static bool make_finite(ContactResult& result, dealii::Vector<double>& displacement);
 
   std::map<dealii::types::material_id, std::pair<double, double>> lame_by_material;
   dealii::IndexSet owned_dofs;
@@ -220,10 +266,16 @@ class ContactProblem::Impl {
   std::vector<dealii::Point<3>> reference_vertices;
   std::vector<NodeData> nodes;
   std::vector<bool> active;
+  // Active set of the last converged run, keyed by (pair, x-component dof of the slave node).
+  std::map<std::pair<unsigned int, global_dof_index>, bool> converged_active;
   dealii::Vector<double> solution;
+  // Of the last run, for write_vtu: per node of `nodes`, and per active cell.
+  std::vector<double> node_pressure, node_gap;
+  dealii::Vector<float> cell_von_mises;
   unsigned int linear_solves = 0;
   unsigned int linear_iterations = 0;
   bool linear_failure = false;
+  PhaseTimes times;
 };
 
 void ContactProblem::Impl::setup_system(const ContactProblem& model) {
@@ -535,9 +587,13 @@ void ContactProblem::Impl::cell_stiffness(const dealii::DoFHandler<3>::active_ce
   }
 }
 
-std::vector<double> ContactProblem::Impl::internal_force(
-    const dealii::Vector<double>& displacement) const {
-  std::vector<double> force(dof_handler.n_dofs(), 0.0);
+std::vector<std::vector<double>> ContactProblem::Impl::internal_forces(
+    const std::vector<dealii::Vector<double>*>& displacements) const {
+  // One pass over the cells for all states: the cell stiffness, the expensive part, is
+  // computed once and applied to every state's local displacement.
+  const std::size_t states = displacements.size();
+  const std::size_t n_dofs = dof_handler.n_dofs();
+  std::vector<double> forces(states * n_dofs, 0.0);
   dealii::FEValues<3> fe_values(mapping, fe, dealii::QGauss<3>(fe.degree + 1),
                                 dealii::update_gradients | dealii::update_JxW_values);
   const unsigned int n = fe.n_dofs_per_cell();
@@ -548,13 +604,20 @@ std::vector<double> ContactProblem::Impl::internal_force(
     if (!cell->is_locally_owned()) continue;
     cell_stiffness(cell, fe_values, matrix);
     cell->get_dof_indices(dofs);
-    for (unsigned int i = 0; i < n; ++i) local_u[i] = displacement[dofs[i]];
-    matrix.vmult(local_f, local_u);
-    for (unsigned int i = 0; i < n; ++i) force[dofs[i]] += local_f[i];
+    for (std::size_t k = 0; k < states; ++k) {
+      for (unsigned int i = 0; i < n; ++i) local_u[i] = (*displacements[k])[dofs[i]];
+      matrix.vmult(local_f, local_u);
+      double* force = forces.data() + k * n_dofs;
+      for (unsigned int i = 0; i < n; ++i) force[dofs[i]] += local_f[i];
+    }
   }
-  MPI_Allreduce(MPI_IN_PLACE, force.data(), static_cast<int>(force.size()), MPI_DOUBLE, MPI_SUM,
+  MPI_Allreduce(MPI_IN_PLACE, forces.data(), static_cast<int>(forces.size()), MPI_DOUBLE, MPI_SUM,
                 comm);
-  return force;
+  std::vector<std::vector<double>> result(states);
+  for (std::size_t k = 0; k < states; ++k) {
+    result[k].assign(forces.begin() + k * n_dofs, forces.begin() + (k + 1) * n_dofs);
+  }
+  return result;
 }
 
 std::vector<Linearization> ContactProblem::Impl::solve_linear(
@@ -562,6 +625,7 @@ std::vector<Linearization> ContactProblem::Impl::solve_linear(
   // One active set, several rigid translations: the condensed matrix depends only on the active
   // set (the translations enter the inhomogeneities), so it is assembled and its preconditioner
   // set up once, and every translation costs one right-hand side and one CG solve.
+  Lap lap;
   std::vector<dealii::AffineConstraints<double>> constraints;
   for (const auto& translations : translation_sets) constraints.push_back(make_constraints(translations));
   const unsigned int rank = dealii::Utilities::MPI::this_mpi_process(comm);
@@ -571,6 +635,7 @@ std::vector<Linearization> ContactProblem::Impl::solve_linear(
   dealii::SparsityTools::distribute_sparsity_pattern(pattern, owned_dofs, comm, all_dofs);
   dealii::PETScWrappers::MPI::SparseMatrix matrix;
   matrix.reinit(owned_dofs, owned_dofs, pattern, comm);
+  times.sparsity += lap();
   std::vector<dealii::PETScWrappers::MPI::Vector> rhs(translation_sets.size());
   for (auto& vector : rhs) vector.reinit(owned_dofs, comm);
 
@@ -591,6 +656,7 @@ std::vector<Linearization> ContactProblem::Impl::solve_linear(
   }
   matrix.compress(dealii::VectorOperation::add);
   for (auto& vector : rhs) vector.compress(dealii::VectorOperation::add);
+  times.assembly += lap();
 
   std::vector<Linearization> states;
   std::unique_ptr<ElasticityPreconditioner> preconditioner;
@@ -599,7 +665,11 @@ std::vector<Linearization> ContactProblem::Impl::solve_linear(
     const double rhs_norm = rhs[k].l2_norm();
     ++linear_solves;
     if (rhs_norm > 0.0) {
-      if (!preconditioner) preconditioner = std::make_unique<ElasticityPreconditioner>(matrix, support_points, owned_dofs, comm);
+      if (!preconditioner) {
+        preconditioner = std::make_unique<ElasticityPreconditioner>(matrix, support_points, owned_dofs, comm,
+                                                                     options.linear_solver);
+        times.solver_setup += lap();
+      }
       const int iterations = preconditioner->solve(rhs[k], x, options.linear_relative_tolerance,
                                                    options.max_linear_iterations);
       if (iterations < 0) linear_failure = true;
@@ -608,9 +678,14 @@ std::vector<Linearization> ContactProblem::Impl::solve_linear(
     Linearization state;
     state.displacement = dealii::Vector<double>(x);
     constraints[k].distribute(state.displacement);
-    state.internal_force = internal_force(state.displacement);
     states.push_back(std::move(state));
   }
+  times.solves += lap();
+  std::vector<dealii::Vector<double>*> displacements;
+  for (Linearization& state : states) displacements.push_back(&state.displacement);
+  std::vector<std::vector<double>> forces = internal_forces(displacements);
+  for (std::size_t k = 0; k < states.size(); ++k) states[k].internal_force = std::move(forces[k]);
+  times.internal_force += lap();
   return states;
 }
 
@@ -658,6 +733,52 @@ void ContactProblem::Impl::evaluate_nodes(const Linearization& state,
   }
 }
 
+void ContactProblem::Impl::initial_active_set(const std::vector<dealii::Tensor<1, 3>>& translations,
+                                              double gap_tolerance) {
+  active.assign(nodes.size(), false);
+  for (std::size_t n = 0; n < nodes.size(); ++n) {
+    const NodeData& node = nodes[n];
+    if (options.warm_start_active_set) {
+      const auto it = converged_active.find({node.pair, node.dofs[0]});
+      if (it != converged_active.end()) {
+        active[n] = it->second;
+        continue;
+      }
+    }
+    double predicted = node.initial_gap;
+    if (node.rigid_body >= 0) predicted -= translations[node.rigid_body] * node.normal;
+    active[n] = predicted <= gap_tolerance;
+  }
+}
+
+bool ContactProblem::Impl::make_finite(ContactResult& result, dealii::Vector<double>& displacement) {
+  bool finite = true;
+  const auto fix = [&finite](double& value) {
+    if (!std::isfinite(value)) {
+      finite = false;
+      value = 0.0;
+    }
+  };
+  const auto fix_tensor = [&fix](dealii::Tensor<1, 3>& tensor) {
+    for (unsigned int d = 0; d < 3; ++d) fix(tensor[d]);
+  };
+  for (double& value : displacement) fix(value);
+  for (ContactNode& node : result.nodes) {
+    fix(node.force_n);
+    fix(node.pressure_mpa);
+    fix(node.gap_mm);
+  }
+  for (auto& force : result.pair_force_n) fix_tensor(force);
+  for (auto& translation : result.rigid_translation_mm) fix_tensor(translation);
+  for (double* value : {&result.max_penetration_mm, &result.contact_area_mm2, &result.max_pressure_mpa,
+                        &result.mean_pressure_mpa}) {
+    fix(*value);
+  }
+  for (double& value : result.max_von_mises_mpa) fix(value);
+  for (double& value : result.p95_von_mises_mpa) fix(value);
+  return finite;
+}
+
 void ContactProblem::Impl::place_bodies(const ContactProblem& model) {
   // Every run starts from the reference vertices (saved on the first run), so the rotations of
   // successive motion steps do not accumulate round-off.
@@ -691,10 +812,14 @@ void ContactProblem::Impl::place_bodies(const ContactProblem& model) {
 
 ContactResult ContactProblem::Impl::run(ContactProblem& model) {
   const auto start = std::chrono::steady_clock::now();
+  times = PhaseTimes();
+  Lap lap;
   place_bodies(model);
   setup_system(model);
   collect_fixed_dofs(model);
+  times.setup = lap();
   collect_contact_nodes(model);
+  times.contact_search = lap();
   linear_solves = 0;
   linear_iterations = 0;
   linear_failure = false;
@@ -723,13 +848,7 @@ ContactResult ContactProblem::Impl::run(ContactProblem& model) {
 
   // Gaps well below the solver's resolution of the displacement count as closed.
   const double gap_tolerance = 1e-10 * dealii::GridTools::diameter(triangulation);
-  active.assign(nodes.size(), false);
-  for (std::size_t n = 0; n < nodes.size(); ++n) {
-    const NodeData& node = nodes[n];
-    double predicted = node.initial_gap;
-    if (node.rigid_body >= 0) predicted -= translations[node.rigid_body] * node.normal;
-    active[n] = predicted <= gap_tolerance;
-  }
+  initial_active_set(translations, gap_tolerance);
   pcout << "fem: " << result.n_cells << " cells, " << result.n_dofs << " dofs, " << nodes.size()
         << " contact nodes, " << result.n_ranks << " rank(s)" << std::endl;
 
@@ -847,17 +966,38 @@ ContactResult ContactProblem::Impl::run(ContactProblem& model) {
     result.max_pressure_mpa = std::max(result.max_pressure_mpa, node.pressure_mpa);
   }
   if (result.contact_area_mm2 > 0.0) result.mean_pressure_mpa = total_force / result.contact_area_mm2;
+  lap();
   von_mises(model, result);
+  times.stress = lap();
+  // Every rank holds the same replicated numbers, so all ranks reach the same verdict.
+  if (!make_finite(result, solution)) result.status = ContactStatus::kNonFinite;
+  node_pressure.assign(nodes.size(), 0.0);
+  node_gap.assign(nodes.size(), 0.0);
+  for (std::size_t n = 0; n < nodes.size(); ++n) {
+    node_pressure[n] = result.nodes[n].pressure_mpa;
+    node_gap[n] = result.nodes[n].gap_mm;
+  }
+  for (float& value : cell_von_mises) {
+    if (!std::isfinite(value)) value = 0.0f;
+  }
+  if (result.status == ContactStatus::kConverged) {
+    converged_active.clear();
+    for (std::size_t n = 0; n < nodes.size(); ++n) converged_active[{nodes[n].pair, nodes[n].dofs[0]}] = active[n];
+  }
   if (!options.vtu_file.empty()) output_results(options.vtu_file);
   result.wall_time_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   pcout << "fem: " << to_string(result.status) << " after " << result.active_set_iterations
         << " active-set iterations, " << result.linear_solves << " linear solves, "
         << result.linear_iterations << " CG iterations, " << result.wall_time_s << " s\n";
+  pcout << "fem: time (s): setup " << times.setup << ", contact search " << times.contact_search
+        << ", sparsity " << times.sparsity << ", assembly " << times.assembly << ", solver setup "
+        << times.solver_setup << ", solves " << times.solves << ", internal force "
+        << times.internal_force << ", stress " << times.stress << std::endl;
   return result;
 }
 
-void ContactProblem::Impl::von_mises(const ContactProblem& model, ContactResult& result) const {
+void ContactProblem::Impl::von_mises(const ContactProblem& model, ContactResult& result) {
   // Every rank holds the whole solution: evaluate all cells, no communication needed.
   std::map<dealii::types::material_id, std::size_t> body_of_material;
   for (std::size_t b = 0; b < model.bodies.size(); ++b) body_of_material[model.bodies[b].material_id] = b;
@@ -865,6 +1005,7 @@ void ContactProblem::Impl::von_mises(const ContactProblem& model, ContactResult&
   dealii::FEValues<3> fe_values(mapping, fe, dealii::QGauss<3>(fe.degree + 1), dealii::update_gradients);
   const dealii::FEValuesExtractors::Vector displacement(0);
   std::vector<dealii::SymmetricTensor<2, 3>> strains(fe_values.n_quadrature_points);
+  cell_von_mises.reinit(triangulation.n_active_cells());
   for (const auto& cell : dof_handler.active_cell_iterators()) {
     fe_values.reinit(cell);
     fe_values[displacement].get_function_symmetric_gradients(solution, strains);
@@ -875,6 +1016,8 @@ void ContactProblem::Impl::von_mises(const ContactProblem& model, ContactResult&
           lambda * dealii::trace(strain) * dealii::unit_symmetric_tensor<3>() + 2.0 * mu * strain;
       const dealii::SymmetricTensor<2, 3> deviator = dealii::deviator(stress);
       out.push_back(std::sqrt(1.5 * (deviator * deviator)));
+      float& cell_max = cell_von_mises[cell->active_cell_index()];
+      cell_max = std::max(cell_max, static_cast<float>(out.back()));
     }
   }
   result.max_von_mises_mpa.assign(model.bodies.size(), 0.0);
@@ -902,6 +1045,22 @@ void ContactProblem::Impl::output_results(const std::string& file) const {
     material[cell->active_cell_index()] = static_cast<float>(cell->material_id());
   }
   data_out.add_data_vector(material, "material_id");
+  if (cell_von_mises.size() == triangulation.n_active_cells()) {
+    data_out.add_data_vector(cell_von_mises, "von_mises_cell_max_mpa");
+  }
+  // Contact quantities live on the slave nodes: carried as the three scalar components of one
+  // nodal vector (x: pressure, y: gap, z: active), zero away from the contact surfaces. The
+  // patches are of the element degree, so their vertices are the nodes and show exact values.
+  dealii::Vector<double> contact(dof_handler.n_dofs());
+  for (std::size_t n = 0; n < nodes.size() && n < node_pressure.size(); ++n) {
+    contact[nodes[n].dofs[0]] = node_pressure[n];
+    contact[nodes[n].dofs[1]] = node_gap[n];
+    contact[nodes[n].dofs[2]] = active[n] ? 1.0 : 0.0;
+  }
+  const std::vector<std::string> contact_names{"contact_pressure_mpa", "contact_gap_mm", "contact_active"};
+  const std::vector<dealii::DataComponentInterpretation::DataComponentInterpretation> scalars(
+      3, dealii::DataComponentInterpretation::component_is_scalar);
+  data_out.add_data_vector(contact, contact_names, dealii::DataOut<3>::type_dof_data, scalars);
   data_out.build_patches(mapping, fe.degree);
   data_out.write_vtu_in_parallel(file, comm);
 }
@@ -930,5 +1089,11 @@ ContactResult ContactProblem::run() { return impl_->run(*this); }
 dealii::Tensor<1, 3> ContactProblem::displacement_at(const dealii::Point<3>& point_mm) const {
   return impl_->displacement_at(point_mm);
 }
+
+MPI_Comm ContactProblem::communicator() const { return impl_->comm; }
+
+ContactOptions& ContactProblem::options() { return impl_->options; }
+
+void ContactProblem::write_vtu(const std::string& file) const { impl_->output_results(file); }
 
 }  // namespace hipfai::fem

@@ -86,17 +86,32 @@ struct ContactPair {
   dealii::types::boundary_id master_boundary_id = 0;  // used when master_rigid_body < 0
 };
 
+// kCgAmg: CG + smoothed-aggregation AMG (GAMG with rigid-body modes), scales to large meshes
+// and many ranks. kDirect: sparse Cholesky by MUMPS, factorised once per active set and reused
+// for its 1 + (free directions) right-hand sides; faster on small problems (a few 10^4 dofs),
+// memory grows faster than linearly.
+enum class LinearSolver { kCgAmg, kDirect };
+const char* to_string(LinearSolver solver);
+
 struct ContactOptions {
   unsigned int fe_degree = 2;       // Q2: no volumetric locking at nu = 0.45
   unsigned int mapping_degree = 2;  // curved boundaries follow their manifolds
+  LinearSolver linear_solver = LinearSolver::kCgAmg;
   double linear_relative_tolerance = 1e-12;
   unsigned int max_linear_iterations = 10000;
   unsigned int max_active_set_iterations = 40;
+  // Start the active set from the last converged solve's (nodes matched by their dofs; nodes
+  // new to the contact search are predicted from the geometric overlap). A motion's step is
+  // close to the previous one, so this saves most active-set iterations; the converged set
+  // does not depend on the start.
+  bool warm_start_active_set = true;
   std::string vtu_file;  // written after the solve when not empty
   bool verbose = false;  // per-iteration statistics on rank 0
 };
 
-enum class ContactStatus { kConverged, kActiveSetNotConverged, kLinearSolverFailed, kNoContact };
+// kNonFinite: a NaN or infinity appeared in the solution or a summary (the numbers of such a
+// result are replaced by 0, so no NaN ever leaves the solver).
+enum class ContactStatus { kConverged, kActiveSetNotConverged, kLinearSolverFailed, kNoContact, kNonFinite };
 const char* to_string(ContactStatus status);
 
 struct ContactNode {
@@ -119,6 +134,10 @@ struct ContactResult {
   unsigned int linear_solves = 0;
   unsigned int linear_iterations = 0;
   double wall_time_s = 0.0;
+  // Set by run_motion: solves the step was split into (1: none) and failed attempts that were
+  // cut back; the counters and wall time above then sum over all attempts.
+  unsigned int sub_steps = 1;
+  unsigned int cutbacks = 0;
   std::vector<ContactNode> nodes;
   std::vector<dealii::Tensor<1, 3>> pair_force_n;  // force on the slave bodies, per pair
   std::vector<dealii::Tensor<1, 3>> rigid_translation_mm;
@@ -141,6 +160,10 @@ class ContactProblem {
 
   // Fill the mesh (identically on every rank), set material and boundary ids, attach manifolds.
   dealii::parallel::shared::Triangulation<3>& triangulation();
+  MPI_Comm communicator() const;
+  // The solver options, to change between runs (iteration limits, solver, warm start);
+  // fe_degree and mapping_degree are fixed at construction.
+  ContactOptions& options();
 
   std::vector<Body> bodies;
   std::vector<RigidBody> rigid_bodies;
@@ -154,6 +177,12 @@ class ContactProblem {
 
   // Displacement at a point of the reference configuration (after run()), for checks.
   dealii::Tensor<1, 3> displacement_at(const dealii::Point<3>& point_mm) const;
+
+  // Fields of the last run() to one .vtu file (collective: every rank calls it): displacement
+  // (mm, on the rotated configuration), material id, von Mises (MPa, largest over each cell's
+  // Gauss points) and, at the contact slave nodes, contact pressure (MPa), gap (mm) and the
+  // active flag (0 elsewhere).
+  void write_vtu(const std::string& file) const;
 
  private:
   class Impl;

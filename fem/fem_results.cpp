@@ -1,10 +1,12 @@
 #include "fem/fem_results.h"
 
 #include "core/error.h"
+#include "core/version.h"
 
 #include <hdf5.h>
 
 #include <array>
+#include <cstdio>
 
 namespace hipfai::fem {
 
@@ -48,12 +50,15 @@ void FemResultsWriter::append(const MotionStep& step, const ContactResult& resul
 
 void FemResultsWriter::write() const {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors become our one-line messages
-  const hid_t file = H5Fcreate(file_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  // Written under a temporary name and renamed when complete: a results file that exists is
+  // whole, even if the run is killed while it is being rewritten.
+  const std::string temporary = file_ + ".tmp";
+  const hid_t file = H5Fcreate(temporary.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
   if (file < 0) throw_error(file_, ": cannot create the HDF5 results file");
   const hsize_t n = results_.size();
   const hsize_t bodies = body_names_.size();
   const hid_t root_space = H5Screate(H5S_SCALAR);
-  const int version = 1;
+  const int version = 2;
   const hid_t version_attribute =
       H5Acreate2(file, "layout_version", H5T_STD_I32LE, root_space, H5P_DEFAULT, H5P_DEFAULT);
   H5Awrite(version_attribute, H5T_NATIVE_INT, &version);
@@ -62,9 +67,12 @@ void FemResultsWriter::write() const {
   std::string names;
   for (const std::string& name : body_names_) names += (names.empty() ? "" : ";") + name;
   set_string_attribute(file, "bodies", names);
+  set_string_attribute(file, "code_version", std::string(kVersion) + " (" + kGitSha + ")");
+  set_string_attribute(file, "units", "mm, N, MPa, s");
 
   const hid_t group = H5Gcreate2(file, "steps", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-  std::vector<int> status, newton, solves, cg;
+  std::vector<int> status, newton, solves, cg, sub_steps, cutbacks, cells;
+  std::vector<double> dofs;
   std::vector<double> wall, rotation, force, translation, resultant, max_p, mean_p, area, penetration,
       max_vm, p95_vm;
   for (std::size_t k = 0; k < results_.size(); ++k) {
@@ -73,6 +81,10 @@ void FemResultsWriter::write() const {
     newton.push_back(static_cast<int>(r.active_set_iterations));
     solves.push_back(static_cast<int>(r.linear_solves));
     cg.push_back(static_cast<int>(r.linear_iterations));
+    sub_steps.push_back(static_cast<int>(r.sub_steps));
+    cutbacks.push_back(static_cast<int>(r.cutbacks));
+    cells.push_back(static_cast<int>(r.n_cells));
+    dofs.push_back(static_cast<double>(r.n_dofs));
     wall.push_back(r.wall_time_s);
     for (unsigned i = 0; i < 3; ++i) {
       for (unsigned j = 0; j < 3; ++j) rotation.push_back(steps_[k].rotation[i][j]);
@@ -99,6 +111,10 @@ void FemResultsWriter::write() const {
   write_dataset(group, "active_set_iterations", H5T_NATIVE_INT, newton.data(), {n}, "1");
   write_dataset(group, "linear_solves", H5T_NATIVE_INT, solves.data(), {n}, "1");
   write_dataset(group, "linear_iterations", H5T_NATIVE_INT, cg.data(), {n}, "1");
+  write_dataset(group, "sub_steps", H5T_NATIVE_INT, sub_steps.data(), {n}, "1");
+  write_dataset(group, "cutbacks", H5T_NATIVE_INT, cutbacks.data(), {n}, "1");
+  write_dataset(group, "n_cells", H5T_NATIVE_INT, cells.data(), {n}, "1");
+  write_dataset(group, "n_dofs", H5T_NATIVE_DOUBLE, dofs.data(), {n}, "1");
   write_dataset(group, "wall_time_s", H5T_NATIVE_DOUBLE, wall.data(), {n}, "s");
   write_dataset(group, "rotation", H5T_NATIVE_DOUBLE, rotation.data(), {n, 3, 3}, "1");
   write_dataset(group, "applied_force_n", H5T_NATIVE_DOUBLE, force.data(), {n, 3}, "N");
@@ -112,6 +128,7 @@ void FemResultsWriter::write() const {
   write_dataset(group, "p95_von_mises_mpa", H5T_NATIVE_DOUBLE, p95_vm.data(), {n, bodies}, "MPa");
   H5Gclose(group);
   if (H5Fclose(file) < 0) throw_error(file_, ": cannot write the HDF5 results file");
+  if (std::rename(temporary.c_str(), file_.c_str()) != 0) throw_error(file_, ": cannot write the HDF5 results file");
 }
 
 }  // namespace hipfai::fem

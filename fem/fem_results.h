@@ -1,13 +1,20 @@
 // hipfai — per-step results of an FE motion, written to HDF5.
 //
-// Layout (version 1; every dataset has a "unit" attribute, "1" for counts):
-//   /                       attributes: layout_version = 1, bodies (names joined by ';')
+// Layout (version 2; every dataset has a "unit" attribute, "1" for counts). Documented with
+// examples in docs/results-layout.md; keep the two in step.
+//   /                       attributes: layout_version = 2, bodies (names joined by ';'),
+//                                       code_version, units
 //   /steps/status                 int[n]          0 converged, 1 active set not converged,
-//                                                 2 linear solver failed, 3 no contact
-//   /steps/active_set_iterations  int[n]          Newton (semismooth active-set) iterations
-//   /steps/linear_solves          int[n]
-//   /steps/linear_iterations      int[n]          CG iterations, summed over the solves
-//   /steps/wall_time_s            double[n]       s
+//                                                 2 linear solver failed, 3 no contact,
+//                                                 4 non-finite numbers (replaced by 0)
+//   /steps/active_set_iterations  int[n]          Newton (semismooth active-set) iterations,
+//                                                 summed over sub-steps and failed attempts
+//   /steps/linear_solves          int[n]          likewise
+//   /steps/linear_iterations      int[n]          CG iterations (1 per direct solve), likewise
+//   /steps/sub_steps              int[n]          solves the step was split into (1: no cutback)
+//   /steps/cutbacks               int[n]          failed attempts that were halved
+//   /steps/n_cells, n_dofs        int[n], double[n]  mesh size of the solve
+//   /steps/wall_time_s            double[n]       s, all attempts of the step
 //   /steps/rotation               double[n][3][3] femur rotation about the HJC (row-major R)
 //   /steps/applied_force_n        double[n][3]    N, joint reaction applied by the femur
 //   /steps/femur_translation_mm   double[n][3]    mm
@@ -17,7 +24,10 @@
 //   /steps/max_penetration_mm     double[n]       mm
 //   /steps/max_von_mises_mpa      double[n][bodies] MPa, over Gauss points
 //   /steps/p95_von_mises_mpa      double[n][bodies] MPa, nearest-rank 95th percentile
-// The file is rewritten after every step, so an interrupted motion keeps its finished steps.
+// Version 2 adds sub_steps, cutbacks, n_cells, n_dofs and the code_version/units attributes;
+// every version-1 dataset is unchanged.
+// The file is rewritten after every step (to <file>.tmp, then renamed), so an interrupted motion
+// keeps its finished steps and the file that exists is always whole.
 #pragma once
 
 #include "fem/contact_problem.h"

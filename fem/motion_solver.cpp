@@ -2,7 +2,13 @@
 
 #include "core/error.h"
 
+#include <deal.II/base/data_out_base.h>
+#include <deal.II/base/mpi.h>
+
+#include <array>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 
 namespace hipfai::fem {
 
@@ -23,6 +29,118 @@ dealii::Tensor<2, 3> rotation_about_axis(const dealii::Tensor<1, 3>& axis_in, do
   return rotation;
 }
 
+namespace {
+
+// Unit quaternion (w, x, y, z) of a rotation matrix (Shepperd: branch on the largest of the
+// four squared components, so no division by a small number).
+std::array<double, 4> to_quaternion(const dealii::Tensor<2, 3>& r) {
+  const double trace = r[0][0] + r[1][1] + r[2][2];
+  std::array<double, 4> q{};
+  if (trace >= r[0][0] && trace >= r[1][1] && trace >= r[2][2]) {
+    const double w = 0.5 * std::sqrt(1.0 + trace);
+    q = {w, (r[2][1] - r[1][2]) / (4 * w), (r[0][2] - r[2][0]) / (4 * w), (r[1][0] - r[0][1]) / (4 * w)};
+  } else {
+    unsigned i = 0;
+    if (r[1][1] > r[i][i]) i = 1;
+    if (r[2][2] > r[i][i]) i = 2;
+    const unsigned j = (i + 1) % 3, k = (i + 2) % 3;
+    const double v = 0.5 * std::sqrt(1.0 + r[i][i] - r[j][j] - r[k][k]);
+    q[0] = (r[k][j] - r[j][k]) / (4 * v);
+    q[1 + i] = v;
+    q[1 + j] = (r[j][i] + r[i][j]) / (4 * v);
+    q[1 + k] = (r[k][i] + r[i][k]) / (4 * v);
+  }
+  return q;
+}
+
+// Counters of a failed attempt, added to the step's totals.
+void add_effort(ContactResult& total, const ContactResult& attempt) {
+  total.active_set_iterations += attempt.active_set_iterations;
+  total.linear_solves += attempt.linear_solves;
+  total.linear_iterations += attempt.linear_iterations;
+  total.wall_time_s += attempt.wall_time_s;
+}
+
+struct State {
+  dealii::Tensor<2, 3> rotation;
+  dealii::Tensor<1, 3> force_n;
+  dealii::Tensor<1, 3> translation_mm;
+};
+
+class CutbackSolver {
+ public:
+  CutbackSolver(ContactProblem& problem, unsigned int body, unsigned int max_depth)
+      : problem_(problem), body_(body), max_depth_(max_depth) {}
+
+  // Solves `target` starting from the converged `from`; on success `from` becomes the target's
+  // converged state. Returns the last attempt with the effort of all attempts summed.
+  ContactResult solve(State& from, const MotionStep& target) {
+    ContactResult effort;  // only its counters are used
+    effort.sub_steps = 0;
+    ContactResult last = attempt(from, target, 0, effort);
+    last.active_set_iterations = effort.active_set_iterations;
+    last.linear_solves = effort.linear_solves;
+    last.linear_iterations = effort.linear_iterations;
+    last.wall_time_s = effort.wall_time_s;
+    last.sub_steps = effort.sub_steps;
+    last.cutbacks = effort.cutbacks;
+    return last;
+  }
+
+ private:
+  ContactResult attempt(State& from, const MotionStep& target, unsigned int depth, ContactResult& effort) {
+    RigidBody& body = problem_.rigid_bodies[body_];
+    body.rotation = target.rotation;
+    body.force_n = target.force_n;
+    body.translation_mm = from.translation_mm;
+    ContactResult result = problem_.run();
+    add_effort(effort, result);
+    // ContactProblem::run checks every number it returns (kNonFinite otherwise).
+    if (result.status == ContactStatus::kConverged) {
+      ++effort.sub_steps;
+      from = {target.rotation, target.force_n, result.rigid_translation_mm[body_]};
+      return result;
+    }
+    if (depth >= max_depth_) {
+      ++effort.sub_steps;
+      return result;
+    }
+    ++effort.cutbacks;
+    const MotionStep middle{interpolate_rotation(from.rotation, target.rotation, 0.5),
+                            0.5 * (from.force_n + target.force_n)};
+    ContactResult half = attempt(from, middle, depth + 1, effort);
+    if (half.status != ContactStatus::kConverged) return half;
+    return attempt(from, target, depth + 1, effort);
+  }
+
+  ContactProblem& problem_;
+  unsigned int body_;
+  unsigned int max_depth_;
+};
+
+// ParaView collection of the written steps, the step number as time.
+void write_pvd(const std::string& prefix, const std::vector<std::pair<double, std::string>>& files) {
+  std::ofstream out(prefix + ".pvd");
+  if (!out) throw_error(prefix, ".pvd: cannot write the ParaView collection");
+  dealii::DataOutBase::write_pvd_record(out, files);
+  if (!out) throw_error(prefix, ".pvd: cannot write the ParaView collection");
+}
+
+}  // namespace
+
+dealii::Tensor<2, 3> interpolate_rotation(const dealii::Tensor<2, 3>& from, const dealii::Tensor<2, 3>& to,
+                                          double s) {
+  // Relative rotation from^T to, as axis and angle in [0, pi]; the shortest arc is s of it.
+  const std::array<double, 4> q = to_quaternion(dealii::transpose(from) * to);
+  const double sine = std::sqrt(q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+  double angle = 2.0 * std::atan2(sine, std::abs(q[0]));  // |w|: the shorter of q and -q
+  if (!(sine > 0.0)) return from;
+  const double sign = q[0] < 0.0 ? -1.0 : 1.0;
+  const dealii::Tensor<1, 3> axis({sign * q[1] / sine, sign * q[2] / sine, sign * q[3] / sine});
+  angle *= s;
+  return from * rotation_about_axis(axis, angle);
+}
+
 std::vector<ContactResult> run_motion(
     ContactProblem& problem, const std::vector<MotionStep>& steps, const MotionOptions& options,
     const std::function<void(std::size_t, const ContactResult&)>& on_step) {
@@ -30,19 +148,31 @@ std::vector<ContactResult> run_motion(
     throw_error("fem motion: moving body ", options.moving_body, " does not exist (",
                 problem.rigid_bodies.size(), " rigid bodies)");
   }
+  if (options.vtu_every > 0 && options.vtu_prefix.empty()) {
+    throw_error("fem motion: VTU output every ", options.vtu_every, " steps needs a file prefix");
+  }
   RigidBody& body = problem.rigid_bodies[options.moving_body];
   body.load_controlled = true;
-  body.free_directions = {dealii::Tensor<1, 3>({1, 0, 0}), dealii::Tensor<1, 3>({0, 1, 0}),
-                          dealii::Tensor<1, 3>({0, 0, 1})};
+  body.free_directions = options.free_directions;
+  if (body.free_directions.empty()) {
+    body.free_directions = {dealii::Tensor<1, 3>({1, 0, 0}), dealii::Tensor<1, 3>({0, 1, 0}),
+                            dealii::Tensor<1, 3>({0, 0, 1})};
+  }
+  // The last converged state: the body as given before the first step.
+  State converged{body.rotation, body.force_n, body.translation_mm};
+  CutbackSolver solver(problem, options.moving_body, options.max_cutback_depth);
+  const bool rank0 = dealii::Utilities::MPI::this_mpi_process(problem.communicator()) == 0;
+  std::vector<std::pair<double, std::string>> vtu_files;
   std::vector<ContactResult> results;
-  dealii::Tensor<1, 3> converged_translation = body.translation_mm;
   for (std::size_t k = 0; k < steps.size(); ++k) {
-    body.rotation = steps[k].rotation;
-    body.force_n = steps[k].force_n;
-    body.translation_mm = converged_translation;
-    results.push_back(problem.run());
-    if (results.back().status == ContactStatus::kConverged) {
-      converged_translation = results.back().rigid_translation_mm[options.moving_body];
+    results.push_back(solver.solve(converged, steps[k]));
+    const bool last = k + 1 == steps.size();
+    if (options.vtu_every > 0 && ((k + 1) % options.vtu_every == 0 || last)) {
+      const std::string file = options.vtu_prefix + "_" + std::to_string(k + 1) + ".vtu";
+      problem.write_vtu(file);
+      // The .pvd sits beside the .vtu files and names them relative to itself.
+      vtu_files.emplace_back(static_cast<double>(k + 1), std::filesystem::path(file).filename().string());
+      if (rank0) write_pvd(options.vtu_prefix, vtu_files);
     }
     if (on_step) on_step(k, results.back());
   }

@@ -210,8 +210,11 @@ TEST(FemMotion, LoadedCoreRelocatesAndTheContactResultantBalancesTheLoad) {
     H5Sclose(space);
     H5Dclose(dataset);
   };
-  std::vector<double> resultant, translation, status, von_mises;
+  std::vector<double> resultant, translation, status, von_mises, sub_steps, cutbacks;
   std::string unit;
+  read("/steps/sub_steps", sub_steps, unit);
+  EXPECT_EQ(unit, "1");
+  read("/steps/cutbacks", cutbacks, unit);
   read("/steps/contact_resultant_n", resultant, unit);
   EXPECT_EQ(unit, "N");
   read("/steps/femur_translation_mm", translation, unit);
@@ -224,6 +227,8 @@ TEST(FemMotion, LoadedCoreRelocatesAndTheContactResultantBalancesTheLoad) {
   ASSERT_EQ(von_mises.size(), 2 * steps.size());
   for (std::size_t k = 0; k < steps.size(); ++k) {
     EXPECT_EQ(status[k], 0.0);
+    EXPECT_EQ(sub_steps[k], static_cast<double>(results[k].sub_steps));
+    EXPECT_EQ(cutbacks[k], static_cast<double>(results[k].cutbacks));
     for (unsigned d = 0; d < 3; ++d) {
       // Stored as computed: exact copies of the in-memory doubles.
       EXPECT_EQ(resultant[3 * k + d], results[k].pair_force_n[0][d]);

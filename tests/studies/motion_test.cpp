@@ -88,7 +88,9 @@ TEST(SittingDownLoad, PeakIsTheBergmannValueAtTheEndPose) {
   double largest = 0.0;
   for (std::size_t k = 0; k < motion.steps.size(); ++k) {
     const double magnitude = motion.steps[k].force_N->norm();
-    if (k > 0) EXPECT_GT(magnitude, motion.steps[k - 1].force_N->norm()) << "step " << k;
+    if (k > 0) {
+      EXPECT_GT(magnitude, motion.steps[k - 1].force_N->norm()) << "step " << k;
+    }
     largest = std::max(largest, magnitude);
   }
   EXPECT_EQ(largest, peak.norm());
@@ -109,8 +111,11 @@ TEST(SittingDownLoad, RisesToThePeakThenFalls) {
   const std::size_t peak_step = 11;
   for (std::size_t k = 1; k < motion.steps.size(); ++k) {
     const double change = motion.steps[k].force_N->norm() - motion.steps[k - 1].force_N->norm();
-    if (k <= peak_step) EXPECT_GT(change, 0.0) << "step " << k;
-    else EXPECT_LT(change, 0.0) << "step " << k;
+    if (k <= peak_step) {
+      EXPECT_GT(change, 0.0) << "step " << k;
+    } else {
+      EXPECT_LT(change, 0.0) << "step " << k;
+    }
   }
   EXPECT_NEAR(motion.steps[peak_step].force_N->norm(), 1.56 * 800.0, 1e-9);
   EXPECT_NEAR(motion.steps.back().force_N->norm(),
