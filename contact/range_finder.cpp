@@ -73,16 +73,32 @@ struct LocalEdge {
 };
 
 std::vector<LocalEdge> local_edges(const geometry::TriMesh& mesh, const AxisFrame& frame) {
+  // Unique undirected edges by buckets on the lower vertex (linear time; a global sort of all
+  // 3 x #triangles keys dominated the finder on large meshes).
+  const std::size_t num_vertices = mesh.vertices.size();
+  std::vector<std::int32_t> start(num_vertices + 1, 0);
+  auto for_each_edge = [&](auto&& fn) {
+    for (const auto& tri : mesh.triangles) {
+      for (std::size_t k = 0; k < 3; ++k) {
+        const std::int32_t a = tri[k], b = tri[(k + 1) % 3];
+        if (a != b) fn(std::min(a, b), std::max(a, b));
+      }
+    }
+  };
+  for_each_edge([&](std::int32_t a, std::int32_t) { ++start[static_cast<std::size_t>(a) + 1]; });
+  for (std::size_t v = 0; v < num_vertices; ++v) start[v + 1] += start[v];
+  std::vector<std::int32_t> upper(static_cast<std::size_t>(start[num_vertices]));
+  std::vector<std::int32_t> fill(start.begin(), start.end() - 1);
+  for_each_edge([&](std::int32_t a, std::int32_t b) { upper[static_cast<std::size_t>(fill[static_cast<std::size_t>(a)]++)] = b; });
   std::vector<std::pair<std::int32_t, std::int32_t>> keys;
-  keys.reserve(mesh.triangles.size() * 3);
-  for (const auto& tri : mesh.triangles) {
-    for (int k = 0; k < 3; ++k) {
-      const std::int32_t a = tri[static_cast<std::size_t>(k)], b = tri[static_cast<std::size_t>((k + 1) % 3)];
-      if (a != b) keys.emplace_back(std::min(a, b), std::max(a, b));
+  keys.reserve(upper.size() / 2 + 1);
+  for (std::size_t v = 0; v < num_vertices; ++v) {
+    const auto first = upper.begin() + start[v], last = upper.begin() + start[v + 1];
+    std::sort(first, last);
+    for (auto it = first; it != last; ++it) {
+      if (it == first || *it != *(it - 1)) keys.emplace_back(static_cast<std::int32_t>(v), *it);
     }
   }
-  std::sort(keys.begin(), keys.end());
-  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
   std::vector<LocalEdge> edges;
   edges.reserve(keys.size());
   for (const auto& [a, b] : keys) {
@@ -96,8 +112,10 @@ std::vector<LocalEdge> local_edges(const geometry::TriMesh& mesh, const AxisFram
     LocalEdge e;
     e.p = p;
     e.d = d;
-    e.r_lo = std::hypot(p.x() + t * d.x(), p.y() + t * d.y()) - margin;
-    e.r_hi = std::max(std::hypot(p.x(), p.y()), std::hypot(q.x(), q.y())) + margin;
+    // sqrt(x^2 + y^2): coordinates are mm, far from over/underflow; rounding is within margin.
+    const double nx = p.x() + t * d.x(), ny = p.y() + t * d.y();
+    e.r_lo = std::sqrt(nx * nx + ny * ny) - margin;
+    e.r_hi = std::sqrt(std::max(p.x() * p.x() + p.y() * p.y(), q.x() * q.x() + q.y() * q.y())) + margin;
     e.z_lo = std::min(p.z(), q.z()) - margin;
     e.z_hi = std::max(p.z(), q.z()) + margin;
     e.ends = {a, b};
