@@ -173,6 +173,8 @@ std::vector<ContactResult> run_motion(
       // The .pvd sits beside the .vtu files and names them relative to itself.
       vtu_files.emplace_back(static_cast<double>(k + 1), std::filesystem::path(file).filename().string());
       if (rank0) write_pvd(options.vtu_prefix, vtu_files);
+      // Every rank returns with the collection on disk (callers may read it at once).
+      MPI_Barrier(problem.communicator());
     }
     if (on_step) on_step(k, results.back());
   }
