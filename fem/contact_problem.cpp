@@ -32,11 +32,13 @@
 #include <petscksp.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <fstream>
 #include <map>
 #include <memory>
+#include <thread>
 
 namespace hipfai::fem {
 
@@ -220,7 +222,23 @@ class ContactProblem::Impl {
         mapping(options.mapping_degree),
         dof_handler(triangulation),
         pcout(std::cout, options.verbose && dealii::Utilities::MPI::this_mpi_process(
-                                                   communicator) == 0) {}
+                                                   communicator) == 0) {
+    // deal.II answers these per call through several virtual layers; the contact search asks
+    // them millions of times, so they are tabulated once.
+    for (unsigned int i = 0; i < fe.n_dofs_per_cell(); ++i) {
+      const auto [component, base_index] = fe.system_to_component_index(i);
+      component_of.push_back(component);
+      base_of.push_back(base_index);
+    }
+    for (unsigned int f = 0; f < dealii::GeometryInfo<3>::faces_per_cell; ++f) {
+      for (unsigned int i = 0; i < fe.n_dofs_per_cell(); ++i) support_on_face[f].push_back(fe.has_support_on_face(i, f));
+    }
+    const unsigned int n_base = fe.base_element(0).n_dofs_per_cell();
+    system_index.resize(n_base);
+    for (unsigned int b = 0; b < n_base; ++b) {
+      for (unsigned int c = 0; c < 3; ++c) system_index[b][c] = fe.component_to_system_index(c, b);
+    }
+  }
 
   ContactResult run(ContactProblem& model);
   dealii::Tensor<1, 3> displacement_at(const dealii::Point<3>& point) const;
@@ -233,6 +251,9 @@ class ContactProblem::Impl {
   dealii::MappingQ<3> mapping;
   dealii::DoFHandler<3> dof_handler;
   dealii::ConditionalOStream pcout;
+  std::vector<unsigned int> component_of, base_of;  // per cell dof
+  std::array<std::vector<bool>, dealii::GeometryInfo<3>::faces_per_cell> support_on_face;
+  std::vector<std::array<unsigned int, 3>> system_index;  // [base index][component]
 
  private:
   void place_bodies(const ContactProblem& model);
@@ -243,6 +264,7 @@ class ContactProblem::Impl {
       const std::vector<dealii::Tensor<1, 3>>& translations) const;
   void cell_stiffness(const dealii::DoFHandler<3>::active_cell_iterator& cell,
                       dealii::FEValues<3>& fe_values, dealii::FullMatrix<double>& matrix) const;
+  void compute_cell_matrices();
   std::vector<Linearization> solve_linear(
       const std::vector<std::vector<dealii::Tensor<1, 3>>>& translation_sets);
   std::vector<std::vector<double>> internal_forces(const std::vector<dealii::Vector<double>*>& displacements) const;
@@ -269,6 +291,10 @@ class ContactProblem::Impl {
   // Active set of the last converged run, keyed by (pair, x-component dof of the slave node).
   std::map<std::pair<unsigned int, global_dof_index>, bool> converged_active;
   dealii::Vector<double> solution;
+  // Stiffness of every locally owned cell (by active cell index) in the configuration of this
+  // run: independent of the active set, so computed once per run and reused by every
+  // assembly and internal-force pass.
+  std::vector<dealii::FullMatrix<double>> cell_matrices;
   // Of the last run, for write_vtu: per node of `nodes`, and per active cell.
   std::vector<double> node_pressure, node_gap;
   dealii::Vector<float> cell_von_mises;
@@ -330,8 +356,8 @@ void ContactProblem::Impl::collect_fixed_dofs(const ContactProblem& model) {
         const auto face = cell->face(face_no);
         if (!face->at_boundary() || face->boundary_id() != bonded.boundary_id) continue;
         for (unsigned int i = 0; i < dofs.size(); ++i) {
-          if (!fe.has_support_on_face(i, face_no) || fixed_dof[dofs[i]]) continue;
-          const unsigned int component = fe.system_to_component_index(i).first;
+          if (!support_on_face[face_no][i] || fixed_dof[dofs[i]]) continue;
+          const unsigned int component = component_of[i];
           double extra = 0.0;
           if (bonded.extra_displacement_mm) {
             extra = bonded.extra_displacement_mm(support_points[dofs[i]])[component];
@@ -349,8 +375,8 @@ void ContactProblem::Impl::collect_fixed_dofs(const ContactProblem& model) {
         const auto face = cell->face(face_no);
         if (!face->at_boundary() || face->boundary_id() != symmetry.boundary_id) continue;
         for (unsigned int i = 0; i < dofs.size(); ++i) {
-          if (!fe.has_support_on_face(i, face_no) || fixed_dof[dofs[i]]) continue;
-          if (fe.system_to_component_index(i).first != symmetry.axis) continue;
+          if (!support_on_face[face_no][i] || fixed_dof[dofs[i]]) continue;
+          if (component_of[i] != symmetry.axis) continue;
           symmetry_dofs.emplace_back(dofs[i], 0.0);
           fixed_dof[dofs[i]] = true;
         }
@@ -388,15 +414,15 @@ void ContactProblem::Impl::collect_contact_nodes(const ContactProblem& model) {
         if (!face->at_boundary() || face->boundary_id() != pair.slave_boundary_id) continue;
         face_values.reinit(cell, face_no);
         for (unsigned int i = 0; i < dofs.size(); ++i) {
-          if (!fe.has_support_on_face(i, face_no)) continue;
-          const auto [component, base_index] = fe.system_to_component_index(i);
+          if (!support_on_face[face_no][i]) continue;
+          const unsigned int component = component_of[i], base_index = base_of[i];
           if (component != 0) continue;
           auto [it, inserted] = node_of_dof.try_emplace(dofs[i], nodes.size());
           if (inserted) {
             NodeData node;
             node.pair = p;
             for (unsigned int c = 0; c < 3; ++c) {
-              node.dofs[c] = dofs[fe.component_to_system_index(c, base_index)];
+              node.dofs[c] = dofs[system_index[base_index][c]];
             }
             node.position = support_points[dofs[i]];
             nodes.push_back(node);
@@ -432,38 +458,100 @@ void ContactProblem::Impl::collect_contact_nodes(const ContactProblem& model) {
       segment_options.search_radius_mm = 0.05 * diameter;
       const MortarSegmenter segmenter(projector->faces(), segment_options);
       const dealii::FiniteElement<3>& base = fe.base_element(0);
-      std::vector<global_dof_index> master_dofs(fe.n_dofs_per_cell());
+      // The slave faces are integrated independently (threads), each into small dense blocks
+      // per master face it sees; the blocks are then added into the sparse rows in face order,
+      // so the sums do not depend on the number of threads.
+      struct SlaveFace {
+        dealii::DoFHandler<3>::active_cell_iterator cell;
+        unsigned int face_no;
+      };
+      struct Block {
+        const FacePatch* master = nullptr;
+        std::vector<unsigned int> master_base;  // base indices of the master face's nodes
+        std::vector<double> m;                  // [slave node][master node]
+      };
+      struct FaceResult {
+        std::vector<unsigned int> slave_base;   // base indices of the slave face's nodes
+        std::vector<double> covered;            // per slave node
+        std::vector<dealii::Tensor<1, 3>> gap;  // per slave node
+        std::vector<Block> blocks;
+      };
+      std::vector<SlaveFace> slave_faces;
       for (const auto& cell : dof_handler.active_cell_iterators()) {
         for (const unsigned int face_no : cell->face_indices()) {
           const auto face = cell->face(face_no);
-          if (!face->at_boundary() || face->boundary_id() != pair.slave_boundary_id) continue;
-          cell->get_dof_indices(dofs);
-          // Slave nodes of this face: (local node, base shape index).
-          std::vector<std::pair<std::size_t, unsigned int>> slave_nodes;
-          for (unsigned int i = 0; i < dofs.size(); ++i) {
-            if (!fe.has_support_on_face(i, face_no) || fe.system_to_component_index(i).first != 0) continue;
-            slave_nodes.emplace_back(node_of_dof.at(dofs[i]) - first_node, fe.system_to_component_index(i).second);
+          if (face->at_boundary() && face->boundary_id() == pair.slave_boundary_id) slave_faces.push_back({cell, face_no});
+        }
+      }
+      std::vector<FaceResult> face_results(slave_faces.size());
+      auto integrate_faces = [&](std::size_t first, std::size_t last) {
+        for (std::size_t f = first; f < last; ++f) {
+          const SlaveFace& slave_face = slave_faces[f];
+          FaceResult& out = face_results[f];
+          for (unsigned int i = 0; i < fe.n_dofs_per_cell(); ++i) {
+            if (support_on_face[slave_face.face_no][i] && component_of[i] == 0) out.slave_base.push_back(base_of[i]);
           }
-          const FacePatch slave(mapping, cell, face_no);
+          const std::size_t ns = out.slave_base.size();
+          out.covered.assign(ns, 0.0);
+          out.gap.assign(ns, dealii::Tensor<1, 3>());
+          const FacePatch slave(mapping, slave_face.cell, slave_face.face_no);
+          std::vector<double> slave_values(ns);
           for (const MortarPoint& point : segmenter.integrate(slave)) {
-            point.master->cell->get_dof_indices(master_dofs);
-            // Master shape values, one per master node of the face (component 0 carries the
-            // base index; the other components share it).
-            std::vector<std::pair<unsigned int, double>> master_values;
-            for (unsigned int j = 0; j < master_dofs.size(); ++j) {
-              if (!fe.has_support_on_face(j, point.master->face_no) || fe.system_to_component_index(j).first != 0) continue;
-              const unsigned int base_index = fe.system_to_component_index(j).second;
-              master_values.emplace_back(base_index, base.shape_value(base_index, point.master_unit_point));
+            if (out.blocks.empty() || out.blocks.back().master != point.master) {
+              Block block;
+              block.master = point.master;
+              for (unsigned int j = 0; j < fe.n_dofs_per_cell(); ++j) {
+                if (support_on_face[point.master->face_no][j] && component_of[j] == 0) block.master_base.push_back(base_of[j]);
+              }
+              block.m.assign(ns * block.master_base.size(), 0.0);
+              out.blocks.push_back(std::move(block));
             }
+            Block& block = out.blocks.back();
+            const std::size_t nm = block.master_base.size();
             const dealii::Tensor<1, 3> separation = point.slave_point_mm - point.master_point_mm;
-            for (const auto& [local, slave_index] : slave_nodes) {
-              const double weight = base.shape_value(slave_index, point.slave_unit_point) * point.jxw;
-              covered[local] += weight;
-              weighted_gap[local] += weight * separation;
-              for (const auto& [base_index, value] : master_values) {
-                for (unsigned int c = 0; c < 3; ++c) {
-                  mortar[local][c][master_dofs[fe.component_to_system_index(c, base_index)]] += weight * value;
-                }
+            for (std::size_t a = 0; a < ns; ++a) {
+              slave_values[a] = base.shape_value(out.slave_base[a], point.slave_unit_point) * point.jxw;
+              out.covered[a] += slave_values[a];
+              out.gap[a] += slave_values[a] * separation;
+            }
+            for (std::size_t b = 0; b < nm; ++b) {
+              const double value = base.shape_value(block.master_base[b], point.master_unit_point);
+              for (std::size_t a = 0; a < ns; ++a) block.m[a * nm + b] += slave_values[a] * value;
+            }
+          }
+        }
+      };
+      // Threads share the cores with the other MPI ranks of this machine.
+      const std::size_t n_threads = std::clamp<std::size_t>(
+          std::thread::hardware_concurrency() / dealii::Utilities::MPI::n_mpi_processes(comm), 1, 8);
+      std::vector<std::thread> workers;
+      const std::size_t chunk = (slave_faces.size() + n_threads - 1) / n_threads;
+      for (std::size_t t = 1; t < n_threads; ++t) {
+        const std::size_t first = std::min(slave_faces.size(), t * chunk);
+        const std::size_t last = std::min(slave_faces.size(), first + chunk);
+        if (first < last) workers.emplace_back(integrate_faces, first, last);
+      }
+      integrate_faces(0, std::min(slave_faces.size(), chunk));
+      for (std::thread& worker : workers) worker.join();
+
+      std::vector<global_dof_index> master_dofs(fe.n_dofs_per_cell());
+      for (std::size_t f = 0; f < slave_faces.size(); ++f) {
+        const FaceResult& result = face_results[f];
+        slave_faces[f].cell->get_dof_indices(dofs);
+        std::vector<std::size_t> local(result.slave_base.size());
+        for (std::size_t a = 0; a < local.size(); ++a) {
+          local[a] = node_of_dof.at(dofs[system_index[result.slave_base[a]][0]]) - first_node;
+          covered[local[a]] += result.covered[a];
+          weighted_gap[local[a]] += result.gap[a];
+        }
+        for (const Block& block : result.blocks) {
+          block.master->cell->get_dof_indices(master_dofs);
+          const std::size_t nm = block.master_base.size();
+          for (std::size_t a = 0; a < local.size(); ++a) {
+            for (std::size_t b = 0; b < nm; ++b) {
+              const double value = block.m[a * nm + b];
+              for (unsigned int c = 0; c < 3; ++c) {
+                mortar[local[a]][c][master_dofs[system_index[block.master_base[b]][c]]] += value;
               }
             }
           }
@@ -587,6 +675,34 @@ void ContactProblem::Impl::cell_stiffness(const dealii::DoFHandler<3>::active_ce
   }
 }
 
+void ContactProblem::Impl::compute_cell_matrices() {
+  std::vector<dealii::DoFHandler<3>::active_cell_iterator> cells;
+  for (const auto& cell : dof_handler.active_cell_iterators()) {
+    if (cell->is_locally_owned()) cells.push_back(cell);
+  }
+  cell_matrices.assign(triangulation.n_active_cells(), dealii::FullMatrix<double>());
+  auto compute = [&](std::size_t first, std::size_t last) {
+    dealii::FEValues<3> fe_values(mapping, fe, dealii::QGauss<3>(fe.degree + 1),
+                                  dealii::update_gradients | dealii::update_JxW_values);
+    for (std::size_t k = first; k < last; ++k) {
+      dealii::FullMatrix<double>& matrix = cell_matrices[cells[k]->active_cell_index()];
+      matrix.reinit(fe.n_dofs_per_cell(), fe.n_dofs_per_cell());
+      cell_stiffness(cells[k], fe_values, matrix);
+    }
+  };
+  const std::size_t n_threads = std::clamp<std::size_t>(
+      std::thread::hardware_concurrency() / dealii::Utilities::MPI::n_mpi_processes(comm), 1, 8);
+  const std::size_t chunk = (cells.size() + n_threads - 1) / n_threads;
+  std::vector<std::thread> workers;
+  for (std::size_t t = 1; t < n_threads; ++t) {
+    const std::size_t first = std::min(cells.size(), t * chunk);
+    const std::size_t last = std::min(cells.size(), first + chunk);
+    if (first < last) workers.emplace_back(compute, first, last);
+  }
+  compute(0, std::min(cells.size(), chunk));
+  for (std::thread& worker : workers) worker.join();
+}
+
 std::vector<std::vector<double>> ContactProblem::Impl::internal_forces(
     const std::vector<dealii::Vector<double>*>& displacements) const {
   // One pass over the cells for all states: the cell stiffness, the expensive part, is
@@ -594,15 +710,12 @@ std::vector<std::vector<double>> ContactProblem::Impl::internal_forces(
   const std::size_t states = displacements.size();
   const std::size_t n_dofs = dof_handler.n_dofs();
   std::vector<double> forces(states * n_dofs, 0.0);
-  dealii::FEValues<3> fe_values(mapping, fe, dealii::QGauss<3>(fe.degree + 1),
-                                dealii::update_gradients | dealii::update_JxW_values);
   const unsigned int n = fe.n_dofs_per_cell();
-  dealii::FullMatrix<double> matrix(n, n);
   dealii::Vector<double> local_u(n), local_f(n);
   std::vector<global_dof_index> dofs(n);
   for (const auto& cell : dof_handler.active_cell_iterators()) {
     if (!cell->is_locally_owned()) continue;
-    cell_stiffness(cell, fe_values, matrix);
+    const dealii::FullMatrix<double>& matrix = cell_matrices[cell->active_cell_index()];
     cell->get_dof_indices(dofs);
     for (std::size_t k = 0; k < states; ++k) {
       for (unsigned int i = 0; i < n; ++i) local_u[i] = (*displacements[k])[dofs[i]];
@@ -639,15 +752,12 @@ std::vector<Linearization> ContactProblem::Impl::solve_linear(
   std::vector<dealii::PETScWrappers::MPI::Vector> rhs(translation_sets.size());
   for (auto& vector : rhs) vector.reinit(owned_dofs, comm);
 
-  dealii::FEValues<3> fe_values(mapping, fe, dealii::QGauss<3>(fe.degree + 1),
-                                dealii::update_gradients | dealii::update_JxW_values);
   const unsigned int n = fe.n_dofs_per_cell();
-  dealii::FullMatrix<double> cell_matrix(n, n);
   dealii::Vector<double> cell_rhs(n);  // no body forces: loads enter through the constraints
   std::vector<global_dof_index> dofs(n);
   for (const auto& cell : dof_handler.active_cell_iterators()) {
     if (!cell->is_locally_owned()) continue;
-    cell_stiffness(cell, fe_values, cell_matrix);
+    const dealii::FullMatrix<double>& cell_matrix = cell_matrices[cell->active_cell_index()];
     cell->get_dof_indices(dofs);
     constraints[0].distribute_local_to_global(cell_matrix, cell_rhs, dofs, matrix, rhs[0]);
     for (std::size_t k = 1; k < constraints.size(); ++k) {
@@ -817,6 +927,7 @@ ContactResult ContactProblem::Impl::run(ContactProblem& model) {
   place_bodies(model);
   setup_system(model);
   collect_fixed_dofs(model);
+  compute_cell_matrices();
   times.setup = lap();
   collect_contact_nodes(model);
   times.contact_search = lap();

@@ -12,20 +12,38 @@ namespace hipfai::fem {
 
 namespace {
 
-// Lagrange polynomials on the equispaced nodes i/k and their derivatives at u.
+// Lagrange polynomials on the equispaced nodes i/k and their derivatives at u. The constant
+// denominators prod_{m != i} (x_i - x_m) are tabulated once: evaluate() runs in the innermost
+// loops of the contact search.
+struct LagrangeDenominators {
+  std::array<double, FacePatch::kDegree + 1> inverse{};
+  LagrangeDenominators() {
+    constexpr unsigned int k = FacePatch::kDegree;
+    for (unsigned int i = 0; i <= k; ++i) {
+      double product = 1.0;
+      for (unsigned int m = 0; m <= k; ++m) {
+        if (m != i) product *= double(i) / k - double(m) / k;
+      }
+      inverse[i] = 1.0 / product;
+    }
+  }
+};
+
 void lagrange_basis(double u, std::array<double, FacePatch::kDegree + 1>& value,
                     std::array<double, FacePatch::kDegree + 1>& slope) {
   constexpr unsigned int k = FacePatch::kDegree;
+  static const LagrangeDenominators denominators;
+  std::array<double, k + 1> d;
+  for (unsigned int m = 0; m <= k; ++m) d[m] = u - double(m) / k;
   for (unsigned int i = 0; i <= k; ++i) {
-    const double xi = double(i) / k;
-    value[i] = 1.0;
-    slope[i] = 0.0;
+    double v = 1.0, dv = 0.0;
     for (unsigned int m = 0; m <= k; ++m) {
       if (m == i) continue;
-      const double xm = double(m) / k;
-      slope[i] = slope[i] * (u - xm) / (xi - xm) + value[i] / (xi - xm);
-      value[i] *= (u - xm) / (xi - xm);
+      dv = dv * d[m] + v;
+      v *= d[m];
     }
+    value[i] = v * denominators.inverse[i];
+    slope[i] = dv * denominators.inverse[i];
   }
 }
 
