@@ -36,6 +36,7 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <memory>
 #include <thread>
@@ -265,6 +266,8 @@ class ContactProblem::Impl {
   void cell_stiffness(const dealii::DoFHandler<3>::active_cell_iterator& cell,
                       dealii::FEValues<3>& fe_values, dealii::FullMatrix<double>& matrix) const;
   void compute_cell_matrices();
+  std::vector<Linearization> solve_reduced_direct(
+      const std::vector<dealii::AffineConstraints<double>>& constraints);
   std::vector<Linearization> solve_linear(
       const std::vector<std::vector<dealii::Tensor<1, 3>>>& translation_sets);
   std::vector<std::vector<double>> internal_forces(const std::vector<dealii::Vector<double>*>& displacements) const;
@@ -275,6 +278,7 @@ class ContactProblem::Impl {
                       std::vector<double>& force, std::vector<double>& gap) const;
   void von_mises(const ContactProblem& model, ContactResult& result);
   void initial_active_set(const std::vector<dealii::Tensor<1, 3>>& translations, double gap_tolerance);
+  void one_constraint_per_node(std::vector<bool>& set, const std::vector<double>& gap) const;
   static bool make_finite(ContactResult& result, dealii::Vector<double>& displacement);
 
   std::map<dealii::types::material_id, std::pair<double, double>> lame_by_material;
@@ -295,6 +299,9 @@ class ContactProblem::Impl {
   // run: independent of the active set, so computed once per run and reused by every
   // assembly and internal-force pass.
   std::vector<dealii::FullMatrix<double>> cell_matrices;
+  // Unconstrained stiffness K of this run (direct solver only), assembled on first use.
+  dealii::PETScWrappers::MPI::SparseMatrix stiffness;
+  bool stiffness_assembled = false;
   // Of the last run, for write_vtu: per node of `nodes`, and per active cell.
   std::vector<double> node_pressure, node_gap;
   dealii::Vector<float> cell_von_mises;
@@ -741,6 +748,7 @@ std::vector<Linearization> ContactProblem::Impl::solve_linear(
   Lap lap;
   std::vector<dealii::AffineConstraints<double>> constraints;
   for (const auto& translations : translation_sets) constraints.push_back(make_constraints(translations));
+  if (options.linear_solver == LinearSolver::kDirect) return solve_reduced_direct(constraints);
   const unsigned int rank = dealii::Utilities::MPI::this_mpi_process(comm);
 
   dealii::DynamicSparsityPattern pattern(all_dofs);
@@ -790,6 +798,161 @@ std::vector<Linearization> ContactProblem::Impl::solve_linear(
     constraints[k].distribute(state.displacement);
     states.push_back(std::move(state));
   }
+  times.solves += lap();
+  std::vector<dealii::Vector<double>*> displacements;
+  for (Linearization& state : states) displacements.push_back(&state.displacement);
+  std::vector<std::vector<double>> forces = internal_forces(displacements);
+  for (std::size_t k = 0; k < states.size(); ++k) states[k].internal_force = std::move(forces[k]);
+  times.internal_force += lap();
+  return states;
+}
+
+std::vector<Linearization> ContactProblem::Impl::solve_reduced_direct(
+    const std::vector<dealii::AffineConstraints<double>>& constraints) {
+  // Direct solver: the unconstrained stiffness K is assembled once per run; each active set
+  // only changes the constraints u = P v + g (v: the unconstrained dofs, P: identity on them
+  // and the closed constraint weights on the constrained rows, g: the inhomogeneities), so the
+  // reduced matrix P^T K P comes from one sparse triple product (PETSc MatPtAP) instead of a
+  // condensing re-assembly, and is factorised once for all right-hand sides P^T (-K g).
+  // Same equations as the condensed assembly of solve_linear, only without the constrained
+  // rows that carry no information.
+  Lap lap;
+  const unsigned int rank = dealii::Utilities::MPI::this_mpi_process(comm);
+  if (!stiffness_assembled) {
+    dealii::DynamicSparsityPattern pattern(all_dofs);
+    dealii::DoFTools::make_sparsity_pattern(dof_handler, pattern, dealii::AffineConstraints<double>(), true, rank);
+    dealii::SparsityTools::distribute_sparsity_pattern(pattern, owned_dofs, comm, all_dofs);
+    stiffness.reinit(owned_dofs, owned_dofs, pattern, comm);
+    times.sparsity += lap();
+    std::vector<global_dof_index> dofs(fe.n_dofs_per_cell());
+    for (const auto& cell : dof_handler.active_cell_iterators()) {
+      if (!cell->is_locally_owned()) continue;
+      cell->get_dof_indices(dofs);
+      stiffness.add(dofs, cell_matrices[cell->active_cell_index()]);
+    }
+    stiffness.compress(dealii::VectorOperation::add);
+    stiffness_assembled = true;
+    times.assembly += lap();
+  }
+  const dealii::AffineConstraints<double>& c0 = constraints.front();
+  const global_dof_index n_dofs = dof_handler.n_dofs();
+  // Reduced index of every free dof (every rank knows all constraints: the same numbering).
+  constexpr global_dof_index kConstrained = std::numeric_limits<global_dof_index>::max();
+  std::vector<global_dof_index> reduced(n_dofs, kConstrained);
+  global_dof_index n_free = 0;
+  for (global_dof_index i = 0; i < n_dofs; ++i) {
+    if (!c0.is_constrained(i)) reduced[i] = n_free++;
+  }
+  // Owned rows of P are the owned dofs; owned columns the free ones among them (the owned range
+  // is contiguous and ordered by rank, so the reduced owned range is too).
+  const global_dof_index first = owned_dofs.is_empty() ? 0 : owned_dofs.nth_index_in_set(0);
+  const global_dof_index n_owned = owned_dofs.n_elements();
+  global_dof_index first_free = kConstrained, n_owned_free = 0;
+  for (global_dof_index i = first; i < first + n_owned; ++i) {
+    if (reduced[i] == kConstrained) continue;
+    if (first_free == kConstrained) first_free = reduced[i];
+    ++n_owned_free;
+  }
+  if (first_free == kConstrained) first_free = 0;
+  std::vector<PetscInt> diagonal_count(n_owned, 0), off_diagonal_count(n_owned, 0);
+  auto is_owned_column = [&](global_dof_index column) {
+    return column >= first_free && column < first_free + n_owned_free;
+  };
+  for (global_dof_index r = 0; r < n_owned; ++r) {
+    const global_dof_index i = first + r;
+    if (reduced[i] != kConstrained) {
+      ++diagonal_count[r];
+      continue;
+    }
+    if (const auto* entries = c0.get_constraint_entries(i)) {
+      for (const auto& [j, weight] : *entries) {
+        if (weight == 0.0) continue;
+        (is_owned_column(reduced[j]) ? diagonal_count[r] : off_diagonal_count[r])++;
+      }
+    }
+  }
+  Mat prolongation;
+  // MPIAIJ on one rank too: deal.II's K is MPIAIJ, and PtAP needs matching types.
+  MatCreate(comm, &prolongation);
+  MatSetSizes(prolongation, static_cast<PetscInt>(n_owned), static_cast<PetscInt>(n_owned_free),
+              static_cast<PetscInt>(n_dofs), static_cast<PetscInt>(n_free));
+  MatSetType(prolongation, MATMPIAIJ);
+  MatMPIAIJSetPreallocation(prolongation, 0, diagonal_count.data(), 0, off_diagonal_count.data());
+  for (global_dof_index r = 0; r < n_owned; ++r) {
+    const global_dof_index i = first + r;
+    const PetscInt row = static_cast<PetscInt>(i);
+    if (reduced[i] != kConstrained) {
+      MatSetValue(prolongation, row, static_cast<PetscInt>(reduced[i]), 1.0, ADD_VALUES);
+      continue;
+    }
+    if (const auto* entries = c0.get_constraint_entries(i)) {
+      for (const auto& [j, weight] : *entries) {
+        if (weight == 0.0) continue;
+        MatSetValue(prolongation, row, static_cast<PetscInt>(reduced[j]), weight, ADD_VALUES);
+      }
+    }
+  }
+  MatAssemblyBegin(prolongation, MAT_FINAL_ASSEMBLY);
+  MatAssemblyEnd(prolongation, MAT_FINAL_ASSEMBLY);
+  Mat reduced_matrix;
+  MatPtAP(stiffness.petsc_matrix(), prolongation, MAT_INITIAL_MATRIX, 2.0, &reduced_matrix);
+  MatSetOption(reduced_matrix, MAT_SPD, PETSC_TRUE);
+  times.assembly += lap();
+
+  KSP ksp;
+  KSPCreate(comm, &ksp);
+  KSPSetOperators(ksp, reduced_matrix, reduced_matrix);
+  KSPSetType(ksp, KSPPREONLY);
+  PC pc;
+  KSPGetPC(ksp, &pc);
+  PCSetType(pc, PCCHOLESKY);
+  PCFactorSetMatSolverType(pc, MATSOLVERMUMPS);
+  bool factorised = false;
+
+  std::vector<Linearization> states;
+  for (const dealii::AffineConstraints<double>& constraint : constraints) {
+    // g: the inhomogeneities on the constrained rows.
+    dealii::PETScWrappers::MPI::Vector g(owned_dofs, comm), kg(owned_dofs, comm), u(owned_dofs, comm);
+    for (global_dof_index i = first; i < first + n_owned; ++i) {
+      if (reduced[i] == kConstrained && constraint.is_inhomogeneously_constrained(i)) {
+        g(i) = constraint.get_inhomogeneity(i);
+      }
+    }
+    g.compress(dealii::VectorOperation::insert);
+    stiffness.vmult(kg, g);
+    kg *= -1.0;
+    Vec rhs, v;
+    MatCreateVecs(reduced_matrix, &v, &rhs);
+    MatMultTranspose(prolongation, kg, rhs);
+    PetscReal rhs_norm = 0.0;
+    VecNorm(rhs, NORM_2, &rhs_norm);
+    ++linear_solves;
+    if (rhs_norm > 0.0) {
+      if (!factorised) {
+        KSPSetUp(ksp);
+        factorised = true;
+        times.solver_setup += lap();
+      }
+      KSPSolve(ksp, rhs, v);
+      KSPConvergedReason reason;
+      KSPGetConvergedReason(ksp, &reason);
+      if (reason < 0) linear_failure = true;
+      ++linear_iterations;
+    } else {
+      VecSet(v, 0.0);
+    }
+    MatMult(prolongation, v, u);  // u = P v
+    u += g;
+    VecDestroy(&rhs);
+    VecDestroy(&v);
+    Linearization state;
+    state.displacement = dealii::Vector<double>(u);
+    constraint.distribute(state.displacement);
+    states.push_back(std::move(state));
+  }
+  KSPDestroy(&ksp);
+  MatDestroy(&reduced_matrix);
+  MatDestroy(&prolongation);
   times.solves += lap();
   std::vector<dealii::Vector<double>*> displacements;
   for (Linearization& state : states) displacements.push_back(&state.displacement);
@@ -858,6 +1021,35 @@ void ContactProblem::Impl::initial_active_set(const std::vector<dealii::Tensor<1
     double predicted = node.initial_gap;
     if (node.rigid_body >= 0) predicted -= translations[node.rigid_body] * node.normal;
     active[n] = predicted <= gap_tolerance;
+  }
+  std::vector<double> predicted(nodes.size());
+  for (std::size_t n = 0; n < nodes.size(); ++n) {
+    predicted[n] = nodes[n].initial_gap;
+    if (nodes[n].rigid_body >= 0) predicted[n] -= translations[nodes[n].rigid_body] * nodes[n].normal;
+  }
+  one_constraint_per_node(active, predicted);
+}
+
+void ContactProblem::Impl::one_constraint_per_node(std::vector<bool>& set, const std::vector<double>& gap) const {
+  // A slave node can belong to several pairs (the acetabular cartilage and the labrum meet both
+  // the femoral cartilage and, past its edge, the bone of the head-neck). Two constraints on one
+  // node, each eliminating one of its components in terms of the others, can form a cycle that
+  // the constraint closure cannot resolve, and where the two masters meet (the cartilage edge
+  // on the bone) their normals are nearly parallel, so the pair would be singular anyway. Each
+  // node is held by the master it penetrates most (smallest gap; ties: the earlier pair), which
+  // leaves the other master in front of it.
+  std::map<global_dof_index, std::size_t> holder;
+  for (std::size_t n = 0; n < nodes.size(); ++n) {
+    if (!set[n]) continue;
+    const auto [it, inserted] = holder.try_emplace(nodes[n].dofs[0], n);
+    if (inserted) continue;
+    const std::size_t other = it->second;
+    if (gap[n] < gap[other]) {
+      set[other] = false;
+      it->second = n;
+    } else {
+      set[n] = false;
+    }
   }
 }
 
@@ -928,6 +1120,7 @@ ContactResult ContactProblem::Impl::run(ContactProblem& model) {
   setup_system(model);
   collect_fixed_dofs(model);
   compute_cell_matrices();
+  stiffness_assembled = false;
   times.setup = lap();
   collect_contact_nodes(model);
   times.contact_search = lap();
@@ -1034,8 +1227,9 @@ ContactResult ContactProblem::Impl::run(ContactProblem& model) {
       for (std::size_t n = 0; n < nodes.size(); ++n) deepest = std::max(deepest, -gap[n]);
       enter_threshold = std::max(gap_tolerance, 0.5 * deepest);
     }
+    for (std::size_t n = 0; n < nodes.size(); ++n) next[n] = active[n] ? force[n] > 0.0 : gap[n] < -enter_threshold;
+    one_constraint_per_node(next, gap);
     for (std::size_t n = 0; n < nodes.size(); ++n) {
-      next[n] = active[n] ? force[n] > 0.0 : gap[n] < -enter_threshold;
       n_active += next[n];
       changes += next[n] != active[n];
     }
