@@ -21,6 +21,7 @@
 #include "geometry/hip_model.h"
 #include "geometry/hip_volume_mesh.h"
 #include "studies/motion.h"
+#include "studies/svg_plot.h"
 
 #include <mpi.h>
 
@@ -29,10 +30,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <memory>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace hipfai::app {
@@ -191,7 +194,8 @@ void write_fem_run_csv(const std::string& file, const std::vector<std::string>& 
   csv << "step,status,ranks,dofs,active_set_iterations,max_pressure_mpa,mean_pressure_mpa,"
          "contact_area_mm2,max_penetration_mm,tx_mm,ty_mm,tz_mm";
   for (const std::string& body : bodies) csv << ",max_von_mises_mpa " << body;
-  csv << '\n';
+  for (const std::string& body : bodies) csv << ",p95_von_mises_mpa " << body;
+  csv << ",wall_time_s,sub_steps,cutbacks,linear_solves\n";
   csv.precision(17);
   for (std::size_t k = 0; k < results.size(); ++k) {
     const fem::ContactResult& r = results[k];
@@ -202,12 +206,22 @@ void write_fem_run_csv(const std::string& file, const std::vector<std::string>& 
       csv << ',' << (r.rigid_translation_mm.empty() ? 0.0 : r.rigid_translation_mm[fem::kFemurBody][d]);
     }
     for (const double v : r.max_von_mises_mpa) csv << ',' << v;
-    csv << '\n';
+    for (const double v : r.p95_von_mises_mpa) csv << ',' << v;
+    csv << ',' << r.wall_time_s << ',' << r.sub_steps << ',' << r.cutbacks << ',' << r.linear_solves << '\n';
   }
   if (!csv) throw_error(file, ": write failed (--csv)");
 }
 
-void run_fem_hip(const FemRunOptions& options) {
+struct FemRunSummary {
+  std::size_t hexes = 0;
+  double min_scaled_jacobian = 0.0;
+  std::vector<std::string> bodies;
+  std::vector<fem::ContactResult> results;
+  std::size_t failed = 0;
+  double seconds = 0.0;  // whole command: meshing, set-up and all steps
+};
+
+FemRunSummary run_fem_hip(const FemRunOptions& options, bool throw_on_failure = true) {
   fem::ensure_mpi_initialized();
   int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
@@ -274,7 +288,200 @@ void run_fem_hip(const FemRunOptions& options) {
                 results.size(), failed, results.empty() ? 0ul : results.front().n_dofs, peak_pressure,
                 seconds, options.out_file.c_str());
   }
-  if (failed > 0) throw_error("fem run: ", failed, " step(s) did not converge (see ", options.out_file, ")");
+  if (failed > 0 && throw_on_failure) {
+    throw_error("fem run: ", failed, " step(s) did not converge (see ", options.out_file, ")");
+  }
+  FemRunSummary summary;
+  summary.hexes = volume.mesh.hexes.size();
+  summary.min_scaled_jacobian = volume.min_scaled_jacobian;
+  summary.bodies = fem::hip_fe_body_names(problem);
+  summary.results = results;
+  summary.failed = failed;
+  summary.seconds = seconds;
+  return summary;
+}
+
+// hipfai fem levels: the same model and motion at each mesh level; what accuracy costs in time.
+struct FemLevelsOptions {
+  FemRunOptions run;  // model, motion, steps, body weight, solver
+  std::vector<std::string> levels = {"coarse", "default", "fine"};
+  std::string out_dir;
+};
+
+struct LevelRow {
+  std::string level;
+  FemRunSummary summary;
+  double peak_pressure = 0.0, wall_per_step = 0.0;
+  std::vector<double> peak_vm, peak_p95;  // per body, max over the steps
+};
+
+double relative_difference_percent(double value, double reference) {
+  return reference != 0.0 ? 100.0 * (value - reference) / reference : 0.0;
+}
+
+void run_fem_levels(const FemLevelsOptions& options) {
+  fem::ensure_mpi_initialized();
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  // Levels in the order of refinement; the finest one is the reference.
+  std::vector<std::string> levels;
+  for (const std::string& name : fem::hip_fe_level_names()) {
+    if (std::find(options.levels.begin(), options.levels.end(), name) != options.levels.end()) levels.push_back(name);
+  }
+  // A model directory that cannot be read fails here, before the output directory exists.
+  (void)geometry::load_hip_model(options.run.model_dir,
+                                 {"femur_bone", "femoral_cartilage", "acetabular_cartilage", "labrum"});
+  std::filesystem::create_directories(options.out_dir);
+  std::vector<LevelRow> rows;
+  for (const std::string& level : levels) {
+    FemRunOptions run = options.run;
+    run.level = level;
+    run.out_file = (std::filesystem::path(options.out_dir) / (level + ".h5")).string();
+    run.csv_file = (std::filesystem::path(options.out_dir) / (level + ".csv")).string();
+    LevelRow row;
+    row.level = level;
+    row.summary = run_fem_hip(run, false);
+    const auto& results = row.summary.results;
+    const std::size_t bodies = row.summary.bodies.size();
+    row.peak_vm.assign(bodies, 0.0);
+    row.peak_p95.assign(bodies, 0.0);
+    double step_seconds = 0.0;
+    for (const fem::ContactResult& r : results) {
+      row.peak_pressure = std::max(row.peak_pressure, r.max_pressure_mpa);
+      for (std::size_t b = 0; b < bodies && b < r.max_von_mises_mpa.size(); ++b) {
+        row.peak_vm[b] = std::max(row.peak_vm[b], r.max_von_mises_mpa[b]);
+        row.peak_p95[b] = std::max(row.peak_p95[b], r.p95_von_mises_mpa[b]);
+      }
+      step_seconds += r.wall_time_s;
+    }
+    row.wall_per_step = results.empty() ? 0.0 : step_seconds / static_cast<double>(results.size());
+    rows.push_back(std::move(row));
+  }
+  if (rank != 0 || rows.empty()) return;
+  const LevelRow& finest = rows.back();
+  const std::vector<std::string>& bodies = finest.summary.bodies;
+
+  const std::filesystem::path dir(options.out_dir);
+  {
+    const std::filesystem::path csv_path = dir / "levels.csv", partial = dir / "levels.csv.partial";
+    std::ofstream csv(partial);
+    csv << "level,hexahedra,dofs,steps,not_converged,wall_s,wall_per_step_s,peak_pressure_mpa,"
+           "peak_pressure_diff_percent";
+    for (const std::string& body : bodies) csv << ",peak_von_mises_mpa " << body << ",diff_percent";
+    for (const std::string& body : bodies) csv << ",peak_p95_von_mises_mpa " << body << ",diff_percent";
+    csv << '\n';
+    csv.precision(10);
+    for (const LevelRow& row : rows) {
+      csv << row.level << ',' << row.summary.hexes << ','
+          << (row.summary.results.empty() ? 0ul : row.summary.results.front().n_dofs) << ','
+          << row.summary.results.size() << ',' << row.summary.failed << ',' << row.summary.seconds << ','
+          << row.wall_per_step << ',' << row.peak_pressure << ','
+          << relative_difference_percent(row.peak_pressure, finest.peak_pressure);
+      for (std::size_t b = 0; b < bodies.size(); ++b) {
+        csv << ',' << row.peak_vm[b] << ',' << relative_difference_percent(row.peak_vm[b], finest.peak_vm[b]);
+      }
+      for (std::size_t b = 0; b < bodies.size(); ++b) {
+        csv << ',' << row.peak_p95[b] << ',' << relative_difference_percent(row.peak_p95[b], finest.peak_p95[b]);
+      }
+      csv << '\n';
+    }
+    if (!csv) throw_error(partial.string(), ": write failed");
+    csv.close();
+    std::filesystem::rename(partial, csv_path);
+  }
+
+  // Plots: difference from the finest level, and wall time per step, against the DOFs.
+  studies::LineChart accuracy;
+  accuracy.title = "Peak values: difference from the finest level";
+  accuracy.x_label = "degrees of freedom";
+  accuracy.y_label = "difference from " + finest.level + " (%)";
+  accuracy.log_x = true;
+  auto dofs_of = [](const LevelRow& row) {
+    return row.summary.results.empty() ? 0.0 : static_cast<double>(row.summary.results.front().n_dofs);
+  };
+  {
+    studies::Series pressure{"peak contact pressure", {}, {}, false};
+    for (const LevelRow& row : rows) {
+      pressure.x.push_back(dofs_of(row));
+      pressure.y.push_back(relative_difference_percent(row.peak_pressure, finest.peak_pressure));
+    }
+    accuracy.series.push_back(pressure);
+    for (std::size_t b = 0; b < bodies.size(); ++b) {
+      studies::Series vm{"max von Mises, " + bodies[b], {}, {}, false};
+      studies::Series p95{"p95 von Mises, " + bodies[b], {}, {}, true};
+      for (const LevelRow& row : rows) {
+        vm.x.push_back(dofs_of(row));
+        vm.y.push_back(relative_difference_percent(row.peak_vm[b], finest.peak_vm[b]));
+        p95.x.push_back(dofs_of(row));
+        p95.y.push_back(relative_difference_percent(row.peak_p95[b], finest.peak_p95[b]));
+      }
+      accuracy.series.push_back(vm);
+      accuracy.series.push_back(p95);
+    }
+  }
+  studies::write_svg(accuracy, dir / "levels_accuracy.svg");
+  studies::LineChart cost;
+  cost.title = "Wall time per step (this machine)";
+  cost.x_label = "degrees of freedom";
+  cost.y_label = "seconds per step";
+  cost.log_x = cost.log_y = true;
+  studies::Series time{"wall time per step", {}, {}, false};
+  for (const LevelRow& row : rows) {
+    time.x.push_back(dofs_of(row));
+    time.y.push_back(row.wall_per_step);
+  }
+  cost.series.push_back(time);
+  studies::write_svg(cost, dir / "levels_time.svg");
+
+  // Markdown report.
+  const std::filesystem::path md_path = dir / "levels.md", md_partial = dir / "levels.md.partial";
+  std::ofstream md(md_partial);
+  char line[512];
+  md << "# Hip FE model: mesh levels, accuracy and cost\n\n";
+  md << "Model `" << options.run.model_dir << "`, "
+     << (options.run.motion_file.empty() ? "standing-to-sitting in " + std::to_string(options.run.steps) + " steps"
+                                         : "motion `" + options.run.motion_file + "`")
+     << ", " << finest.summary.results.size() << " step(s) per level. Peak = maximum over the steps. "
+     << "Differences are relative to the finest level run (" << finest.level << "). Times are wall "
+     << "times on this machine (" << std::thread::hardware_concurrency() << " hardware threads).\n\n";
+  md << "| level | hexahedra | DOFs | not converged | wall per step (s) | wall per model (s) | peak pressure (MPa) | diff |";
+  for (const std::string& body : bodies) md << " max VM " << body << " (MPa) | diff |";
+  md << "\n|---|---:|---:|---:|---:|---:|---:|---:|";
+  for (std::size_t b = 0; b < bodies.size(); ++b) md << "---:|---:|";
+  md << '\n';
+  for (const LevelRow& row : rows) {
+    std::snprintf(line, sizeof line, "| %s | %zu | %.0f | %zu | %.2f | %.1f | %.4f | %+.1f %% |", row.level.c_str(),
+                  row.summary.hexes, dofs_of(row), row.summary.failed, row.wall_per_step, row.summary.seconds,
+                  row.peak_pressure, relative_difference_percent(row.peak_pressure, finest.peak_pressure));
+    md << line;
+    for (std::size_t b = 0; b < bodies.size(); ++b) {
+      std::snprintf(line, sizeof line, " %.4f | %+.1f %% |", row.peak_vm[b],
+                    relative_difference_percent(row.peak_vm[b], finest.peak_vm[b]));
+      md << line;
+    }
+    md << '\n';
+  }
+  md << "\n95th percentile of von Mises over each tissue's Gauss points (peak over the steps):\n\n| level |";
+  for (const std::string& body : bodies) md << " p95 VM " << body << " (MPa) | diff |";
+  md << "\n|---|";
+  for (std::size_t b = 0; b < bodies.size(); ++b) md << "---:|---:|";
+  md << '\n';
+  for (const LevelRow& row : rows) {
+    md << "| " << row.level << " |";
+    for (std::size_t b = 0; b < bodies.size(); ++b) {
+      std::snprintf(line, sizeof line, " %.4f | %+.1f %% |", row.peak_p95[b],
+                    relative_difference_percent(row.peak_p95[b], finest.peak_p95[b]));
+      md << line;
+    }
+    md << '\n';
+  }
+  md << "\n![difference from the finest level](levels_accuracy.svg)\n\n![wall time per step](levels_time.svg)\n\n"
+     << "Per level: `<level>.h5` (every step, docs/results-layout.md) and `<level>.csv`.\n";
+  if (!md) throw_error(md_partial.string(), ": write failed");
+  md.close();
+  std::filesystem::rename(md_partial, md_path);
+  std::printf("fem levels: %s, %s, %s\n", (dir / "levels.md").c_str(), (dir / "levels.csv").c_str(),
+              (dir / "levels_accuracy.svg").c_str());
 }
 
 const CommandRegistrar registrar{"fem", [](CLI::App& parent) {
@@ -337,6 +544,31 @@ const CommandRegistrar registrar{"fem", [](CLI::App& parent) {
       ->needs(vtu_prefix);
   run->add_flag("--verbose", run_options->verbose, "Print active-set iterations");
   run->callback([run_options] { run_fem_hip(*run_options); });
+
+  auto levels_options = std::make_shared<FemLevelsOptions>();
+  auto* levels = fem_command->add_subcommand(
+      "levels", "The hip FE model at each mesh level: accuracy vs the finest level and time (table + plots)");
+  levels->add_option("--model", levels_options->run.model_dir, "Hip model directory (model.json)")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  levels->add_option("--motion", levels_options->run.motion_file,
+                     "Motion CSV: step,flexion_deg,adduction_deg,internal_rotation_deg[,Fx_N,Fy_N,Fz_N]")
+      ->check(CLI::ExistingFile);
+  levels->add_option("--steps", levels_options->run.steps, "Sub-motions of standing-to-sitting (without --motion)")
+      ->check(CLI::Range(1, 1000));
+  levels->add_option("--levels", levels_options->levels, "Levels to run (the finest is the reference)")
+      ->delimiter(',')
+      ->check(CLI::IsMember(fem::hip_fe_level_names()));
+  levels->add_option("--body-weight-n", levels_options->run.body_weight_n,
+                     "Body weight (N) scaling the joint force when the motion has none")
+      ->check(CLI::Range(1.0, 5000.0));
+  levels->add_option("--out", levels_options->out_dir,
+                     "Output directory: levels.md, levels.csv, levels_*.svg, <level>.h5/.csv")
+      ->required();
+  levels->callback([levels_options] {
+    if (levels_options->levels.size() < 2) throw_error("fem levels: --levels needs at least two levels");
+    run_fem_levels(*levels_options);
+  });
 }};
 
 }  // namespace

@@ -45,4 +45,11 @@ if(TARGET hipfai_fem)
                   COMMAND fem run --model @TMP@ --steps 1 --out @TMP@/r.h5)
   hipfai_cli_test(NAME fem_run_bad_level EXIT nonzero STDERR "level"
                   COMMAND fem run --model @TMP@ --level medium --out @TMP@/r.h5)
+  # fem levels: option errors before any solve, and no report left behind.
+  hipfai_cli_test(NAME fem_levels_one_level EXIT nonzero STDERR "at least two levels"
+                  COMMAND fem levels --model @TMP@ --levels coarse --out @TMP@/levels)
+  hipfai_cli_test(NAME fem_levels_bad_level EXIT nonzero STDERR "medium"
+                  COMMAND fem levels --model @TMP@ --levels coarse,medium --out @TMP@/levels)
+  hipfai_cli_test(NAME fem_levels_model_without_json EXIT nonzero STDERR "model.json"
+                  COMMAND fem levels --model @TMP@ --levels coarse,default --steps 1 --out @TMP@/levels)
 endif()
