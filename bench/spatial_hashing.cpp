@@ -3,6 +3,7 @@
 #include "contact/cylindrical_table.h"  // detail::parallel_chunks
 #include "contact/ray_triangle.h"
 #include "core/error.h"
+#include "geometry/gmsh_runtime.h"
 
 #include <gmsh.h>
 
@@ -10,6 +11,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <mutex>
 
 namespace hipfai::bench {
 
@@ -46,33 +48,14 @@ std::array<Vector3d, 3> corners(const geometry::TriMesh& mesh, std::size_t t) {
           mesh.vertices[static_cast<std::size_t>(tri[2])]};
 }
 
-// gmsh's global runtime: initialised once, never finalised here (the hip generator shares it; a
-// second initialize() is ignored by gmsh).
-void ensure_gmsh() {
-  static const bool initialised = [] {
-    gmsh::initialize();
-    gmsh::option::setNumber("General.Terminal", 0);
-    return true;
-  }();
-  (void)initialised;
-}
-
-// After a failed 3D mesh gmsh 4.8 keeps an error state in which later meshing silently produces
-// nothing: restart the runtime (options go back to their defaults; the hip generator sets its own
-// for every hip).
-void reset_gmsh() {
-  try {
-    gmsh::finalize();
-  } catch (...) {
-  }
-  gmsh::initialize();
-  gmsh::option::setNumber("General.Terminal", 0);
-}
-
 }  // namespace
 
 TetMesh tetrahedralize(const geometry::TriMesh& closed_surface) {
-  ensure_gmsh();
+  // gmsh's runtime is process-wide and shared with the hip generator and the volume mesher: held
+  // for the whole use (the lock also initialises gmsh, quiet, on first use). After a failed 3D mesh
+  // gmsh keeps an error state in which later meshing silently produces nothing (clear() does not
+  // end it): every failure below restarts gmsh under this lock.
+  const std::unique_lock<std::mutex> gmsh_lock = geometry::lock_gmsh();
   TetMesh out;
   try {
     gmsh::clear();
@@ -138,14 +121,14 @@ TetMesh tetrahedralize(const geometry::TriMesh& closed_surface) {
     }
     gmsh::clear();
   } catch (const std::exception& error) {
-    reset_gmsh();
+    geometry::reset_gmsh_locked(gmsh_lock);
     throw_error("tetrahedralize: gmsh failed: ", error.what());
   } catch (...) {
-    reset_gmsh();
+    geometry::reset_gmsh_locked(gmsh_lock);
     throw_error("tetrahedralize: gmsh failed on the surface mesh (self-intersecting or open?)");
   }
   if (out.tets.empty()) {
-    reset_gmsh();
+    geometry::reset_gmsh_locked(gmsh_lock);
     throw_error("tetrahedralize: gmsh produced no tetrahedra (self-intersecting or open surface?)");
   }
   return out;

@@ -10,6 +10,7 @@
 #include "contact/oracle_radial.h"
 #include "contact/range_finder.h"
 #include "core/error.h"
+#include "geometry/gmsh_runtime.h"
 #include "geometry/primitive_meshes.h"
 
 #include <gmsh.h>
@@ -18,6 +19,7 @@
 #include <cmath>
 #include <numbers>
 #include <set>
+#include <thread>
 
 namespace hipfai::bench {
 namespace {
@@ -264,12 +266,15 @@ TEST(SpatialHashing, SuccessiveTetrahedralizationsInOneProcess) {
   // gmsh keeps global state between calls: each call must start from a clean model.
   const auto sphere = geometry::make_octasphere(Vector3d(1, 2, 3), 10.0, 3);
   const auto box = geometry::make_box(Vector3d(-25, -25, 16.5), Vector3d(25, 25, 66.5), 8);
-  (void)tetrahedralize(sphere);  // initialises the runtime
-  // Global size options another gmsh user (the hip generator) leaves behind must not matter; the
-  // coarsest box of the sphere-cube ladder (4 divisions) made HXT abort with these.
-  gmsh::option::setNumber("Mesh.MeshSizeMax", 5.5);
-  gmsh::option::setNumber("Mesh.MeshSizeMin", 0.55);
-  gmsh::option::setNumber("General.NumThreads", 1);
+  (void)tetrahedralize(sphere);
+  {
+    // Global size options another gmsh user (the hip generator) leaves behind must not matter; the
+    // coarsest box of the sphere-cube ladder (4 divisions) made HXT abort with these.
+    const auto gmsh_lock = geometry::lock_gmsh();  // the runtime the library uses
+    gmsh::option::setNumber("Mesh.MeshSizeMax", 5.5);
+    gmsh::option::setNumber("Mesh.MeshSizeMin", 0.55);
+    gmsh::option::setNumber("General.NumThreads", 1);
+  }
   const TetMesh coarse = tetrahedralize(make_sphere_cube(2).fixed);
   EXPECT_NEAR(tet_volume(coarse), 125000.0, 125000.0 * 1e-6);
   // Two overlapping spheres in one surface: self-intersecting, gmsh must fail (and recover).
@@ -282,6 +287,20 @@ TEST(SpatialHashing, SuccessiveTetrahedralizationsInOneProcess) {
     const TetMesh b = tetrahedralize(box);
     EXPECT_NEAR(tet_volume(b), 125000.0, 125000.0 * 1e-6);
   }
+}
+
+TEST(SpatialHashing, TetrahedralizationsFromTwoThreadsAreSerialised) {
+  // gmsh has one global model: without the process-wide lock two threads would mesh into it at once.
+  const auto sphere = geometry::make_octasphere(Vector3d(1, 2, 3), 10.0, 3);
+  const auto box = geometry::make_box(Vector3d(-25, -25, 16.5), Vector3d(25, 25, 66.5), 8);
+  double sphere_volume = 0.0, box_volume = 0.0;
+  std::thread other([&] {
+    for (int i = 0; i < 3; ++i) sphere_volume = tet_volume(tetrahedralize(sphere));
+  });
+  for (int i = 0; i < 3; ++i) box_volume = tet_volume(tetrahedralize(box));
+  other.join();
+  EXPECT_NEAR(sphere_volume, geometry::signed_volume(sphere), 1e-6 * geometry::signed_volume(sphere));
+  EXPECT_NEAR(box_volume, 125000.0, 125000.0 * 1e-6);
 }
 
 }  // namespace
