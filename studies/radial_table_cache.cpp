@@ -10,7 +10,11 @@ namespace hipfai::studies {
 
 namespace {
 
-constexpr char kMagic[] = "HIPFAI-RADIAL-TABLE v1";
+// The version names the table's CONTENT, not only the layout: v2 tables bin triangles whose plane
+// passes (nearly) through the centre along their great-circle arc; a v1 file has
+// the same layout but lists them as always-candidates, which is correct but far slower, so it is
+// rejected and rebuilt. Bump the version whenever build_radial_table puts triangles elsewhere.
+constexpr char kMagic[] = "HIPFAI-RADIAL-TABLE v2";
 
 template <typename T>
 void put(std::ostream& out, const T& value) {

@@ -8,9 +8,11 @@
 
 namespace hipfai::studies {
 
-// Binary little-endian file "HIPFAI-RADIAL-TABLE v1"; written atomically.
+// Binary little-endian file "HIPFAI-RADIAL-TABLE v2"; written atomically. The version changes with
+// the table's content (how triangles are binned), so a file of an older build is not loaded and the
+// cache rebuilds it at the same path.
 void save_radial_table(const contact::RadialTable& table, const std::filesystem::path& path);
-// std::nullopt when the file is missing, of another version or damaged (the caller rebuilds).
+// std::nullopt when the file is missing, of another version (e.g. v1) or damaged (the caller rebuilds).
 std::optional<contact::RadialTable> load_radial_table(const std::filesystem::path& path);
 
 }  // namespace hipfai::studies

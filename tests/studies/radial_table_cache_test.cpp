@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <string>
 
 namespace hipfai::studies {
 namespace {
@@ -52,6 +53,40 @@ TEST(RadialTableCache, DamagedFileIsRejectedNotTrusted) {
   std::ofstream(path) << "not a table";
   EXPECT_FALSE(load_radial_table(path).has_value());
   EXPECT_FALSE(load_radial_table(path.string() + ".missing").has_value());
+}
+
+TEST(RadialTableCache, OlderVersionIsRejectedAndRebuiltInPlace) {
+  // A v1 file has the v2 layout (only its near-centre-plane triangles sat in the always-candidate
+  // list), so it would load without complaint if the header were not checked: patch a fresh file's
+  // header back to v1 and expect the loader to refuse it.
+  const auto path = std::filesystem::temp_directory_path() / "hipfai_radial_table_v1.bin";
+  const auto socket = geometry::make_octasphere(geometry::Vec3(0.5, 0, 0), 10.0, 3);
+  const auto table = contact::build_radial_table(socket, geometry::Vec3::Zero(), {});
+  save_radial_table(table, path);
+  const auto fresh = load_radial_table(path);
+  ASSERT_TRUE(fresh.has_value());
+  EXPECT_EQ(fresh->num_entries(), table.num_entries());
+  EXPECT_EQ(fresh->always_candidates, table.always_candidates);
+  EXPECT_EQ(fresh->cells, table.cells);
+
+  constexpr char kOldMagic[] = "HIPFAI-RADIAL-TABLE v1";
+  {
+    std::fstream file(path, std::ios::binary | std::ios::in | std::ios::out);
+    ASSERT_TRUE(file.good());
+    char header[sizeof kOldMagic];
+    ASSERT_TRUE(file.read(header, sizeof header));
+    ASSERT_EQ(std::string(header, sizeof header - 1), std::string("HIPFAI-RADIAL-TABLE v2"));
+    file.seekp(0);
+    file.write(kOldMagic, sizeof kOldMagic);
+  }
+  EXPECT_FALSE(load_radial_table(path).has_value());
+
+  // The cache's answer to a refused file: build again and save at the same path, which loads.
+  save_radial_table(table, path);
+  const auto rebuilt = load_radial_table(path);
+  ASSERT_TRUE(rebuilt.has_value());
+  EXPECT_EQ(rebuilt->cells, table.cells);
+  std::filesystem::remove(path);
 }
 
 }  // namespace
