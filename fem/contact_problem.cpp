@@ -936,7 +936,13 @@ std::vector<Linearization> ContactProblem::Impl::solve_reduced_direct(
       KSPSolve(ksp, rhs, v);
       KSPConvergedReason reason;
       KSPGetConvergedReason(ksp, &reason);
-      if (reason < 0) linear_failure = true;
+      if (reason < 0) {
+        linear_failure = true;
+        PCFailedReason pc_reason;
+        PCGetFailedReason(pc, &pc_reason);
+        pcout << "fem: direct solve failed: KSP reason " << static_cast<int>(reason) << ", PC reason "
+              << static_cast<int>(pc_reason) << std::endl;
+      }
       ++linear_iterations;
     } else {
       VecSet(v, 0.0);
@@ -1256,7 +1262,7 @@ ContactResult ContactProblem::Impl::run(ContactProblem& model) {
     out.normal = node.normal;
     out.area_mm2 = node.area;
     out.active = active[n];
-    out.force_n = active[n] ? force[n] : 0.0;
+    out.force_n = active[n] && n < force.size() ? force[n] : 0.0;  // no force: the loop stopped early
     out.pressure_mpa = out.force_n / node.area;
     out.gap_mm = gap.empty() ? node.initial_gap : gap[n];
     result.max_penetration_mm = std::max(result.max_penetration_mm, -out.gap_mm);
