@@ -116,13 +116,14 @@ std::pair<Vector3d, double> impinging_pose(const geometry::TriMesh& fixed, const
 
 }  // namespace
 
-Scenario make_lever_stone() {
+Scenario make_lever_stone(int stone_level, int lever_divisions) {
+  if (stone_level < 1 || lever_divisions < 1) throw_error("lever_stone: stone level and lever divisions must be >= 1");
   Scenario s;
   s.family = "lever_stone";
   s.name = "lever_stone";
   s.radial = false;
-  s.fixed = geometry::make_octasphere(Vector3d(45, 18, 0), 10.0, 5);
-  s.mobile = geometry::make_box(Vector3d(-60, -2.5, -4), Vector3d(60, 2.5, 4), 24);
+  s.fixed = geometry::make_octasphere(Vector3d(45, 18, 0), 10.0, stone_level);
+  s.mobile = geometry::make_box(Vector3d(-60, -2.5, -4), Vector3d(60, 2.5, 4), lever_divisions);
   s.centre = Vector3d::Zero();
   const auto [axis, angle] = impinging_pose(s.fixed, s.mobile, s.centre, {Vector3d::UnitZ()}, 2.0);
   s.axis = axis;
@@ -130,7 +131,12 @@ Scenario make_lever_stone() {
   return s;
 }
 
-Scenario make_torus_rough() {
+Scenario make_torus_rough(int wheel_segments, int tube_segments, double ground_spacing_mm) {
+  const double cells_x = 60.0 / ground_spacing_mm, cells_y = 24.0 / ground_spacing_mm;
+  if (wheel_segments < 3 || tube_segments < 3 || !(ground_spacing_mm > 0.0) ||
+      std::abs(cells_x - std::round(cells_x)) > 1e-9 || std::abs(cells_y - std::round(cells_y)) > 1e-9) {
+    throw_error("torus_rough: need >= 3 wheel and tube segments and a ground spacing dividing 60 and 24 mm");
+  }
   Scenario s;
   s.family = "torus_rough";
   s.name = "torus_rough";
@@ -139,14 +145,14 @@ Scenario make_torus_rough() {
   Eigen::Isometry3d to_wheel = Eigen::Isometry3d::Identity();
   to_wheel.linear() = Eigen::AngleAxisd(std::numbers::pi / 2.0, Vector3d::UnitX()).toRotationMatrix();
   to_wheel.translation() = Vector3d(0, 0, 25);
-  s.mobile = transformed(geometry::make_torus(Vector3d::Zero(), 20.0, 5.0, 160, 32), to_wheel);
-  // Rough ground: a height field over [-30, 30] x [-12, 12] mm, 0.5 mm spacing, a sum of
-  // incommensurate waves between -0.6 and +1 mm; triangles counter-clockwise seen from above
-  // (outward normal +z: the solid is the ground below).
-  const int nx = 121, ny = 49;
+  s.mobile = transformed(geometry::make_torus(Vector3d::Zero(), 20.0, 5.0, wheel_segments, tube_segments), to_wheel);
+  // Rough ground: a height field over [-30, 30] x [-12, 12] mm (0.5 mm spacing in the benchmark),
+  // a sum of incommensurate waves between -0.6 and +1 mm; triangles counter-clockwise seen from
+  // above (outward normal +z: the solid is the ground below).
+  const int nx = static_cast<int>(std::lround(cells_x)) + 1, ny = static_cast<int>(std::lround(cells_y)) + 1;
   for (int j = 0; j < ny; ++j) {
     for (int i = 0; i < nx; ++i) {
-      const double x = -30.0 + 0.5 * i, y = -12.0 + 0.5 * j;
+      const double x = -30.0 + ground_spacing_mm * i, y = -12.0 + ground_spacing_mm * j;
       const double z = 0.2 + 0.5 * std::sin(0.9 * x + 0.3) * std::cos(0.7 * y) + 0.3 * std::sin(2.3 * x - 1.7 * y);
       s.fixed.vertices.emplace_back(x, y, z);
     }

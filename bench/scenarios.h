@@ -70,8 +70,11 @@ std::vector<Scenario> make_cartilage(const geometry::HipModel& hip, int max_leve
 //                (range finder) plus 2 degrees.
 //   torus_rough  a torus wheel (R 20, r 5 mm, axis y) rolling by 7 degrees about its axis on a
 //                rough surface (open height field, bumps up to ~1 mm into the wheel's rim).
-Scenario make_lever_stone();
-Scenario make_torus_rough();
+// The defaults are the benchmark's sizes; the unit tests build smaller ones of the same shapes
+// (stone: octasphere level; lever: box divisions per face; wheel: segments around the axis and
+// around the tube; ground: grid spacing, which must divide 60 and 24 mm).
+Scenario make_lever_stone(int stone_level = 5, int lever_divisions = 24);
+Scenario make_torus_rough(int wheel_segments = 160, int tube_segments = 32, double ground_spacing_mm = 0.5);
 
 // The real CT bones (throws hipfai::Error if the files are missing).
 Scenario make_striking_real_ct(const std::string& lhdl_dir);
