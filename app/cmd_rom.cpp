@@ -65,19 +65,38 @@ void check(const contact::RangeOfMotion& range) {
   if (range.status == contact::QueryStatus::kInvalidInput) throw_error("rom: ", range.message);
 }
 
+// One direction's limiting contact as CSV fields: kind, vertex, triangle, mobile edge, fixed edge.
+// Only the fields of that kind of contact are written; the others are left empty (a vertex contact
+// has no edges, an edge-edge contact no vertex/triangle, "none" nothing). Edges are "a-b", the
+// indices of their two vertices in the mobile and the fixed mesh.
+std::string contact_fields(const contact::LimitingContact& limit) {
+  std::string fields = kind_name(limit.kind);
+  fields += ',';
+  const bool vertex_contact = limit.kind == contact::ContactKind::kMobileVertexOnFixedTriangle ||
+                              limit.kind == contact::ContactKind::kFixedVertexOnMobileTriangle;
+  if (vertex_contact) {
+    fields += std::to_string(limit.vertex) + ',' + std::to_string(limit.triangle) + ",,";
+  } else if (limit.kind == contact::ContactKind::kEdgeOnEdge) {
+    fields += ",," + std::to_string(limit.mobile_edge[0]) + '-' + std::to_string(limit.mobile_edge[1]) + ',' +
+              std::to_string(limit.fixed_edge[0]) + '-' + std::to_string(limit.fixed_edge[1]);
+  } else {
+    fields += ",,,";
+  }
+  return fields;
+}
+
 void write_csv(const std::string& path, const std::vector<contact::AxisRangeOfMotion>& rows) {
   write_text_atomically(path, [&](std::ostream& out) {
     out << "axis_x,axis_y,axis_z,angle_deg,azimuth_deg,anticlockwise_deg,clockwise_deg,"
            "anticlockwise_contact,anticlockwise_vertex,anticlockwise_triangle,"
-           "clockwise_contact,clockwise_vertex,clockwise_triangle\n";
+           "anticlockwise_mobile_edge,anticlockwise_fixed_edge,"
+           "clockwise_contact,clockwise_vertex,clockwise_triangle,clockwise_mobile_edge,clockwise_fixed_edge\n";
     out.precision(10);
     for (const auto& row : rows) {
       const auto& r = row.range;
       out << row.axis.x() << ',' << row.axis.y() << ',' << row.axis.z() << ',' << row.angle_deg
           << ',' << row.azimuth_deg << ',' << r.anticlockwise_deg << ',' << r.clockwise_deg << ','
-          << kind_name(r.anticlockwise_limit.kind) << ',' << r.anticlockwise_limit.vertex << ','
-          << r.anticlockwise_limit.triangle << ',' << kind_name(r.clockwise_limit.kind) << ','
-          << r.clockwise_limit.vertex << ',' << r.clockwise_limit.triangle << '\n';
+          << contact_fields(r.anticlockwise_limit) << ',' << contact_fields(r.clockwise_limit) << '\n';
     }
   });
 }
@@ -171,7 +190,9 @@ const CommandRegistrar registrar("rom", [](CLI::App& parent) {
   command->add_flag("--no-edge-edge", args->no_edge_edge,
                     "Vertex contacts only (the thesis' finder; skip the exact edge-edge pass)");
   command->add_option("--threads", args->threads, "Threads (0 = all)")->check(CLI::Range(0, 256));
-  command->add_option("--csv", args->csv, "CSV table: one row per axis");
+  command->add_option("--csv", args->csv,
+                      "CSV table: one row per axis; per direction the contact kind and its vertex + "
+                      "triangle (vertex contacts) or mobile + fixed edge as a-b (edge-edge), others empty");
   command->callback([args] { run(*args); });
 });
 
