@@ -3,3 +3,12 @@ hipfai_cli_test(NAME bench_collision_quick EXIT 0
                 COMMAND bench collision --quick --out @TMP@/bench)
 hipfai_cli_test(NAME bench_collision_bad_threads EXIT nonzero STDERR "threads"
                 COMMAND bench collision --quick --threads 9 --out @TMP@/bench)
+# hipfai bench radial: the quick probe on the smallest scenario (prints its table; no files), and
+# a level outside the scenario's range (accepted by the option's 0..8 check, refused by the probe).
+hipfai_cli_test(NAME bench_radial_smallest EXIT 0
+                COMMAND bench radial --scenario sphere_cube --level 2 --threads 1 --repeats 1)
+hipfai_cli_test(NAME bench_radial_bad_level EXIT nonzero
+                STDERR "^hipfai: error: bench radial: --level must be 2\\.\\.8 for sphere_cube$"
+                COMMAND bench radial --scenario sphere_cube --level 1)
+hipfai_cli_test(NAME bench_radial_bad_scenario EXIT nonzero STDERR "--scenario: torus not in"
+                COMMAND bench radial --scenario torus)
