@@ -197,6 +197,10 @@ std::string fmt(double value, int precision = 3) {
   return buffer;
 }
 
+// A false-negative / false-positive count, empty when the row was not compared with a reference
+// (the oracle's own row): -1 would read as a count.
+std::string fmt_count(long count) { return count < 0 ? std::string() : std::to_string(count); }
+
 std::string fmt_ms(const TimingStats& t) {
   if (t.repeats == 0) return "-";
   return fmt(t.median_ms) + " [" + fmt(t.min_ms) + "–" + fmt(t.max_ms) + "]";
@@ -753,8 +757,8 @@ void Bench::write_outputs(CollisionBenchReport& report) {
          << fmt(r.query.min_ms, 6) << ',' << fmt(r.query.max_ms, 6) << ',' << r.query.repeats << ','
          << fmt(r.total_ms(), 6) << ',' << fmt(r.memory.peak_rss_growth_mib, 4) << ','
          << fmt(r.memory.heap_growth_mib, 4) << ',' << fmt(r.ratio_query, 4) << ','
-         << fmt(r.ratio_total, 4) << ',' << r.exact.reported << ',' << r.exact.false_negatives << ','
-         << r.exact.false_positives << ',' << fmt(r.exact.max_depth_error_mm, 3) << ",\"" << r.reference << "\",\""
+         << fmt(r.ratio_total, 4) << ',' << r.exact.reported << ',' << fmt_count(r.exact.false_negatives) << ','
+         << fmt_count(r.exact.false_positives) << ',' << fmt(r.exact.max_depth_error_mm, 3) << ",\"" << r.reference << "\",\""
          << r.note << '"';
     csv.push_back(line.str());
   }
@@ -963,7 +967,8 @@ void Bench::write_outputs(CollisionBenchReport& report) {
         "Memory of the pre-processing: peak RSS growth while building / heap retained by the built structure (MiB; "
         "the first misses heap pages malloc reuses, the second misses transient peaks). FN / FP = false negatives / positives vs the oracle; for FCL and "
         "spatial hashing on tetrahedra the vertex set is compared (FCL: vertices of the mobile triangles it reports), "
-        "depth error only where the method returns depths.\n\n";
+        "depth error only where the method returns depths; FN, FP and depth error are empty in rows not compared with a "
+        "reference (the oracle's own row).\n\n";
   md << "## Targets of issue 4\n\n| target | met | measured |\n|---|---|---|\n";
   for (const auto& t : report.targets) md << "| " << t.target << " | " << (t.met ? "**met**" : "not met") << " | " << t.measured << " |\n";
   md << "\n## Results\n\n";
@@ -978,7 +983,7 @@ void Bench::write_outputs(CollisionBenchReport& report) {
     }
     md << "| " << r.method << " | " << r.threads << " | " << fmt_ms(r.pre) << " | " << fmt_ms(r.query) << " | " << fmt(r.total_ms())
        << " | " << fmt(r.memory.peak_rss_growth_mib) << " / " << fmt(r.memory.heap_growth_mib) << " | " << fmt(r.ratio_query) << " | " << fmt(r.ratio_total) << " | " << r.exact.reported
-       << " | " << r.exact.false_negatives << " | " << r.exact.false_positives << " | " << fmt(r.exact.max_depth_error_mm) << " | "
+       << " | " << fmt_count(r.exact.false_negatives) << " | " << fmt_count(r.exact.false_positives) << " | " << fmt(r.exact.max_depth_error_mm) << " | "
        << r.reference << " | " << r.note << " |\n";
   }
   md << "\n## Range of motion: one pass vs stepping (thesis Table 7)\n\n"
