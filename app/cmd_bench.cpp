@@ -4,6 +4,7 @@
 #include "app/command_registry.h"
 #include "bench/collision_bench.h"
 #include "bench/radial_probe.h"
+#include "core/error.h"
 
 #include <cstdio>
 #include <memory>
@@ -55,7 +56,15 @@ const CommandRegistrar registrar("bench", [](CLI::App& parent) {
   radial->add_option("--level", probe->level, "cartilage 0..3, sphere_cube 2..8")->check(CLI::Range(0, 8));
   radial->add_option("--threads", probe->threads, "1 or 2")->check(CLI::Range(1, 2));
   radial->add_option("--repeats", probe->repeats, "Timed runs per method")->check(CLI::Range(1, 100));
-  radial->callback([probe] { std::fputs(bench::run_radial_probe(*probe).c_str(), stdout); });
+  radial->callback([probe] {
+    const bench::RadialProbeReport report = bench::run_radial_probe(*probe);
+    std::fputs(report.table.c_str(), stdout);
+    if (!report.mismatched.empty()) {
+      std::string list;
+      for (const std::string& name : report.mismatched) list += (list.empty() ? "" : ", ") + name;
+      throw_error("bench radial: ", list, " reported other vertices than the Embree ray caster");
+    }
+  });
 });
 
 }  // namespace

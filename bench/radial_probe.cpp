@@ -48,10 +48,11 @@ double mean_candidates(const contact::RadialTable& table, const geometry::TriMes
 
 }  // namespace
 
-std::string run_radial_probe(const RadialProbeOptions& options) {
+RadialProbeReport run_radial_probe(const RadialProbeOptions& options) {
   const Scenario s = probe_scenario(options);
   const geometry::TriMesh posed = s.posed_mobile();
   std::ostringstream out;
+  RadialProbeReport report;
   out << s.name << ": " << s.mobile.num_vertices() << " mobile vertices, " << s.fixed.num_triangles()
       << " fixed triangles, " << options.threads << " thread(s)\n\n"
       << "| method | pre ms | query ms (median [min-max]) | reported | always-checked | candidates per vertex | same vertices as embree |\n"
@@ -80,14 +81,17 @@ std::string run_radial_probe(const RadialProbeOptions& options) {
     contact::PenetrationResult result;
     const TimingStats query = time_repeated([&] { result = contact::radial_segmenting(table, s.fixed, posed, q); },
                                             options.repeats, options.repeats, 1e12);
+    const bool same = vertices_of(result) == vertices_of(reference);
+    if (!same) report.mismatched.push_back(std::string("radial_") + contact::to_string(mapping));
     out << "| radial_" << contact::to_string(mapping) << " | " << ms(pre.median_ms) << " | " << ms(query.median_ms)
         << " [" << ms(query.min_ms) << "-" << ms(query.max_ms) << "] | " << result.pairs.size() << " | "
-        << table.always_candidates.size() << " | " << ms(mean_candidates(table, posed)) << " | " << (vertices_of(result) == vertices_of(reference) ? "yes" : "NO")
+        << table.always_candidates.size() << " | " << ms(mean_candidates(table, posed)) << " | " << (same ? "yes" : "NO")
         << " |\n";
   }
   out << "| embree | - | " << ms(embree.median_ms) << " [" << ms(embree.min_ms) << "-" << ms(embree.max_ms)
       << "] | " << reference.pairs.size() << " | - | - | - |\n";
-  return out.str();
+  report.table = out.str();
+  return report;
 }
 
 }  // namespace hipfai::bench

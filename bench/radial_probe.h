@@ -5,6 +5,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 namespace hipfai::bench {
 
@@ -15,8 +16,12 @@ struct RadialProbeOptions {
   int repeats = 5;
 };
 
-// Runs the probe and returns the lines of its report (a small Markdown table). Throws
-// hipfai::Error for an unknown family or a level out of range.
-std::string run_radial_probe(const RadialProbeOptions& options);
+struct RadialProbeReport {
+  std::string table;                    // a small Markdown table
+  std::vector<std::string> mismatched;  // methods whose vertices differ from Embree's
+};
+
+// Runs the probe. Throws hipfai::Error for an unknown family or a level out of range.
+RadialProbeReport run_radial_probe(const RadialProbeOptions& options);
 
 }  // namespace hipfai::bench
