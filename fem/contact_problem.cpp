@@ -845,6 +845,11 @@ std::vector<Linearization> ContactProblem::Impl::solve_reduced_direct(
   }
   // Owned rows of P are the owned dofs; owned columns the free ones among them (the owned range
   // is contiguous and ordered by rank, so the reduced owned range is too).
+  if (!owned_dofs.is_contiguous()) {
+    // The shared triangulation numbers each rank's dofs contiguously; the reduced numbering
+    // below relies on it.
+    throw_error("fem: direct solver needs contiguous locally owned dofs on every rank");
+  }
   const global_dof_index first = owned_dofs.is_empty() ? 0 : owned_dofs.nth_index_in_set(0);
   const global_dof_index n_owned = owned_dofs.n_elements();
   global_dof_index first_free = kConstrained, n_owned_free = 0;
