@@ -313,6 +313,8 @@ struct LevelRow {
   FemRunSummary summary;
   double peak_pressure = 0.0, wall_per_step = 0.0;
   std::vector<double> peak_vm, peak_p95;  // per body, max over the steps
+  // Integral quantities at the last step (the peak load of standing-to-sitting).
+  double last_mean_pressure = 0.0, last_area = 0.0, last_translation = 0.0;
 };
 
 double relative_difference_percent(double value, double reference) {
@@ -355,6 +357,13 @@ void run_fem_levels(const FemLevelsOptions& options) {
       step_seconds += r.wall_time_s;
     }
     row.wall_per_step = results.empty() ? 0.0 : step_seconds / static_cast<double>(results.size());
+    if (!results.empty()) {
+      const fem::ContactResult& last = results.back();
+      row.last_mean_pressure = last.mean_pressure_mpa;
+      row.last_area = last.contact_area_mm2;
+      row.last_translation =
+          last.rigid_translation_mm.empty() ? 0.0 : last.rigid_translation_mm[fem::kFemurBody].norm();
+    }
     rows.push_back(std::move(row));
   }
   if (rank != 0 || rows.empty()) return;
@@ -369,7 +378,7 @@ void run_fem_levels(const FemLevelsOptions& options) {
            "peak_pressure_diff_percent";
     for (const std::string& body : bodies) csv << ",peak_von_mises_mpa " << body << ",diff_percent";
     for (const std::string& body : bodies) csv << ",peak_p95_von_mises_mpa " << body << ",diff_percent";
-    csv << '\n';
+    csv << ",last_mean_pressure_mpa,diff_percent,last_contact_area_mm2,diff_percent,last_translation_mm,diff_percent\n";
     csv.precision(10);
     for (const LevelRow& row : rows) {
       csv << row.level << ',' << row.summary.hexes << ','
@@ -383,7 +392,10 @@ void run_fem_levels(const FemLevelsOptions& options) {
       for (std::size_t b = 0; b < bodies.size(); ++b) {
         csv << ',' << row.peak_p95[b] << ',' << relative_difference_percent(row.peak_p95[b], finest.peak_p95[b]);
       }
-      csv << '\n';
+      csv << ',' << row.last_mean_pressure << ','
+          << relative_difference_percent(row.last_mean_pressure, finest.last_mean_pressure) << ',' << row.last_area
+          << ',' << relative_difference_percent(row.last_area, finest.last_area) << ',' << row.last_translation << ','
+          << relative_difference_percent(row.last_translation, finest.last_translation) << '\n';
     }
     if (!csv) throw_error(partial.string(), ": write failed");
     csv.close();
@@ -474,6 +486,16 @@ void run_fem_levels(const FemLevelsOptions& options) {
       md << line;
     }
     md << '\n';
+  }
+  md << "\nIntegral quantities at the last step (mean pressure = normal force / contact area):\n\n"
+     << "| level | mean pressure (MPa) | diff | contact area (mm^2) | diff | femur translation (mm) | diff |\n"
+     << "|---|---:|---:|---:|---:|---:|---:|\n";
+  for (const LevelRow& row : rows) {
+    std::snprintf(line, sizeof line, "| %s | %.4f | %+.1f %% | %.0f | %+.1f %% | %.4f | %+.1f %% |\n", row.level.c_str(),
+                  row.last_mean_pressure, relative_difference_percent(row.last_mean_pressure, finest.last_mean_pressure),
+                  row.last_area, relative_difference_percent(row.last_area, finest.last_area), row.last_translation,
+                  relative_difference_percent(row.last_translation, finest.last_translation));
+    md << line;
   }
   md << "\n![difference from the finest level](levels_accuracy.svg)\n\n![wall time per step](levels_time.svg)\n\n"
      << "Per level: `<level>.h5` (every step, docs/results-layout.md) and `<level>.csv`.\n";
