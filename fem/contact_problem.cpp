@@ -127,6 +127,23 @@ struct BondedDof {
 
 namespace {
 
+// Runs work(first, last) over [0, n) in contiguous chunks on threads, sharing the machine's
+// cores with the other MPI ranks on it (the calling thread takes the first chunk).
+template <class Work>
+void run_in_chunks(std::size_t n, MPI_Comm comm, const Work& work) {
+  const std::size_t n_threads = std::clamp<std::size_t>(
+      std::thread::hardware_concurrency() / dealii::Utilities::MPI::n_mpi_processes(comm), 1, 8);
+  const std::size_t chunk = (n + n_threads - 1) / n_threads;
+  std::vector<std::thread> workers;
+  for (std::size_t t = 1; t < n_threads; ++t) {
+    const std::size_t first = std::min(n, t * chunk);
+    const std::size_t last = std::min(n, first + chunk);
+    if (first < last) workers.emplace_back(work, first, last);
+  }
+  work(0, std::min(n, chunk));
+  for (std::thread& worker : workers) worker.join();
+}
+
 // CG with PETSc's smoothed-aggregation AMG (GAMG) given the six rigid-body modes as its near
 // null space: the elasticity-aware multigrid that plain scalar BoomerAMG is not (the latter
 // coarsens the displacement components independently and needs many more CG iterations on
@@ -270,6 +287,7 @@ class ContactProblem::Impl {
       const std::vector<dealii::AffineConstraints<double>>& constraints);
   std::vector<Linearization> solve_linear(
       const std::vector<std::vector<dealii::Tensor<1, 3>>>& translation_sets);
+  void add_internal_forces(std::vector<Linearization>& states) const;
   std::vector<std::vector<double>> internal_forces(const std::vector<dealii::Vector<double>*>& displacements) const;
   std::vector<dealii::Tensor<1, 3>> transmitted_force(const ContactProblem& model,
                                                       const Linearization& state) const;
@@ -528,18 +546,7 @@ void ContactProblem::Impl::collect_contact_nodes(const ContactProblem& model) {
           }
         }
       };
-      // Threads share the cores with the other MPI ranks of this machine.
-      const std::size_t n_threads = std::clamp<std::size_t>(
-          std::thread::hardware_concurrency() / dealii::Utilities::MPI::n_mpi_processes(comm), 1, 8);
-      std::vector<std::thread> workers;
-      const std::size_t chunk = (slave_faces.size() + n_threads - 1) / n_threads;
-      for (std::size_t t = 1; t < n_threads; ++t) {
-        const std::size_t first = std::min(slave_faces.size(), t * chunk);
-        const std::size_t last = std::min(slave_faces.size(), first + chunk);
-        if (first < last) workers.emplace_back(integrate_faces, first, last);
-      }
-      integrate_faces(0, std::min(slave_faces.size(), chunk));
-      for (std::thread& worker : workers) worker.join();
+      run_in_chunks(slave_faces.size(), comm, integrate_faces);
 
       std::vector<global_dof_index> master_dofs(fe.n_dofs_per_cell());
       for (std::size_t f = 0; f < slave_faces.size(); ++f) {
@@ -697,17 +704,14 @@ void ContactProblem::Impl::compute_cell_matrices() {
       cell_stiffness(cells[k], fe_values, matrix);
     }
   };
-  const std::size_t n_threads = std::clamp<std::size_t>(
-      std::thread::hardware_concurrency() / dealii::Utilities::MPI::n_mpi_processes(comm), 1, 8);
-  const std::size_t chunk = (cells.size() + n_threads - 1) / n_threads;
-  std::vector<std::thread> workers;
-  for (std::size_t t = 1; t < n_threads; ++t) {
-    const std::size_t first = std::min(cells.size(), t * chunk);
-    const std::size_t last = std::min(cells.size(), first + chunk);
-    if (first < last) workers.emplace_back(compute, first, last);
-  }
-  compute(0, std::min(cells.size(), chunk));
-  for (std::thread& worker : workers) worker.join();
+  run_in_chunks(cells.size(), comm, compute);
+}
+
+void ContactProblem::Impl::add_internal_forces(std::vector<Linearization>& states) const {
+  std::vector<dealii::Vector<double>*> displacements;
+  for (Linearization& state : states) displacements.push_back(&state.displacement);
+  std::vector<std::vector<double>> forces = internal_forces(displacements);
+  for (std::size_t k = 0; k < states.size(); ++k) states[k].internal_force = std::move(forces[k]);
 }
 
 std::vector<std::vector<double>> ContactProblem::Impl::internal_forces(
@@ -799,10 +803,7 @@ std::vector<Linearization> ContactProblem::Impl::solve_linear(
     states.push_back(std::move(state));
   }
   times.solves += lap();
-  std::vector<dealii::Vector<double>*> displacements;
-  for (Linearization& state : states) displacements.push_back(&state.displacement);
-  std::vector<std::vector<double>> forces = internal_forces(displacements);
-  for (std::size_t k = 0; k < states.size(); ++k) states[k].internal_force = std::move(forces[k]);
+  add_internal_forces(states);
   times.internal_force += lap();
   return states;
 }
@@ -965,10 +966,7 @@ std::vector<Linearization> ContactProblem::Impl::solve_reduced_direct(
   MatDestroy(&reduced_matrix);
   MatDestroy(&prolongation);
   times.solves += lap();
-  std::vector<dealii::Vector<double>*> displacements;
-  for (Linearization& state : states) displacements.push_back(&state.displacement);
-  std::vector<std::vector<double>> forces = internal_forces(displacements);
-  for (std::size_t k = 0; k < states.size(); ++k) states[k].internal_force = std::move(forces[k]);
+  add_internal_forces(states);
   times.internal_force += lap();
   return states;
 }
@@ -1020,23 +1018,14 @@ void ContactProblem::Impl::evaluate_nodes(const Linearization& state,
 void ContactProblem::Impl::initial_active_set(const std::vector<dealii::Tensor<1, 3>>& translations,
                                               double gap_tolerance) {
   active.assign(nodes.size(), false);
-  for (std::size_t n = 0; n < nodes.size(); ++n) {
-    const NodeData& node = nodes[n];
-    if (options.warm_start_active_set) {
-      const auto it = converged_active.find({node.pair, node.dofs[0]});
-      if (it != converged_active.end()) {
-        active[n] = it->second;
-        continue;
-      }
-    }
-    double predicted = node.initial_gap;
-    if (node.rigid_body >= 0) predicted -= translations[node.rigid_body] * node.normal;
-    active[n] = predicted <= gap_tolerance;
-  }
   std::vector<double> predicted(nodes.size());
   for (std::size_t n = 0; n < nodes.size(); ++n) {
-    predicted[n] = nodes[n].initial_gap;
-    if (nodes[n].rigid_body >= 0) predicted[n] -= translations[nodes[n].rigid_body] * nodes[n].normal;
+    const NodeData& node = nodes[n];
+    predicted[n] = node.initial_gap;
+    if (node.rigid_body >= 0) predicted[n] -= translations[node.rigid_body] * node.normal;
+    const auto it = options.warm_start_active_set ? converged_active.find({node.pair, node.dofs[0]})
+                                                  : converged_active.end();
+    active[n] = it != converged_active.end() ? it->second : predicted[n] <= gap_tolerance;
   }
   one_constraint_per_node(active, predicted);
 }
