@@ -78,6 +78,7 @@ ContactOptions solver_options(const VerificationOptions& options) {
   solver.fe_degree = options.fe_degree;
   solver.vtu_file = options.vtu_file;
   solver.verbose = options.verbose;
+  solver.linear_solver = options.linear_solver;
   return solver;
 }
 

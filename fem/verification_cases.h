@@ -23,6 +23,8 @@ struct VerificationOptions {
   unsigned int fe_degree = 2;
   std::string vtu_file;         // displacement field of the solve, when not empty
   bool verbose = false;
+  // CG + AMG by default; the direct solver (the hip runs' choice) is checked on the same cases.
+  LinearSolver linear_solver = LinearSolver::kCgAmg;
 };
 
 struct VerificationQuantity {
