@@ -6,7 +6,7 @@
 // joint, with per-step HDF5 results: the motion machinery end to end until the hip volume
 // meshes are ready.
 // hipfai fem run --model DIR [--motion CSV] [--steps N] [--level coarse|default|fine]
-// [--body-weight-n W] --out FILE.h5 [--verbose]: the hip FE model (fem/hip_fe_model.h) of a model
+// [--body-weight-n W] [--peak-radius-mm R] --out FILE.h5 [--verbose]: the hip FE model (fem/hip_fe_model.h) of a model
 // directory through a motion, per-step HDF5 (fem/fem_results.h). A sub-command `run` because
 // `fem` itself has sub-commands.
 #ifdef HIPFAI_WITH_FEM
@@ -29,7 +29,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -177,6 +179,7 @@ struct FemRunOptions {
   int steps = 30;
   std::string level = "coarse";
   double body_weight_n = fem::kDefaultBodyWeightN;
+  double peak_radius_mm = fem::ContactOptions{}.peak_average_radius_mm;
   std::string out_file;
   std::string csv_file;
   std::string solver = "direct";
@@ -187,15 +190,31 @@ struct FemRunOptions {
 
 // One row per step with round-trip precision: lets a script compare runs (e.g. 1 vs 2 ranks)
 // without an HDF5 reader.
-void write_fem_run_csv(const std::string& file, const std::vector<std::string>& bodies,
+// Name of a contact pair's slave surface (the hip model's boundary ids are SurfaceTag values).
+std::string slave_surface_name(const fem::ContactProblem& problem, int pair) {
+  if (pair < 0 || pair >= static_cast<int>(problem.contact_pairs.size())) return "none";
+  return geometry::to_string(static_cast<geometry::SurfaceTag>(problem.contact_pairs[pair].slave_boundary_id));
+}
+
+void write_fem_run_csv(const std::string& file, const fem::ContactProblem& problem,
                        const std::vector<fem::ContactResult>& results) {
+  const std::vector<std::string> bodies = fem::hip_fe_body_names(problem);
   std::ofstream csv(file);
   if (!csv) throw_error(file, ": cannot open for writing (--csv)");
   csv << "step,status,ranks,dofs,active_set_iterations,max_pressure_mpa,mean_pressure_mpa,"
          "contact_area_mm2,max_penetration_mm,tx_mm,ty_mm,tz_mm";
   for (const std::string& body : bodies) csv << ",max_von_mises_mpa " << body;
   for (const std::string& body : bodies) csv << ",p95_von_mises_mpa " << body;
-  csv << ",wall_time_s,sub_steps,cutbacks,linear_solves\n";
+  csv << ",wall_time_s,sub_steps,cutbacks,linear_solves";
+  // Appended after the older columns, so that scripts indexing those keep working.
+  csv << ",peak_radius_mm,ball_peak_pressure_mpa";
+  for (const std::string& body : bodies) csv << ",ball_peak_von_mises_mpa " << body;
+  csv << ",max_pressure_x_mm,max_pressure_y_mm,max_pressure_z_mm,max_pressure_surface"
+         ",ball_peak_pressure_x_mm,ball_peak_pressure_y_mm,ball_peak_pressure_z_mm,ball_peak_pressure_surface";
+  for (const std::string& body : bodies) {
+    for (const char* axis : {"x", "y", "z"}) csv << ",ball_peak_von_mises_" << axis << "_mm " << body;
+  }
+  csv << '\n';
   csv.precision(17);
   for (std::size_t k = 0; k < results.size(); ++k) {
     const fem::ContactResult& r = results[k];
@@ -207,7 +226,17 @@ void write_fem_run_csv(const std::string& file, const std::vector<std::string>& 
     }
     for (const double v : r.max_von_mises_mpa) csv << ',' << v;
     for (const double v : r.p95_von_mises_mpa) csv << ',' << v;
-    csv << ',' << r.wall_time_s << ',' << r.sub_steps << ',' << r.cutbacks << ',' << r.linear_solves << '\n';
+    csv << ',' << r.wall_time_s << ',' << r.sub_steps << ',' << r.cutbacks << ',' << r.linear_solves;
+    csv << ',' << r.peak_average_radius_mm << ',' << r.ball_peak_pressure_mpa;
+    for (const double v : r.ball_peak_von_mises_mpa) csv << ',' << v;
+    for (unsigned int d = 0; d < 3; ++d) csv << ',' << r.max_pressure_position_mm[d];
+    csv << ',' << slave_surface_name(problem, r.max_pressure_pair);
+    for (unsigned int d = 0; d < 3; ++d) csv << ',' << r.ball_peak_pressure_position_mm[d];
+    csv << ',' << slave_surface_name(problem, r.ball_peak_pressure_pair);
+    for (const dealii::Point<3>& centre : r.ball_peak_von_mises_position_mm) {
+      for (unsigned int d = 0; d < 3; ++d) csv << ',' << centre[d];
+    }
+    csv << '\n';
   }
   if (!csv) throw_error(file, ": write failed (--csv)");
 }
@@ -216,6 +245,7 @@ struct FemRunSummary {
   std::size_t hexes = 0;
   double min_scaled_jacobian = 0.0;
   std::vector<std::string> bodies;
+  std::vector<std::string> pair_surfaces;  // slave surface of each contact pair
   std::vector<fem::ContactResult> results;
   std::size_t failed = 0;
   double seconds = 0.0;  // whole command: meshing, set-up and all steps
@@ -248,6 +278,7 @@ FemRunSummary run_fem_hip(const FemRunOptions& options, bool throw_on_failure = 
 
   fem::ContactOptions solver;
   solver.verbose = options.verbose;
+  solver.peak_average_radius_mm = options.peak_radius_mm;
   // Direct (MUMPS) by default: the hip meshes have 15-150 k DOFs with thin, nearly incompressible
   // layers, where CG + GAMG needs ~600 iterations per solve (127 s vs 13 s per coarse step).
   solver.linear_solver = options.solver == "cg" ? fem::LinearSolver::kCgAmg : fem::LinearSolver::kDirect;
@@ -280,7 +311,7 @@ FemRunSummary run_fem_hip(const FemRunOptions& options, bool throw_on_failure = 
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (rank == 0 && !options.csv_file.empty()) {
-    write_fem_run_csv(options.csv_file, fem::hip_fe_body_names(problem), results);
+    write_fem_run_csv(options.csv_file, problem, results);
   }
   if (rank == 0) {
     std::printf("fem run: %zu steps, %zu not converged, %lu dofs, peak pressure %.4g MPa, %.1f s; "
@@ -295,6 +326,9 @@ FemRunSummary run_fem_hip(const FemRunOptions& options, bool throw_on_failure = 
   summary.hexes = volume.mesh.hexes.size();
   summary.min_scaled_jacobian = volume.min_scaled_jacobian;
   summary.bodies = fem::hip_fe_body_names(problem);
+  for (int pair = 0; pair < static_cast<int>(problem.contact_pairs.size()); ++pair) {
+    summary.pair_surfaces.push_back(slave_surface_name(problem, pair));
+  }
   summary.results = results;
   summary.failed = failed;
   summary.seconds = seconds;
@@ -313,6 +347,12 @@ struct LevelRow {
   FemRunSummary summary;
   double peak_pressure = 0.0, wall_per_step = 0.0;
   std::vector<double> peak_vm, peak_p95;  // per body, max over the steps
+  // Ball-averaged peaks (fem/peak_measures.h), max over the steps; where the pressure peaks sit
+  // (at the step of each maximum).
+  double ball_peak_pressure = 0.0;
+  std::vector<double> ball_peak_vm;  // per body
+  dealii::Point<3> max_pressure_position, ball_peak_pressure_position;
+  std::string max_pressure_surface = "none", ball_peak_pressure_surface = "none";
   // Integral quantities at the last step (the peak load of standing-to-sitting).
   double last_mean_pressure = 0.0, last_area = 0.0, last_translation = 0.0;
 };
@@ -347,8 +387,25 @@ void run_fem_levels(const FemLevelsOptions& options) {
     const std::size_t bodies = row.summary.bodies.size();
     row.peak_vm.assign(bodies, 0.0);
     row.peak_p95.assign(bodies, 0.0);
+    row.ball_peak_vm.assign(bodies, 0.0);
     double step_seconds = 0.0;
+    const auto surface = [&row](int pair) {
+      return pair >= 0 && pair < static_cast<int>(row.summary.pair_surfaces.size()) ? row.summary.pair_surfaces[pair]
+                                                                                    : std::string("none");
+    };
     for (const fem::ContactResult& r : results) {
+      if (r.max_pressure_mpa > row.peak_pressure) {
+        row.max_pressure_position = r.max_pressure_position_mm;
+        row.max_pressure_surface = surface(r.max_pressure_pair);
+      }
+      if (r.ball_peak_pressure_mpa > row.ball_peak_pressure) {
+        row.ball_peak_pressure = r.ball_peak_pressure_mpa;
+        row.ball_peak_pressure_position = r.ball_peak_pressure_position_mm;
+        row.ball_peak_pressure_surface = surface(r.ball_peak_pressure_pair);
+      }
+      for (std::size_t b = 0; b < bodies && b < r.ball_peak_von_mises_mpa.size(); ++b) {
+        row.ball_peak_vm[b] = std::max(row.ball_peak_vm[b], r.ball_peak_von_mises_mpa[b]);
+      }
       row.peak_pressure = std::max(row.peak_pressure, r.max_pressure_mpa);
       for (std::size_t b = 0; b < bodies && b < r.max_von_mises_mpa.size(); ++b) {
         row.peak_vm[b] = std::max(row.peak_vm[b], r.max_von_mises_mpa[b]);
@@ -378,7 +435,11 @@ void run_fem_levels(const FemLevelsOptions& options) {
            "peak_pressure_diff_percent";
     for (const std::string& body : bodies) csv << ",peak_von_mises_mpa " << body << ",diff_percent";
     for (const std::string& body : bodies) csv << ",peak_p95_von_mises_mpa " << body << ",diff_percent";
-    csv << ",last_mean_pressure_mpa,diff_percent,last_contact_area_mm2,diff_percent,last_translation_mm,diff_percent\n";
+    csv << ",last_mean_pressure_mpa,diff_percent,last_contact_area_mm2,diff_percent,last_translation_mm,diff_percent";
+    csv << ",peak_radius_mm,ball_peak_pressure_mpa,diff_percent";
+    for (const std::string& body : bodies) csv << ",ball_peak_von_mises_mpa " << body << ",diff_percent";
+    csv << ",max_pressure_x_mm,max_pressure_y_mm,max_pressure_z_mm,max_pressure_surface"
+           ",ball_peak_pressure_x_mm,ball_peak_pressure_y_mm,ball_peak_pressure_z_mm,ball_peak_pressure_surface\n";
     csv.precision(10);
     for (const LevelRow& row : rows) {
       csv << row.level << ',' << row.summary.hexes << ','
@@ -395,7 +456,17 @@ void run_fem_levels(const FemLevelsOptions& options) {
       csv << ',' << row.last_mean_pressure << ','
           << relative_difference_percent(row.last_mean_pressure, finest.last_mean_pressure) << ',' << row.last_area
           << ',' << relative_difference_percent(row.last_area, finest.last_area) << ',' << row.last_translation << ','
-          << relative_difference_percent(row.last_translation, finest.last_translation) << '\n';
+          << relative_difference_percent(row.last_translation, finest.last_translation);
+      csv << ',' << options.run.peak_radius_mm << ',' << row.ball_peak_pressure << ','
+          << relative_difference_percent(row.ball_peak_pressure, finest.ball_peak_pressure);
+      for (std::size_t b = 0; b < bodies.size(); ++b) {
+        csv << ',' << row.ball_peak_vm[b] << ','
+            << relative_difference_percent(row.ball_peak_vm[b], finest.ball_peak_vm[b]);
+      }
+      for (unsigned int d = 0; d < 3; ++d) csv << ',' << row.max_pressure_position[d];
+      csv << ',' << row.max_pressure_surface;
+      for (unsigned int d = 0; d < 3; ++d) csv << ',' << row.ball_peak_pressure_position[d];
+      csv << ',' << row.ball_peak_pressure_surface << '\n';
     }
     if (!csv) throw_error(partial.string(), ": write failed");
     csv.close();
@@ -418,6 +489,12 @@ void run_fem_levels(const FemLevelsOptions& options) {
       pressure.y.push_back(relative_difference_percent(row.peak_pressure, finest.peak_pressure));
     }
     accuracy.series.push_back(pressure);
+    studies::Series ball_pressure{"ball-averaged peak pressure", {}, {}, true};
+    for (const LevelRow& row : rows) {
+      ball_pressure.x.push_back(dofs_of(row));
+      ball_pressure.y.push_back(relative_difference_percent(row.ball_peak_pressure, finest.ball_peak_pressure));
+    }
+    accuracy.series.push_back(ball_pressure);
     for (std::size_t b = 0; b < bodies.size(); ++b) {
       studies::Series vm{"max von Mises, " + bodies[b], {}, {}, false};
       studies::Series p95{"p95 von Mises, " + bodies[b], {}, {}, true};
@@ -427,8 +504,14 @@ void run_fem_levels(const FemLevelsOptions& options) {
         p95.x.push_back(dofs_of(row));
         p95.y.push_back(relative_difference_percent(row.peak_p95[b], finest.peak_p95[b]));
       }
+      studies::Series ball{"ball-averaged von Mises, " + bodies[b], {}, {}, true};
+      for (const LevelRow& row : rows) {
+        ball.x.push_back(dofs_of(row));
+        ball.y.push_back(relative_difference_percent(row.ball_peak_vm[b], finest.ball_peak_vm[b]));
+      }
       accuracy.series.push_back(vm);
       accuracy.series.push_back(p95);
+      accuracy.series.push_back(ball);
     }
   }
   studies::write_svg(accuracy, dir / "levels_accuracy.svg");
@@ -449,6 +532,14 @@ void run_fem_levels(const FemLevelsOptions& options) {
   const std::filesystem::path md_path = dir / "levels.md", md_partial = dir / "levels.md.partial";
   std::ofstream md(md_partial);
   char line[512];
+  // One " value | diff from the finest |" pair of cells per body.
+  const auto body_cells = [&md](const std::vector<double>& values, const std::vector<double>& reference) {
+    char cells[64];
+    for (std::size_t b = 0; b < values.size(); ++b) {
+      std::snprintf(cells, sizeof cells, " %.4f | %+.1f %% |", values[b], relative_difference_percent(values[b], reference[b]));
+      md << cells;
+    }
+  };
   md << "# Hip FE model: mesh levels, accuracy and cost\n\n";
   md << "Model `" << options.run.model_dir << "`, "
      << (options.run.motion_file.empty() ? "standing-to-sitting in " + std::to_string(options.run.steps) + " steps"
@@ -466,11 +557,7 @@ void run_fem_levels(const FemLevelsOptions& options) {
                   row.summary.hexes, dofs_of(row), row.summary.failed, row.wall_per_step, row.summary.seconds,
                   row.peak_pressure, relative_difference_percent(row.peak_pressure, finest.peak_pressure));
     md << line;
-    for (std::size_t b = 0; b < bodies.size(); ++b) {
-      std::snprintf(line, sizeof line, " %.4f | %+.1f %% |", row.peak_vm[b],
-                    relative_difference_percent(row.peak_vm[b], finest.peak_vm[b]));
-      md << line;
-    }
+    body_cells(row.peak_vm, finest.peak_vm);
     md << '\n';
   }
   md << "\n95th percentile of von Mises over each tissue's Gauss points (peak over the steps):\n\n| level |";
@@ -480,11 +567,7 @@ void run_fem_levels(const FemLevelsOptions& options) {
   md << '\n';
   for (const LevelRow& row : rows) {
     md << "| " << row.level << " |";
-    for (std::size_t b = 0; b < bodies.size(); ++b) {
-      std::snprintf(line, sizeof line, " %.4f | %+.1f %% |", row.peak_p95[b],
-                    relative_difference_percent(row.peak_p95[b], finest.peak_p95[b]));
-      md << line;
-    }
+    body_cells(row.peak_p95, finest.peak_p95);
     md << '\n';
   }
   md << "\nIntegral quantities at the last step (mean pressure = normal force / contact area):\n\n"
@@ -497,6 +580,31 @@ void run_fem_levels(const FemLevelsOptions& options) {
                   relative_difference_percent(row.last_translation, finest.last_translation));
     md << line;
   }
+  std::snprintf(line, sizeof line, "%g", options.run.peak_radius_mm);
+  md << "\nBall-averaged peaks: the largest mean over a ball of radius " << line
+     << " mm (fem/peak_measures.h; von Mises JxW-weighted over each tissue's Gauss points, pressure "
+        "area-weighted over the active contact nodes), peak over the steps:\n\n| level | ball peak pressure (MPa) | diff |";
+  for (const std::string& body : bodies) md << " ball VM " << body << " (MPa) | diff |";
+  md << "\n|---|---:|---:|";
+  for (std::size_t b = 0; b < bodies.size(); ++b) md << "---:|---:|";
+  md << '\n';
+  for (const LevelRow& row : rows) {
+    std::snprintf(line, sizeof line, "| %s | %.4f | %+.1f %% |", row.level.c_str(), row.ball_peak_pressure,
+                  relative_difference_percent(row.ball_peak_pressure, finest.ball_peak_pressure));
+    md << line;
+    body_cells(row.ball_peak_vm, finest.ball_peak_vm);
+    md << '\n';
+  }
+  md << "\nWhere the pressure peaks sit (hip frame, mm, at the step of the peak; the slave surface of the node):\n\n"
+     << "| level | max nodal pressure at | surface | ball peak centre | surface |\n|---|---|---|---|---|\n";
+  for (const LevelRow& row : rows) {
+    std::snprintf(line, sizeof line, "| %s | (%.2f, %.2f, %.2f) | %s | (%.2f, %.2f, %.2f) | %s |\n", row.level.c_str(),
+                  row.max_pressure_position[0], row.max_pressure_position[1], row.max_pressure_position[2],
+                  row.max_pressure_surface.c_str(), row.ball_peak_pressure_position[0],
+                  row.ball_peak_pressure_position[1], row.ball_peak_pressure_position[2],
+                  row.ball_peak_pressure_surface.c_str());
+    md << line;
+  }
   md << "\n![difference from the finest level](levels_accuracy.svg)\n\n![wall time per step](levels_time.svg)\n\n"
      << "Per level: `<level>.h5` (every step, docs/results-layout.md) and `<level>.csv`.\n";
   if (!md) throw_error(md_partial.string(), ": write failed");
@@ -505,6 +613,18 @@ void run_fem_levels(const FemLevelsOptions& options) {
   std::printf("fem levels: %s, %s, %s\n", (dir / "levels.md").c_str(), (dir / "levels.csv").c_str(),
               (dir / "levels_accuracy.svg").c_str());
 }
+
+// A length in mm that must be finite and > 0 (CLI::PositiveNumber lets "inf" through).
+const CLI::Validator kFiniteLengthMm(
+    [](std::string& input) -> std::string {
+      char* end = nullptr;
+      const double value = std::strtod(input.c_str(), &end);
+      if (input.empty() || *end != '\0' || !std::isfinite(value) || value <= 0.0) {
+        return "must be a finite length > 0 (mm), got '" + input + "'";
+      }
+      return {};
+    },
+    "MM > 0");
 
 const CommandRegistrar registrar{"fem", [](CLI::App& parent) {
   auto* fem_command = parent.add_subcommand("fem", "Finite-element contact model (deal.II/PETSc)");
@@ -555,6 +675,10 @@ const CommandRegistrar registrar{"fem", [](CLI::App& parent) {
   run->add_option("--body-weight-n", run_options->body_weight_n,
                   "Body weight (N) scaling the joint force when the motion has none")
       ->check(CLI::Range(1.0, 5000.0));
+  run->add_option("--peak-radius-mm", run_options->peak_radius_mm,
+                  "Ball radius (mm) of the ball-averaged peak von Mises and pressure")
+      ->capture_default_str()
+      ->check(kFiniteLengthMm);
   run->add_option("--out", run_options->out_file, "HDF5 results file")->required();
   run->add_option("--csv", run_options->csv_file, "Also write one summary row per step (CSV)");
   run->add_option("--solver", run_options->solver, "Linear solver: direct (MUMPS) or cg (CG + GAMG)")
@@ -584,6 +708,10 @@ const CommandRegistrar registrar{"fem", [](CLI::App& parent) {
   levels->add_option("--body-weight-n", levels_options->run.body_weight_n,
                      "Body weight (N) scaling the joint force when the motion has none")
       ->check(CLI::Range(1.0, 5000.0));
+  levels->add_option("--peak-radius-mm", levels_options->run.peak_radius_mm,
+                     "Ball radius (mm) of the ball-averaged peak von Mises and pressure")
+      ->capture_default_str()
+      ->check(kFiniteLengthMm);
   levels->add_option("--out", levels_options->out_dir,
                      "Output directory: levels.md, levels.csv, levels_*.svg, <level>.h5/.csv")
       ->required();

@@ -4,6 +4,7 @@
 #include "fem/boundary_projection.h"
 #include "fem/face_patch.h"
 #include "fem/mortar_segments.h"
+#include "fem/peak_measures.h"
 
 #include <deal.II/base/conditional_ostream.h>
 #include <deal.II/base/index_set.h>
@@ -1357,6 +1358,27 @@ void ContactProblem::Impl::one_constraint_per_node(std::vector<bool>& set, const
   }
 }
 
+namespace {
+
+geometry::Vec3 to_vec3(const dealii::Point<3>& point) { return {point[0], point[1], point[2]}; }
+dealii::Point<3> to_point(const geometry::Vec3& vector) { return {vector[0], vector[1], vector[2]}; }
+
+// The ball-averaged peak, or NaN when a sample is not finite (a diverged solve): make_finite
+// then zeroes it and reports the result as kNonFinite, like every other summary.
+BallPeak ball_peak_or_nan(const std::vector<FieldSample>& samples, double radius_mm) {
+  for (const FieldSample& sample : samples) {
+    if (!std::isfinite(sample.value) || !(sample.weight > 0.0) || !std::isfinite(sample.weight) ||
+        !sample.position_mm.allFinite()) {
+      BallPeak peak;
+      peak.value = std::numeric_limits<double>::quiet_NaN();
+      return peak;
+    }
+  }
+  return ball_averaged_peak(samples, radius_mm);
+}
+
+}  // namespace
+
 bool ContactProblem::Impl::make_finite(ContactResult& result, dealii::Vector<double>& displacement) {
   bool finite = true;
   const auto fix = [&finite](double& value) {
@@ -1382,6 +1404,8 @@ bool ContactProblem::Impl::make_finite(ContactResult& result, dealii::Vector<dou
   }
   for (double& value : result.max_von_mises_mpa) fix(value);
   for (double& value : result.p95_von_mises_mpa) fix(value);
+  for (double& value : result.ball_peak_von_mises_mpa) fix(value);
+  fix(result.ball_peak_pressure_mpa);
   return finite;
 }
 
@@ -1568,13 +1592,26 @@ ContactResult ContactProblem::Impl::run(ContactProblem& model) {
     result.nodes.push_back(out);
   }
   double total_force = 0.0;
+  std::vector<FieldSample> pressure_samples;
+  std::vector<unsigned int> pair_of_sample;
   for (const ContactNode& node : result.nodes) {
     if (!node.active) continue;
     result.contact_area_mm2 += node.area_mm2;
     total_force += node.force_n;
-    result.max_pressure_mpa = std::max(result.max_pressure_mpa, node.pressure_mpa);
+    if (node.pressure_mpa > result.max_pressure_mpa) {
+      result.max_pressure_mpa = node.pressure_mpa;
+      result.max_pressure_position_mm = node.position_mm;
+      result.max_pressure_pair = static_cast<int>(node.pair);
+    }
+    pressure_samples.push_back({to_vec3(node.position_mm), node.pressure_mpa, node.area_mm2});
+    pair_of_sample.push_back(node.pair);
   }
   if (result.contact_area_mm2 > 0.0) result.mean_pressure_mpa = total_force / result.contact_area_mm2;
+  result.peak_average_radius_mm = options.peak_average_radius_mm;
+  const BallPeak pressure_peak = ball_peak_or_nan(pressure_samples, options.peak_average_radius_mm);
+  result.ball_peak_pressure_mpa = pressure_peak.value;
+  result.ball_peak_pressure_position_mm = to_point(pressure_peak.position_mm);
+  if (pressure_peak.found) result.ball_peak_pressure_pair = static_cast<int>(pair_of_sample[pressure_peak.sample]);
   lap();
   von_mises(model, result);
   times.stress = lap();
@@ -1611,7 +1648,10 @@ void ContactProblem::Impl::von_mises(const ContactProblem& model, ContactResult&
   std::map<dealii::types::material_id, std::size_t> body_of_material;
   for (std::size_t b = 0; b < model.bodies.size(); ++b) body_of_material[model.bodies[b].material_id] = b;
   std::vector<std::vector<double>> values(model.bodies.size());
-  dealii::FEValues<3> fe_values(mapping, fe, dealii::QGauss<3>(fe.degree + 1), dealii::update_gradients);
+  std::vector<std::vector<FieldSample>> samples(model.bodies.size());  // for the ball peaks
+  dealii::FEValues<3> fe_values(mapping, fe, dealii::QGauss<3>(fe.degree + 1),
+                                dealii::update_gradients | dealii::update_quadrature_points |
+                                    dealii::update_JxW_values);
   const dealii::FEValuesExtractors::Vector displacement(0);
   std::vector<dealii::SymmetricTensor<2, 3>> strains(fe_values.n_quadrature_points);
   cell_von_mises.reinit(triangulation.n_active_cells());
@@ -1619,19 +1659,28 @@ void ContactProblem::Impl::von_mises(const ContactProblem& model, ContactResult&
     fe_values.reinit(cell);
     fe_values[displacement].get_function_symmetric_gradients(solution, strains);
     const auto [lambda, mu] = lame_by_material.at(cell->material_id());
-    auto& out = values[body_of_material.at(cell->material_id())];
-    for (const auto& strain : strains) {
+    const std::size_t body = body_of_material.at(cell->material_id());
+    auto& out = values[body];
+    for (unsigned int q = 0; q < strains.size(); ++q) {
+      const dealii::SymmetricTensor<2, 3>& strain = strains[q];
       const dealii::SymmetricTensor<2, 3> stress =
           lambda * dealii::trace(strain) * dealii::unit_symmetric_tensor<3>() + 2.0 * mu * strain;
       const dealii::SymmetricTensor<2, 3> deviator = dealii::deviator(stress);
       out.push_back(std::sqrt(1.5 * (deviator * deviator)));
+      samples[body].push_back({to_vec3(fe_values.quadrature_point(q)), out.back(), fe_values.JxW(q)});
       float& cell_max = cell_von_mises[cell->active_cell_index()];
       cell_max = std::max(cell_max, static_cast<float>(out.back()));
     }
   }
   result.max_von_mises_mpa.assign(model.bodies.size(), 0.0);
   result.p95_von_mises_mpa.assign(model.bodies.size(), 0.0);
+  result.ball_peak_von_mises_mpa.assign(model.bodies.size(), 0.0);
+  result.ball_peak_von_mises_position_mm.assign(model.bodies.size(), dealii::Point<3>());
   for (std::size_t b = 0; b < values.size(); ++b) {
+    // Per body: a ball at a tissue boundary averages that tissue only.
+    const BallPeak peak = ball_peak_or_nan(samples[b], options.peak_average_radius_mm);
+    result.ball_peak_von_mises_mpa[b] = peak.value;
+    result.ball_peak_von_mises_position_mm[b] = to_point(peak.position_mm);
     auto& v = values[b];
     if (v.empty()) continue;
     std::sort(v.begin(), v.end());
@@ -1693,7 +1742,14 @@ dealii::parallel::shared::Triangulation<3>& ContactProblem::triangulation() {
   return impl_->triangulation;
 }
 
-ContactResult ContactProblem::run() { return impl_->run(*this); }
+ContactResult ContactProblem::run() {
+  // Checked before the solve, not when the peaks are taken after it.
+  const double radius_mm = impl_->options.peak_average_radius_mm;
+  if (!std::isfinite(radius_mm) || radius_mm <= 0.0) {
+    throw_error("fem model: peak_average_radius_mm must be finite and > 0, got ", radius_mm);
+  }
+  return impl_->run(*this);
+}
 
 dealii::Tensor<1, 3> ContactProblem::displacement_at(const dealii::Point<3>& point_mm) const {
   return impl_->displacement_at(point_mm);

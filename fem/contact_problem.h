@@ -23,6 +23,7 @@
 // keeps the whole mesh, which makes the closest-point search on non-matching meshes local).
 #pragma once
 
+#include "core/literature.h"
 #include "fem/elastic_material.h"
 #include "fem/rigid_surface.h"
 
@@ -107,6 +108,13 @@ struct ContactOptions {
   bool warm_start_active_set = true;
   std::string vtu_file;  // written after the solve when not empty
   bool verbose = false;  // per-iteration statistics on rank 0
+  // Radius (mm) of the balls of the mesh-objective peaks (fem/peak_measures.h; ContactResult::
+  // ball_peak_*): 1 mm, half the 2 mm cartilage thickness (core/literature.h). A ball that small
+  // still resolves the stress gradient through the layer (one of 2 mm would average the loaded
+  // surface with the bone interface), yet it is a fixed physical size, so the average is a
+  // property of the field and not of the mesh, and at the hip model's levels it spans several
+  // Gauss points through the thickness.
+  double peak_average_radius_mm = 0.5 * literature::kAcetabularCartilageThicknessMm;
 };
 
 // kNonFinite: a NaN or infinity appeared in the solution or a summary (the numbers of such a
@@ -149,6 +157,21 @@ struct ContactResult {
   // Von Mises stress per body (index into ContactProblem::bodies), over the Gauss points.
   std::vector<double> max_von_mises_mpa;
   std::vector<double> p95_von_mises_mpa;
+  // Mesh-objective peaks (fem/peak_measures.h): the largest mean over a ball of radius
+  // ContactOptions::peak_average_radius_mm, and the ball's centre (hip frame, the step's pose,
+  // undeformed). Von Mises per body, JxW-weighted over the body's Gauss points; pressure
+  // area-weighted over the active slave nodes of all pairs (= contact force / contact area
+  // inside the ball). 0 (and the origin) where there are no samples.
+  double peak_average_radius_mm = 0.0;  // the radius used
+  std::vector<double> ball_peak_von_mises_mpa;
+  std::vector<dealii::Point<3>> ball_peak_von_mises_position_mm;
+  double ball_peak_pressure_mpa = 0.0;
+  dealii::Point<3> ball_peak_pressure_position_mm;
+  // The node of max_pressure_mpa (same frame) and the contact pair of that node and of the ball
+  // peak's centre (index into ContactProblem::contact_pairs; -1: no active node).
+  dealii::Point<3> max_pressure_position_mm;
+  int max_pressure_pair = -1;
+  int ball_peak_pressure_pair = -1;
 };
 
 class ContactProblem {

@@ -58,7 +58,7 @@ void FemResultsWriter::write() const {
   const hsize_t n = results_.size();
   const hsize_t bodies = body_names_.size();
   const hid_t root_space = H5Screate(H5S_SCALAR);
-  const int version = 2;
+  const int version = 3;
   const hid_t version_attribute =
       H5Acreate2(file, "layout_version", H5T_STD_I32LE, root_space, H5P_DEFAULT, H5P_DEFAULT);
   H5Awrite(version_attribute, H5T_NATIVE_INT, &version);
@@ -74,7 +74,7 @@ void FemResultsWriter::write() const {
   std::vector<int> status, newton, solves, cg, sub_steps, cutbacks, cells;
   std::vector<double> dofs;
   std::vector<double> wall, rotation, force, translation, resultant, max_p, mean_p, area, penetration,
-      max_vm, p95_vm;
+      max_vm, p95_vm, radius, ball_vm, ball_vm_position, ball_p, ball_p_position, max_p_position;
   for (std::size_t k = 0; k < results_.size(); ++k) {
     const ContactResult& r = results_[k];
     status.push_back(static_cast<int>(r.status));
@@ -99,12 +99,22 @@ void FemResultsWriter::write() const {
       resultant.push_back(total[d]);
     }
     max_p.push_back(r.max_pressure_mpa);
+    radius.push_back(r.peak_average_radius_mm);
+    ball_p.push_back(r.ball_peak_pressure_mpa);
+    for (unsigned d = 0; d < 3; ++d) {
+      ball_p_position.push_back(r.ball_peak_pressure_position_mm[d]);
+      max_p_position.push_back(r.max_pressure_position_mm[d]);
+    }
     mean_p.push_back(r.mean_pressure_mpa);
     area.push_back(r.contact_area_mm2);
     penetration.push_back(r.max_penetration_mm);
     for (hsize_t b = 0; b < bodies; ++b) {
       max_vm.push_back(b < r.max_von_mises_mpa.size() ? r.max_von_mises_mpa[b] : 0.0);
       p95_vm.push_back(b < r.p95_von_mises_mpa.size() ? r.p95_von_mises_mpa[b] : 0.0);
+      ball_vm.push_back(b < r.ball_peak_von_mises_mpa.size() ? r.ball_peak_von_mises_mpa[b] : 0.0);
+      const dealii::Point<3> centre =
+          b < r.ball_peak_von_mises_position_mm.size() ? r.ball_peak_von_mises_position_mm[b] : dealii::Point<3>();
+      for (unsigned d = 0; d < 3; ++d) ball_vm_position.push_back(centre[d]);
     }
   }
   write_dataset(group, "status", H5T_NATIVE_INT, status.data(), {n}, "1");
@@ -126,6 +136,13 @@ void FemResultsWriter::write() const {
   write_dataset(group, "max_penetration_mm", H5T_NATIVE_DOUBLE, penetration.data(), {n}, "mm");
   write_dataset(group, "max_von_mises_mpa", H5T_NATIVE_DOUBLE, max_vm.data(), {n, bodies}, "MPa");
   write_dataset(group, "p95_von_mises_mpa", H5T_NATIVE_DOUBLE, p95_vm.data(), {n, bodies}, "MPa");
+  write_dataset(group, "max_pressure_position_mm", H5T_NATIVE_DOUBLE, max_p_position.data(), {n, 3}, "mm");
+  write_dataset(group, "peak_average_radius_mm", H5T_NATIVE_DOUBLE, radius.data(), {n}, "mm");
+  write_dataset(group, "ball_peak_von_mises_mpa", H5T_NATIVE_DOUBLE, ball_vm.data(), {n, bodies}, "MPa");
+  write_dataset(group, "ball_peak_von_mises_position_mm", H5T_NATIVE_DOUBLE, ball_vm_position.data(),
+                {n, bodies, 3}, "mm");
+  write_dataset(group, "ball_peak_pressure_mpa", H5T_NATIVE_DOUBLE, ball_p.data(), {n}, "MPa");
+  write_dataset(group, "ball_peak_pressure_position_mm", H5T_NATIVE_DOUBLE, ball_p_position.data(), {n, 3}, "mm");
   H5Gclose(group);
   if (H5Fclose(file) < 0) throw_error(file_, ": cannot write the HDF5 results file");
   if (std::rename(temporary.c_str(), file_.c_str()) != 0) throw_error(file_, ": cannot write the HDF5 results file");

@@ -1,8 +1,8 @@
 // hipfai — per-step results of an FE motion, written to HDF5.
 //
-// Layout (version 2; every dataset has a "unit" attribute, "1" for counts). Documented with
+// Layout (version 3; every dataset has a "unit" attribute, "1" for counts). Documented with
 // examples in docs/results-layout.md; keep the two in step.
-//   /                       attributes: layout_version = 2, bodies (names joined by ';'),
+//   /                       attributes: layout_version = 3, bodies (names joined by ';'),
 //                                       code_version, units
 //   /steps/status                 int[n]          0 converged, 1 active set not converged,
 //                                                 2 linear solver failed, 3 no contact,
@@ -24,8 +24,17 @@
 //   /steps/max_penetration_mm     double[n]       mm
 //   /steps/max_von_mises_mpa      double[n][bodies] MPa, over Gauss points
 //   /steps/p95_von_mises_mpa      double[n][bodies] MPa, nearest-rank 95th percentile
+//   /steps/max_pressure_position_mm  double[n][3]  mm, node of max_pressure_mpa
+//   /steps/peak_average_radius_mm    double[n]     mm, ball radius of the ball_peak_* values
+//   /steps/ball_peak_von_mises_mpa   double[n][bodies] MPa, largest JxW-weighted mean over a
+//                                                 ball (fem/peak_measures.h), per body
+//   /steps/ball_peak_von_mises_position_mm  double[n][bodies][3] mm, that ball's centre
+//   /steps/ball_peak_pressure_mpa    double[n]     MPa, largest area-weighted mean of the nodal
+//                                                 pressure over a ball (active slave nodes)
+//   /steps/ball_peak_pressure_position_mm   double[n][3] mm, that ball's centre
+// (Positions: hip frame, at the step's pose, undeformed.)
 // Version 2 adds sub_steps, cutbacks, n_cells, n_dofs and the code_version/units attributes;
-// every version-1 dataset is unchanged.
+// version 3 the positions and the ball-averaged peaks; every older dataset is unchanged.
 // The file is rewritten after every step (to <file>.tmp, then renamed), so an interrupted motion
 // keeps its finished steps and the file that exists is always whole.
 #pragma once

@@ -68,3 +68,14 @@ if(TARGET hipfai_fem)
   hipfai_cli_test(NAME fem_levels_model_without_json EXIT nonzero STDERR "model.json"
                   COMMAND fem levels --model @TMP@ --levels coarse,default --steps 1 --out @TMP@/levels)
 endif()
+
+# --peak-radius-mm (ball-averaged peaks, fem/peak_measures.h): finite and > 0, checked when the
+# options are parsed, before the model is read.
+if(TARGET hipfai_fem)
+  foreach(radius 0 -1 inf nan abc)
+    hipfai_cli_test(NAME fem_run_bad_peak_radius_${radius} EXIT nonzero STDERR "peak-radius-mm"
+                    COMMAND fem run --model @TMP@ --peak-radius-mm ${radius} --out @TMP@/r.h5)
+    hipfai_cli_test(NAME fem_levels_bad_peak_radius_${radius} EXIT nonzero STDERR "peak-radius-mm"
+                    COMMAND fem levels --model @TMP@ --peak-radius-mm ${radius} --out @TMP@/levels)
+  endforeach()
+endif()

@@ -130,6 +130,11 @@ TEST(FemMotion, RotationOfASphericalJointLeavesThePressureUnchanged) {
   EXPECT_NEAR(before.mean, expected, 0.01 * expected);
   EXPECT_NEAR(before.max, expected, 0.03 * expected);
   EXPECT_NEAR(before.min, expected, 0.03 * expected);
+  // A uniform pressure: a ball's area-weighted mean lies between the nodes' min and max, so the
+  // ball-averaged peak has the same bound (1 mm balls, the default, hold several nodes here).
+  EXPECT_NEAR(neutral.ball_peak_pressure_mpa, expected, 0.03 * expected);
+  EXPECT_LE(neutral.ball_peak_pressure_mpa, neutral.max_pressure_mpa);
+  EXPECT_EQ(neutral.peak_average_radius_mm, 1.0);
 
   // 90 degrees about z maps both cube-sphere meshes onto themselves: the rotated discrete
   // problem is the neutral one with its nodes permuted, up to the segment quadrature of the
@@ -210,7 +215,8 @@ TEST(FemMotion, LoadedCoreRelocatesAndTheContactResultantBalancesTheLoad) {
     H5Sclose(space);
     H5Dclose(dataset);
   };
-  std::vector<double> resultant, translation, status, von_mises, sub_steps, cutbacks;
+  std::vector<double> resultant, translation, status, von_mises, sub_steps, cutbacks, ball_von_mises,
+      ball_pressure, ball_pressure_position;
   std::string unit;
   read("/steps/sub_steps", sub_steps, unit);
   EXPECT_EQ(unit, "1");
@@ -222,6 +228,12 @@ TEST(FemMotion, LoadedCoreRelocatesAndTheContactResultantBalancesTheLoad) {
   read("/steps/status", status, unit);
   read("/steps/max_von_mises_mpa", von_mises, unit);
   EXPECT_EQ(unit, "MPa");
+  read("/steps/ball_peak_von_mises_mpa", ball_von_mises, unit);
+  EXPECT_EQ(unit, "MPa");
+  read("/steps/ball_peak_pressure_mpa", ball_pressure, unit);
+  EXPECT_EQ(unit, "MPa");
+  read("/steps/ball_peak_pressure_position_mm", ball_pressure_position, unit);
+  EXPECT_EQ(unit, "mm");
   H5Fclose(h5);
   ASSERT_EQ(resultant.size(), 3 * steps.size());
   ASSERT_EQ(von_mises.size(), 2 * steps.size());
@@ -235,6 +247,18 @@ TEST(FemMotion, LoadedCoreRelocatesAndTheContactResultantBalancesTheLoad) {
       EXPECT_EQ(translation[3 * k + d], results[k].rigid_translation_mm[0][d]);
     }
     EXPECT_GT(von_mises[2 * k], 0.0);
+    for (unsigned b = 0; b < 2; ++b) {
+      EXPECT_EQ(ball_von_mises[2 * k + b], results[k].ball_peak_von_mises_mpa[b]);
+      // A weighted mean of the Gauss-point values cannot exceed their maximum.
+      EXPECT_GT(ball_von_mises[2 * k + b], 0.0);
+      EXPECT_LE(ball_von_mises[2 * k + b], von_mises[2 * k + b]);
+    }
+    EXPECT_EQ(ball_pressure[k], results[k].ball_peak_pressure_mpa);
+    EXPECT_GT(ball_pressure[k], 0.0);
+    EXPECT_LE(ball_pressure[k], results[k].max_pressure_mpa);
+    for (unsigned d = 0; d < 3; ++d) {
+      EXPECT_EQ(ball_pressure_position[3 * k + d], results[k].ball_peak_pressure_position_mm[d]);
+    }
   }
 }
 
