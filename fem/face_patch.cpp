@@ -97,20 +97,32 @@ FacePatch::FacePatch(const dealii::Mapping<3>& mapping,
 
 void FacePatch::evaluate(double s, double t, dealii::Point<3>& x, dealii::Tensor<1, 3>& ds,
                          dealii::Tensor<1, 3>& dt) const {
-  std::array<double, kDegree + 1> vs, ss, vt, st;
+  // Sum factorisation: contract over i (the s direction) once per row j for the position and
+  // its s-slope, then over j; 40 % fewer operations than the direct double sum, and plain
+  // arrays the compiler can keep in registers (this is the contact search's innermost call).
+  constexpr unsigned int n = kDegree + 1;
+  std::array<double, n> vs, ss, vt, st;
   lagrange_basis(s, vs, ss);
   lagrange_basis(t, vt, st);
-  x = dealii::Point<3>();
-  ds = dealii::Tensor<1, 3>();
-  dt = dealii::Tensor<1, 3>();
-  for (unsigned int j = 0; j <= kDegree; ++j) {
-    for (unsigned int i = 0; i <= kDegree; ++i) {
-      const dealii::Tensor<1, 3>& p = samples_[j * (kDegree + 1) + i];
-      x += vs[i] * vt[j] * p;
-      ds += ss[i] * vt[j] * p;
-      dt += vs[i] * st[j] * p;
+  double px[3] = {0, 0, 0}, ps[3] = {0, 0, 0}, pt[3] = {0, 0, 0};
+  for (unsigned int j = 0; j < n; ++j) {
+    double row[3] = {0, 0, 0}, row_s[3] = {0, 0, 0};
+    for (unsigned int i = 0; i < n; ++i) {
+      const dealii::Point<3>& p = samples_[j * n + i];
+      for (unsigned int d = 0; d < 3; ++d) {
+        row[d] += vs[i] * p[d];
+        row_s[d] += ss[i] * p[d];
+      }
+    }
+    for (unsigned int d = 0; d < 3; ++d) {
+      px[d] += vt[j] * row[d];
+      ps[d] += vt[j] * row_s[d];
+      pt[d] += st[j] * row[d];
     }
   }
+  x = dealii::Point<3>(px[0], px[1], px[2]);
+  ds = dealii::Tensor<1, 3>({ps[0], ps[1], ps[2]});
+  dt = dealii::Tensor<1, 3>({pt[0], pt[1], pt[2]});
 }
 
 dealii::Tensor<1, 3> FacePatch::normal(double s, double t) const {
