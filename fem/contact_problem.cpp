@@ -360,6 +360,7 @@ class ContactProblem::Impl {
   std::vector<bool> active;
   // Active set of the last converged run, keyed by (pair, x-component dof of the slave node).
   std::map<std::pair<unsigned int, global_dof_index>, bool> converged_active;
+  dealii::Vector<double> converged_solution;  // displacement of the last converged run
   dealii::Vector<double> solution;
   // Stiffness of every locally owned cell (by active cell index) in the configuration of this
   // run: independent of the active set, so computed once per run and reused by every
@@ -1322,15 +1323,32 @@ void ContactProblem::Impl::evaluate_nodes(const Linearization& state,
 
 void ContactProblem::Impl::initial_active_set(const std::vector<dealii::Tensor<1, 3>>& translations,
                                               double gap_tolerance) {
+  // With the last converged displacement at hand (the previous step of a motion: same mesh, same
+  // dof numbering), the gap of every node at the new pose is predicted from it, the new pose's
+  // contact geometry and the current translations: the nodes it closes start active. The
+  // displacement is not rotated with the femur (a few degrees per step turn a 0.1 mm
+  // displacement by a few micrometres), so this is a prediction, the active-set loop decides.
+  // Without one, a node starts as it ended the last converged run (warm start) or, new, closed
+  // when its geometric gap is.
   active.assign(nodes.size(), false);
   std::vector<double> predicted(nodes.size());
+  const bool predict = options.warm_start_active_set && converged_solution.size() == dof_handler.n_dofs();
   for (std::size_t n = 0; n < nodes.size(); ++n) {
     const NodeData& node = nodes[n];
     predicted[n] = node.initial_gap;
     if (node.rigid_body >= 0) predicted[n] -= translations[node.rigid_body] * node.normal;
+    if (predict) {
+      for (unsigned int c = 0; c < 3; ++c) {
+        double master = 0.0;
+        for (const auto& [dof, weight] : node.master[c]) master += weight * converged_solution[dof];
+        predicted[n] += node.normal[c] * (converged_solution[node.dofs[c]] - master);
+      }
+    }
     const auto it = options.warm_start_active_set ? converged_active.find({node.pair, node.dofs[0]})
                                                   : converged_active.end();
-    active[n] = it != converged_active.end() ? it->second : predicted[n] <= gap_tolerance;
+    const bool was_active = it != converged_active.end() && it->second;
+    active[n] = (it != converged_active.end() && !predict) ? was_active
+                                                           : was_active || predicted[n] <= gap_tolerance;
   }
   one_constraint_per_node(active, predicted);
 }
@@ -1629,6 +1647,7 @@ ContactResult ContactProblem::Impl::run(ContactProblem& model) {
   if (result.status == ContactStatus::kConverged) {
     converged_active.clear();
     for (std::size_t n = 0; n < nodes.size(); ++n) converged_active[{nodes[n].pair, nodes[n].dofs[0]}] = active[n];
+    converged_solution = solution;
   }
   if (!options.vtu_file.empty()) output_results(options.vtu_file);
   result.wall_time_s =

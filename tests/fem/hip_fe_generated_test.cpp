@@ -20,7 +20,9 @@
 
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace hipfai::fem {
 namespace {
@@ -31,34 +33,47 @@ struct Hip {
 
 class HipFeGenerated : public ::testing::TestWithParam<Hip> {};
 
-TEST_P(HipFeGenerated, CompletesStandingToSittingAtTheCoarseLevel) {
+// The generated hip's coarse volume mesh (3 mm surfaces).
+geometry::HipGeneratorResult generated_hip(const Hip& hip_angles) {
   geometry::HipParameters parameters;
-  parameters.ce_deg = GetParam().ce_deg;
-  parameters.alpha_deg = GetParam().alpha_deg;
+  parameters.ce_deg = hip_angles.ce_deg;
+  parameters.alpha_deg = hip_angles.alpha_deg;
   parameters.edge_mm = 3.0;
-  const geometry::HipGeneratorResult hip = geometry::generate_hip(parameters);
-  ASSERT_EQ(hip.status, geometry::HipGeneratorResult::Status::ok);
-  const geometry::HipVolumeMesh volume =
-      geometry::build_hip_volume_mesh(hip.model, hip_volume_options(HipFeLevel::kCoarse));
+  return geometry::generate_hip(parameters);
+}
 
-  ContactOptions solver;
-  solver.linear_solver = LinearSolver::kDirect;
-  ContactProblem problem(MPI_COMM_WORLD, solver);
-  build_hip_fe_model(problem, volume.mesh, hip.model.tissue("femur_bone"), hip.model.hjc_mm);
-  ASSERT_EQ(problem.bodies.size(), 3u);  // femoral cartilage, acetabular cartilage, labrum
-
+// Standing-to-sitting in 30 sub-motions with the sitting-down load (700 N body weight).
+std::vector<MotionStep> sitting_down_steps() {
   studies::Motion motion = studies::standing_to_sitting(30);
   studies::SittingDownLoadOptions load;
   load.body_weight_n = kDefaultBodyWeightN;
   studies::attach_sitting_down_load(motion, load);
   std::vector<MotionStep> steps;
   for (const studies::MotionStep& step : motion.steps) {
-    ASSERT_TRUE(step.force_N.has_value());
+    if (!step.force_N) throw std::runtime_error("sitting-down motion without a force");
     steps.push_back(make_hip_motion_step(step.rotation, *step.force_N));
   }
+  return steps;
+}
+
+std::vector<ContactResult> run_coarse_motion(const geometry::HipGeneratorResult& hip,
+                                             const std::vector<MotionStep>& steps, ContactOptions solver) {
+  const geometry::HipVolumeMesh volume =
+      geometry::build_hip_volume_mesh(hip.model, hip_volume_options(HipFeLevel::kCoarse));
+  solver.linear_solver = LinearSolver::kDirect;
+  ContactProblem problem(MPI_COMM_WORLD, solver);
+  build_hip_fe_model(problem, volume.mesh, hip.model.tissue("femur_bone"), hip.model.hjc_mm);
+  if (problem.bodies.size() != 3u) throw std::runtime_error("expected three deformable bodies");
   MotionOptions options;
   options.moving_body = kFemurBody;
-  const std::vector<ContactResult> results = run_motion(problem, steps, options);
+  return run_motion(problem, steps, options);
+}
+
+TEST_P(HipFeGenerated, CompletesStandingToSittingAtTheCoarseLevel) {
+  const geometry::HipGeneratorResult hip = generated_hip(GetParam());
+  ASSERT_EQ(hip.status, geometry::HipGeneratorResult::Status::ok);
+  const std::vector<MotionStep> steps = sitting_down_steps();
+  const std::vector<ContactResult> results = run_coarse_motion(hip, steps, ContactOptions());
   ASSERT_EQ(results.size(), steps.size());
 
   const double thickness = literature::kFemoralCartilageMaxThicknessMm;
@@ -88,6 +103,44 @@ TEST_P(HipFeGenerated, CompletesStandingToSittingAtTheCoarseLevel) {
   // The peak load (156 %BW of 700 N) on a 25 mm joint: a mean over a hemisphere's projected area
   // (pi R^2) is a lower bound on the peak pressure.
   EXPECT_GT(peak_pressure, steps.back().force_n.norm() / (M_PI * 25.0 * 25.0));
+}
+
+// Where a motion step's active set starts (the last converged set, plus the nodes the last
+// converged displacement predicts closed at the new pose) changes how many iterations the step
+// takes, never where it ends: the first six steps of the normal hip, warm against cold (every
+// step from its geometric gaps), agree to round-off, and the warm start needs fewer iterations.
+TEST(HipFeWarmStart, StartingActiveSetChangesTheCostNotTheResult) {
+  const geometry::HipGeneratorResult hip = generated_hip({20.0, 40.0});
+  ASSERT_EQ(hip.status, geometry::HipGeneratorResult::Status::ok);
+  std::vector<MotionStep> steps = sitting_down_steps();
+  steps.resize(6);
+  ContactOptions warm, cold;
+  warm.warm_start_active_set = true;
+  cold.warm_start_active_set = false;
+  const std::vector<ContactResult> warm_results = run_coarse_motion(hip, steps, warm);
+  const std::vector<ContactResult> cold_results = run_coarse_motion(hip, steps, cold);
+  ASSERT_EQ(warm_results.size(), steps.size());
+  ASSERT_EQ(cold_results.size(), steps.size());
+  unsigned warm_iterations = 0, cold_iterations = 0;
+  for (std::size_t k = 0; k < steps.size(); ++k) {
+    const ContactResult& w = warm_results[k];
+    const ContactResult& c = cold_results[k];
+    ASSERT_EQ(w.status, ContactStatus::kConverged) << "step " << k + 1;
+    ASSERT_EQ(c.status, ContactStatus::kConverged) << "step " << k + 1;
+    EXPECT_NEAR(w.max_pressure_mpa, c.max_pressure_mpa, 1e-9 * c.max_pressure_mpa) << "step " << k + 1;
+    EXPECT_NEAR(w.contact_area_mm2, c.contact_area_mm2, 1e-9 * c.contact_area_mm2) << "step " << k + 1;
+    EXPECT_LT((w.rigid_translation_mm[kFemurBody] - c.rigid_translation_mm[kFemurBody]).norm(),
+              1e-9 * c.rigid_translation_mm[kFemurBody].norm())
+        << "step " << k + 1;
+    for (std::size_t b = 0; b < c.max_von_mises_mpa.size(); ++b) {
+      EXPECT_NEAR(w.max_von_mises_mpa[b], c.max_von_mises_mpa[b], 1e-9 * c.max_von_mises_mpa[b]);
+    }
+    warm_iterations += w.active_set_iterations;
+    cold_iterations += c.active_set_iterations;
+  }
+  std::printf("active-set iterations over %zu steps: warm %u, cold %u\n", steps.size(), warm_iterations,
+              cold_iterations);
+  EXPECT_LT(warm_iterations, cold_iterations);
 }
 
 INSTANTIATE_TEST_SUITE_P(StudyGrid, HipFeGenerated, ::testing::Values(Hip{40.0, 80.0}, Hip{0.0, 40.0}),
