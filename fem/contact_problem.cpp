@@ -331,7 +331,17 @@ class ContactProblem::Impl {
   std::vector<Linearization> solve_reduced_direct(
       const std::vector<dealii::AffineConstraints<double>>& constraints);
   std::vector<Linearization> solve_reduced_serial(
-      const std::vector<dealii::AffineConstraints<double>>& constraints);
+      const std::vector<dealii::AffineConstraints<double>>& constraints,
+      const std::vector<std::vector<dealii::Tensor<1, 3>>>& translation_sets);
+  void build_serial_base(const dealii::AffineConstraints<double>& c0);
+  std::vector<Linearization> solve_with_base(const std::vector<dealii::AffineConstraints<double>>& constraints,
+                                             Lap& lap);
+  void base_rhs(const dealii::AffineConstraints<double>& constraint, dealii::Vector<double>& g,
+                dealii::Vector<double>& kg, std::vector<double>& rhs) const;
+  bool base_solve(const std::vector<double>& rhs, std::vector<double>& x, Lap& lap);
+  bool solve_low_rank(const std::vector<dealii::AffineConstraints<double>>& constraints,
+                      const std::vector<std::vector<dealii::Tensor<1, 3>>>& translation_sets,
+                      std::vector<Linearization>& states);
   std::size_t dof_layout_key() const;
   std::vector<Linearization> solve_linear(
       const std::vector<std::vector<dealii::Tensor<1, 3>>>& translation_sets);
@@ -374,6 +384,41 @@ class ContactProblem::Impl {
   dealii::SparsityPattern serial_pattern;
   dealii::SparseMatrix<double> serial_stiffness;
   std::size_t serial_pattern_key = 0;
+  // One rank: the factorised reduced system of the run (see solve_reduced_serial).
+  struct SerialBase {
+    static constexpr PetscInt kDirichlet = -1, kExpanded = -2;
+    struct Term {
+      PetscInt column;
+      double weight;
+    };
+    bool valid = false;
+    std::vector<bool> active;  // the active set P was built for
+    // Column map through P: >= 0 a free dof's reduced index, kDirichlet a dof fixed to its
+    // inhomogeneity, <= kExpanded - e the e-th constrained dof whose constraint names free dofs.
+    std::vector<PetscInt> mapped;
+    std::vector<global_dof_index> free_dofs;
+    std::vector<std::size_t> expansion_begin;
+    std::vector<Term> expansion;
+    std::vector<PetscInt> expansion_last;  // largest column of each expansion
+    // Rows scattered into each reduced row: the constrained dofs whose constraint names it.
+    std::vector<std::vector<std::pair<global_dof_index, double>>> incoming;
+    std::vector<PetscInt> row_start, columns;  // upper triangle of P^T K P (CSR)
+    std::vector<double> values;
+    Mat matrix = nullptr;
+    std::unique_ptr<CholeskySolve> cholesky;
+    void reset() {
+      cholesky.reset();
+      if (matrix) MatDestroy(&matrix);
+      matrix = nullptr;
+      valid = false;
+    }
+    SerialBase() = default;
+    SerialBase(const SerialBase&) = delete;
+    SerialBase& operator=(const SerialBase&) = delete;
+    ~SerialBase() { reset(); }
+  };
+  SerialBase serial_base;
+  unsigned int factorisations = 0, low_rank_updates = 0;
   std::vector<std::size_t> k_row_start;
   std::vector<global_dof_index> k_columns;
   std::vector<double> k_values;
@@ -810,7 +855,7 @@ std::vector<Linearization> ContactProblem::Impl::solve_linear(
   std::vector<dealii::AffineConstraints<double>> constraints;
   for (const auto& translations : translation_sets) constraints.push_back(make_constraints(translations));
   if (options.linear_solver == LinearSolver::kDirect) {
-    return dealii::Utilities::MPI::n_mpi_processes(comm) == 1 ? solve_reduced_serial(constraints)
+    return dealii::Utilities::MPI::n_mpi_processes(comm) == 1 ? solve_reduced_serial(constraints, translation_sets)
                                                                : solve_reduced_direct(constraints);
   }
   const unsigned int rank = dealii::Utilities::MPI::this_mpi_process(comm);
@@ -885,7 +930,8 @@ std::size_t ContactProblem::Impl::dof_layout_key() const {
 }
 
 std::vector<Linearization> ContactProblem::Impl::solve_reduced_serial(
-    const std::vector<dealii::AffineConstraints<double>>& constraints) {
+    const std::vector<dealii::AffineConstraints<double>>& constraints,
+    const std::vector<std::vector<dealii::Tensor<1, 3>>>& translation_sets) {
   // One rank: the same reduced system P^T K P as solve_reduced_direct, built row by row from a
   // serial K instead of by PETSc's general triple product (which spent ~3 s per active set on
   // the 54 k dof hip, 10x the rest of the reduction). P is the identity on the free dofs, so
@@ -893,6 +939,11 @@ std::vector<Linearization> ContactProblem::Impl::solve_reduced_serial(
   // (scaled by its weight), with every column mapped through P: a free column to its reduced
   // index, a constrained one to the columns its constraint names, a Dirichlet one dropped.
   // Only the upper triangle is kept (the Cholesky factorisation reads no more).
+  //
+  // The factorised system (the "base": its active set, P and Cholesky factor) is kept for the
+  // run. A later active set that differs from it in a few nodes is solved with the same factor
+  // and a bordered correction (solve_low_rank) instead of a new reduction and factorisation:
+  // most motion steps change 1-8 of several hundred contact nodes and then only confirm.
   Lap lap;
   const global_dof_index n_dofs = dof_handler.n_dofs();
   if (!stiffness_assembled) {
@@ -929,27 +980,44 @@ std::vector<Linearization> ContactProblem::Impl::solve_reduced_serial(
     times.assembly += lap();
   }
 
-  const dealii::AffineConstraints<double>& c0 = constraints.front();
-  // Column map through P: >= 0 a free dof's reduced index, kDirichlet a dof fixed to its
-  // inhomogeneity, <= kExpanded - e the e-th constrained dof whose constraint names free dofs.
-  constexpr PetscInt kDirichlet = -1, kExpanded = -2;
-  std::vector<PetscInt> mapped(n_dofs, kDirichlet);
-  std::vector<global_dof_index> free_dofs;
+  if (options.low_rank_updates && serial_base.valid) {
+    std::vector<Linearization> states;
+    if (solve_low_rank(constraints, translation_sets, states)) {
+      times.solves += lap();
+      add_internal_forces(states);
+      times.internal_force += lap();
+      return states;
+    }
+  }
+  build_serial_base(constraints.front());
+  times.assembly += lap();
+  return solve_with_base(constraints, lap);
+}
+
+void ContactProblem::Impl::build_serial_base(const dealii::AffineConstraints<double>& c0) {
+  SerialBase& base = serial_base;
+  base.reset();
+  base.active = active;
+  const global_dof_index n_dofs = dof_handler.n_dofs();
+  std::vector<PetscInt>& mapped = base.mapped;
+  std::vector<global_dof_index>& free_dofs = base.free_dofs;
+  std::vector<std::size_t>& expansion_begin = base.expansion_begin;
+  std::vector<SerialBase::Term>& expansion = base.expansion;
+  std::vector<PetscInt>& expansion_last = base.expansion_last;
+  std::vector<std::vector<std::pair<global_dof_index, double>>>& incoming = base.incoming;
+  constexpr PetscInt kExpanded = SerialBase::kExpanded;
+  mapped.assign(n_dofs, SerialBase::kDirichlet);
+  free_dofs.clear();
   for (global_dof_index i = 0; i < n_dofs; ++i) {
     if (c0.is_constrained(i)) continue;
     mapped[i] = static_cast<PetscInt>(free_dofs.size());
     free_dofs.push_back(i);
   }
   const std::size_t n_free = free_dofs.size();
-  struct Term {
-    PetscInt column;
-    double weight;
-  };
-  std::vector<std::size_t> expansion_begin{0};
-  std::vector<Term> expansion;
-  std::vector<PetscInt> expansion_last;  // largest column of each expansion
-  // Rows scattered into each reduced row: the constrained dofs whose constraint names it.
-  std::vector<std::vector<std::pair<global_dof_index, double>>> incoming(n_free);
+  expansion_begin.assign(1, 0);
+  expansion.clear();
+  expansion_last.clear();
+  incoming.assign(n_free, {});
   for (global_dof_index i = 0; i < n_dofs; ++i) {
     if (mapped[i] >= 0) continue;
     const auto* entries = c0.get_constraint_entries(i);
@@ -1060,8 +1128,12 @@ std::vector<Linearization> ContactProblem::Impl::solve_reduced_serial(
     build_rows(0, std::min(n_free, chunk));
     for (std::thread& worker : workers) worker.join();
   }
-  std::vector<PetscInt> row_start(n_free + 1, 0), columns;
-  std::vector<double> values;
+  std::vector<PetscInt>& row_start = base.row_start;
+  std::vector<PetscInt>& columns = base.columns;
+  std::vector<double>& values = base.values;
+  row_start.assign(n_free + 1, 0);
+  columns.clear();
+  values.clear();
   std::size_t nonzeros = 0;
   for (const Piece& piece : pieces) nonzeros += piece.columns.size();
   columns.reserve(nonzeros);
@@ -1076,60 +1148,224 @@ std::vector<Linearization> ContactProblem::Impl::solve_reduced_serial(
     values.insert(values.end(), piece.values.begin(), piece.values.end());
     piece = Piece();
   }
-  Mat reduced_matrix;
-  // The arrays stay alive (and unchanged) until the matrix is destroyed below.
+  // The arrays stay alive (and unchanged) until the base is reset.
   MatCreateSeqSBAIJWithArrays(PETSC_COMM_SELF, 1, static_cast<PetscInt>(n_free), static_cast<PetscInt>(n_free),
-                              row_start.data(), columns.data(), values.data(), &reduced_matrix);
-  MatSetOption(reduced_matrix, MAT_SPD, PETSC_TRUE);
-  times.assembly += lap();
+                              row_start.data(), columns.data(), values.data(), &base.matrix);
+  MatSetOption(base.matrix, MAT_SPD, PETSC_TRUE);
+  base.cholesky = std::make_unique<CholeskySolve>(PETSC_COMM_SELF, base.matrix);
+  base.valid = true;
+}
 
-  std::optional<CholeskySolve> cholesky(std::in_place, PETSC_COMM_SELF, reduced_matrix);
-
+std::vector<Linearization> ContactProblem::Impl::solve_with_base(
+    const std::vector<dealii::AffineConstraints<double>>& constraints, Lap& lap) {
+  const SerialBase& base = serial_base;
+  const global_dof_index n_dofs = dof_handler.n_dofs();
+  const std::size_t n_free = base.free_dofs.size();
   std::vector<Linearization> states;
   dealii::Vector<double> g(n_dofs), kg(n_dofs);
   std::vector<double> rhs_values(n_free), v_values(n_free);
   for (const dealii::AffineConstraints<double>& constraint : constraints) {
-    // g: the inhomogeneities on the constrained rows; the right-hand side is P^T (-K g).
-    g = 0.0;
-    for (global_dof_index i = 0; i < n_dofs; ++i) {
-      if (mapped[i] < 0 && constraint.is_inhomogeneously_constrained(i)) g(i) = constraint.get_inhomogeneity(i);
-    }
-    serial_stiffness.vmult(kg, g);
-    double rhs_norm = 0.0;
-    for (std::size_t r = 0; r < n_free; ++r) {
-      double value = -kg(free_dofs[r]);
-      for (const auto& [row, weight] : incoming[r]) value -= weight * kg(row);
-      rhs_values[r] = value;
-      rhs_norm += value * value;
-    }
+    base_rhs(constraint, g, kg, rhs_values);
     ++linear_solves;
-    std::fill(v_values.begin(), v_values.end(), 0.0);
-    if (rhs_norm > 0.0) {
-      if (!cholesky->factorised()) {
-        cholesky->factorise();
-        times.solver_setup += lap();
-      }
-      Vec rhs, v;
-      VecCreateSeqWithArray(PETSC_COMM_SELF, 1, static_cast<PetscInt>(n_free), rhs_values.data(), &rhs);
-      VecCreateSeqWithArray(PETSC_COMM_SELF, 1, static_cast<PetscInt>(n_free), v_values.data(), &v);
-      if (!cholesky->solve(rhs, v, pcout)) linear_failure = true;
-      VecDestroy(&rhs);
-      VecDestroy(&v);
-      ++linear_iterations;
-    }
+    if (!base_solve(rhs_values, v_values, lap)) linear_failure = true;
     // u = P v + g: the free dofs from v, the constrained ones from their constraints.
     Linearization state;
     state.displacement.reinit(n_dofs);
-    for (std::size_t r = 0; r < n_free; ++r) state.displacement(free_dofs[r]) = v_values[r];
+    for (std::size_t r = 0; r < n_free; ++r) state.displacement(base.free_dofs[r]) = v_values[r];
     constraint.distribute(state.displacement);
     states.push_back(std::move(state));
   }
-  cholesky.reset();
-  MatDestroy(&reduced_matrix);
   times.solves += lap();
   add_internal_forces(states);
   times.internal_force += lap();
   return states;
+}
+
+void ContactProblem::Impl::base_rhs(const dealii::AffineConstraints<double>& constraint, dealii::Vector<double>& g,
+                                    dealii::Vector<double>& kg, std::vector<double>& rhs) const {
+  // g: the inhomogeneities on the constrained rows; the right-hand side is P^T (-K g).
+  const SerialBase& base = serial_base;
+  g = 0.0;
+  for (global_dof_index i = 0; i < g.size(); ++i) {
+    if (base.mapped[i] < 0 && constraint.is_inhomogeneously_constrained(i)) g(i) = constraint.get_inhomogeneity(i);
+  }
+  serial_stiffness.vmult(kg, g);
+  for (std::size_t r = 0; r < base.free_dofs.size(); ++r) {
+    double value = -kg(base.free_dofs[r]);
+    for (const auto& [row, weight] : base.incoming[r]) value -= weight * kg(row);
+    rhs[r] = value;
+  }
+}
+
+bool ContactProblem::Impl::base_solve(const std::vector<double>& rhs, std::vector<double>& x, Lap& lap) {
+  SerialBase& base = serial_base;
+  std::fill(x.begin(), x.end(), 0.0);
+  double norm = 0.0;
+  for (const double value : rhs) norm += value * value;
+  if (!(norm > 0.0)) return true;
+  if (!base.cholesky->factorised()) {
+    base.cholesky->factorise();
+    ++factorisations;
+    times.solver_setup += lap();
+  }
+  Vec b, v;
+  const PetscInt n = static_cast<PetscInt>(x.size());
+  VecCreateSeqWithArray(PETSC_COMM_SELF, 1, n, rhs.data(), &b);
+  VecCreateSeqWithArray(PETSC_COMM_SELF, 1, n, x.data(), &v);
+  const bool ok = base.cholesky->solve(b, v, pcout);
+  VecDestroy(&b);
+  VecDestroy(&v);
+  ++linear_iterations;
+  return ok;
+}
+
+bool ContactProblem::Impl::solve_low_rank(const std::vector<dealii::AffineConstraints<double>>& constraints,
+                                          const std::vector<std::vector<dealii::Tensor<1, 3>>>& translation_sets,
+                                          std::vector<Linearization>& states) {
+  // The base solves  min 1/2 u^T K u  over u = P v + g  (its constraints). The current active set
+  // releases some of the base's contact nodes (R) and adds others (N). With E the unit vectors
+  // of the released slave dofs and C_N u = h_N the added constraints, the current problem is
+  //   min over (v, delta) of 1/2 u^T K u,  u = P v + E delta + g,  subject to C_N u = h_N,
+  // whose optimality system borders the factorised A = P^T K P:
+  //   [ A    B ] [ v ]   [ -P^T K g       ]      B = [ P^T K E , P^T C_N^T ]
+  //   [ B^T  D ] [ y ] = [ -E^T K g ; h_N - C_N g ],  D = [ E^T K E , E^T C_N^T ; C_N E , 0 ],
+  // y = (delta, multipliers). With Z = A^-1 B (one solve per change) and S = D - B^T Z (dense,
+  // small): y = S^-1 (d - B^T A^-1 b), v = A^-1 b - Z y. Exact, as elimination would be; falls
+  // back (false) when the change is large, when a released dof is named by a kept constraint
+  // (the base's closed constraints would have it substituted away), or when S is singular.
+  constexpr std::size_t kMaxChanges = 32;  // ~ the solves one factorisation costs at default
+  SerialBase& base = serial_base;
+  if (base.active.size() != active.size() || hanging_constraints.n_constraints() > 0) return false;
+  std::vector<std::size_t> released, added;
+  for (std::size_t n = 0; n < active.size(); ++n) {
+    if (base.active[n] && !active[n]) released.push_back(n);
+    if (!base.active[n] && active[n]) added.push_back(n);
+  }
+  const std::size_t n_released = released.size(), m = released.size() + added.size();
+  if (m > kMaxChanges) return false;
+  const global_dof_index n_dofs = dof_handler.n_dofs();
+  std::vector<char> is_released(n_dofs, 0);
+  std::vector<global_dof_index> slave(m);
+  for (std::size_t i = 0; i < m; ++i) {
+    const NodeData& node = nodes[i < n_released ? released[i] : added[i - n_released]];
+    slave[i] = node.dofs[node.constrained_component];
+    if (i < n_released) is_released[slave[i]] = 1;
+  }
+  for (std::size_t n = 0; n < active.size(); ++n) {
+    if (!base.active[n] || !active[n]) continue;
+    const NodeData& node = nodes[n];
+    for (unsigned int c = 0; c < 3; ++c) {
+      if (c != node.constrained_component && is_released[node.dofs[c]]) return false;
+      for (const auto& entry : node.master[c]) {
+        if (is_released[entry.first]) return false;
+      }
+    }
+  }
+  // The base's constraints with the current translations.
+  std::vector<dealii::AffineConstraints<double>> base_constraints;
+  {
+    std::vector<bool> current = active;
+    active = base.active;
+    for (const auto& translations : translation_sets) base_constraints.push_back(make_constraints(translations));
+    active = std::move(current);
+  }
+  const std::size_t n_free = base.free_dofs.size();
+  const auto scatter = [&](global_dof_index dof, double value, std::vector<double>& y) {
+    const PetscInt c = base.mapped[dof];
+    if (c >= 0) {
+      y[c] += value;
+    } else if (c <= SerialBase::kExpanded) {
+      const std::size_t x = static_cast<std::size_t>(SerialBase::kExpanded - c);
+      for (std::size_t t = base.expansion_begin[x]; t < base.expansion_begin[x + 1]; ++t) {
+        y[base.expansion[t].column] += value * base.expansion[t].weight;
+      }
+    }
+  };
+  std::vector<std::vector<double>> border(m, std::vector<double>(n_free, 0.0));
+  dealii::FullMatrix<double> schur(m, m);
+  for (std::size_t i = 0; i < n_released; ++i) {
+    for (std::size_t e = k_row_start[slave[i]]; e < k_row_start[slave[i] + 1]; ++e) {
+      scatter(k_columns[e], k_values[e], border[i]);  // K is symmetric: row = column
+    }
+    for (std::size_t j = 0; j < n_released; ++j) schur(i, j) = serial_stiffness.el(slave[i], slave[j]);
+  }
+  // Added constraints as rows c_n = e_s - sum_c a_c e_c (their closed lines: the same for every
+  // translation set, only the inhomogeneities differ).
+  const dealii::AffineConstraints<double>& c0 = constraints.front();
+  std::vector<std::vector<std::pair<global_dof_index, double>>> rows(added.size());
+  for (std::size_t a = 0; a < added.size(); ++a) {
+    const global_dof_index s = slave[n_released + a];
+    if (!c0.is_constrained(s)) return false;
+    rows[a].emplace_back(s, 1.0);
+    if (const auto* entries = c0.get_constraint_entries(s)) {
+      for (const auto& [dof, weight] : *entries) rows[a].emplace_back(dof, -weight);
+    }
+    for (const auto& [dof, value] : rows[a]) {
+      scatter(dof, value, border[n_released + a]);
+      for (std::size_t i = 0; i < n_released; ++i) {
+        if (dof != slave[i]) continue;
+        schur(i, n_released + a) += value;
+        schur(n_released + a, i) += value;
+      }
+    }
+  }
+  Lap lap;
+  std::vector<std::vector<double>> z(m, std::vector<double>(n_free, 0.0));
+  for (std::size_t i = 0; i < m; ++i) {
+    ++linear_solves;
+    if (!base_solve(border[i], z[i], lap)) return false;
+  }
+  for (std::size_t i = 0; i < m; ++i) {
+    for (std::size_t j = 0; j < m; ++j) {
+      double product = 0.0;
+      for (std::size_t r = 0; r < n_free; ++r) product += border[i][r] * z[j][r];
+      schur(i, j) -= product;
+    }
+  }
+  if (m > 0) schur.gauss_jordan();
+  for (std::size_t i = 0; i < m; ++i) {
+    for (std::size_t j = 0; j < m; ++j) {
+      if (!std::isfinite(schur(i, j))) return false;
+    }
+  }
+  dealii::Vector<double> g(n_dofs), kg(n_dofs);
+  std::vector<double> rhs_values(n_free), v_values(n_free);
+  dealii::Vector<double> d(m), y(m);
+  std::vector<Linearization> result;
+  for (std::size_t k = 0; k < constraints.size(); ++k) {
+    base_rhs(base_constraints[k], g, kg, rhs_values);
+    ++linear_solves;
+    if (!base_solve(rhs_values, v_values, lap)) return false;
+    for (std::size_t i = 0; i < n_released; ++i) d[i] = -kg(slave[i]);
+    for (std::size_t a = 0; a < added.size(); ++a) {
+      double row_g = 0.0;
+      for (const auto& [dof, value] : rows[a]) row_g += value * g(dof);
+      d[n_released + a] = constraints[k].get_inhomogeneity(slave[n_released + a]) - row_g;
+    }
+    for (std::size_t i = 0; i < m; ++i) {
+      for (std::size_t r = 0; r < n_free; ++r) d[i] -= border[i][r] * v_values[r];
+    }
+    schur.vmult(y, d);
+    for (std::size_t i = 0; i < m; ++i) {
+      for (std::size_t r = 0; r < n_free; ++r) v_values[r] -= z[i][r] * y[i];
+    }
+    Linearization state;
+    state.displacement.reinit(n_dofs);
+    for (std::size_t r = 0; r < n_free; ++r) state.displacement(base.free_dofs[r]) = v_values[r];
+    base_constraints[k].distribute(state.displacement);
+    for (std::size_t i = 0; i < n_released; ++i) state.displacement(slave[i]) += y[i];
+    // The added constraints hold to round-off unless S was (nearly) singular.
+    const double scale = state.displacement.linfty_norm();
+    for (std::size_t a = 0; a < added.size(); ++a) {
+      double residual = -constraints[k].get_inhomogeneity(slave[n_released + a]);
+      for (const auto& [dof, value] : rows[a]) residual += value * state.displacement(dof);
+      if (!(std::abs(residual) <= 1e-9 * scale + 1e-300)) return false;
+    }
+    result.push_back(std::move(state));
+  }
+  ++low_rank_updates;
+  states = std::move(result);
+  return true;
 }
 
 std::vector<Linearization> ContactProblem::Impl::solve_reduced_direct(
@@ -1252,6 +1488,7 @@ std::vector<Linearization> ContactProblem::Impl::solve_reduced_direct(
     if (rhs_norm > 0.0) {
       if (!cholesky->factorised()) {
         cholesky->factorise();
+        ++factorisations;
         times.solver_setup += lap();
       }
       if (!cholesky->solve(rhs, v, pcout)) linear_failure = true;
@@ -1467,6 +1704,9 @@ ContactResult ContactProblem::Impl::run(ContactProblem& model) {
   collect_fixed_dofs(model);
   compute_cell_matrices();
   stiffness_assembled = false;
+  serial_base.reset();
+  factorisations = 0;
+  low_rank_updates = 0;
   times.setup = lap();
   collect_contact_nodes(model);
   times.contact_search = lap();
@@ -1590,6 +1830,9 @@ ContactResult ContactProblem::Impl::run(ContactProblem& model) {
   }
 
   solution = state.displacement;
+  serial_base.reset();  // K changes with the next run's pose; the factor's memory goes now
+  result.factorisations = factorisations;
+  result.low_rank_updates = low_rank_updates;
   result.linear_solves = linear_solves;
   result.linear_iterations = linear_iterations;
   result.rigid_translation_mm = translations;
@@ -1654,7 +1897,8 @@ ContactResult ContactProblem::Impl::run(ContactProblem& model) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   pcout << "fem: " << to_string(result.status) << " after " << result.active_set_iterations
         << " active-set iterations, " << result.linear_solves << " linear solves, "
-        << result.linear_iterations << " CG iterations, " << result.wall_time_s << " s\n";
+        << result.linear_iterations << " CG iterations, " << result.factorisations << " factorisations, "
+        << result.low_rank_updates << " low-rank updates, " << result.wall_time_s << " s\n";
   pcout << "fem: time (s): setup " << times.setup << ", contact search " << times.contact_search
         << ", sparsity " << times.sparsity << ", assembly " << times.assembly << ", solver setup "
         << times.solver_setup << ", solves " << times.solves << ", internal force "

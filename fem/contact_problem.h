@@ -106,6 +106,10 @@ struct ContactOptions {
   // close to the previous one, so this saves most active-set iterations; the converged set
   // does not depend on the start.
   bool warm_start_active_set = true;
+  // Direct solver on one rank: an active set that differs from the factorised one in a few
+  // nodes is solved with that factor and a bordered (low-rank) correction, exactly, instead of
+  // a new factorisation. Off: every active set is factorised anew (for comparison).
+  bool low_rank_updates = true;
   std::string vtu_file;  // written after the solve when not empty
   bool verbose = false;  // per-iteration statistics on rank 0
   // Radius (mm) of the balls of the mesh-objective peaks (fem/peak_measures.h; ContactResult::
@@ -141,6 +145,8 @@ struct ContactResult {
   unsigned int active_set_iterations = 0;
   unsigned int linear_solves = 0;
   unsigned int linear_iterations = 0;
+  unsigned int factorisations = 0;    // direct solver: Cholesky factorisations
+  unsigned int low_rank_updates = 0;  // direct solver: active sets solved by a bordered correction
   double wall_time_s = 0.0;
   // Set by run_motion: solves the step was split into (1: none) and failed attempts that were
   // cut back; the counters and wall time above then sum over all attempts.

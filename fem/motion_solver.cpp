@@ -58,6 +58,8 @@ void add_effort(ContactResult& total, const ContactResult& attempt) {
   total.active_set_iterations += attempt.active_set_iterations;
   total.linear_solves += attempt.linear_solves;
   total.linear_iterations += attempt.linear_iterations;
+  total.factorisations += attempt.factorisations;
+  total.low_rank_updates += attempt.low_rank_updates;
   total.wall_time_s += attempt.wall_time_s;
 }
 
@@ -81,6 +83,8 @@ class CutbackSolver {
     last.active_set_iterations = effort.active_set_iterations;
     last.linear_solves = effort.linear_solves;
     last.linear_iterations = effort.linear_iterations;
+    last.factorisations = effort.factorisations;
+    last.low_rank_updates = effort.low_rank_updates;
     last.wall_time_s = effort.wall_time_s;
     last.sub_steps = effort.sub_steps;
     last.cutbacks = effort.cutbacks;

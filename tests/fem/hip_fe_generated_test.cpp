@@ -22,6 +22,7 @@
 #include <cstdio>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace hipfai::fem {
@@ -69,6 +70,17 @@ std::vector<ContactResult> run_coarse_motion(const geometry::HipGeneratorResult&
   return run_motion(problem, steps, options);
 }
 
+// The first six steps of standing-to-sitting on the normal hip (CE 20, alpha 40), solved once
+// with each of two solver settings.
+std::pair<std::vector<ContactResult>, std::vector<ContactResult>> six_normal_hip_steps(
+    const ContactOptions& first, const ContactOptions& second) {
+  const geometry::HipGeneratorResult hip = generated_hip({20.0, 40.0});
+  if (hip.status != geometry::HipGeneratorResult::Status::ok) throw std::runtime_error("hip generation failed");
+  std::vector<MotionStep> steps = sitting_down_steps();
+  steps.resize(6);
+  return {run_coarse_motion(hip, steps, first), run_coarse_motion(hip, steps, second)};
+}
+
 TEST_P(HipFeGenerated, CompletesStandingToSittingAtTheCoarseLevel) {
   const geometry::HipGeneratorResult hip = generated_hip(GetParam());
   ASSERT_EQ(hip.status, geometry::HipGeneratorResult::Status::ok);
@@ -110,19 +122,14 @@ TEST_P(HipFeGenerated, CompletesStandingToSittingAtTheCoarseLevel) {
 // takes, never where it ends: the first six steps of the normal hip, warm against cold (every
 // step from its geometric gaps), agree to round-off, and the warm start needs fewer iterations.
 TEST(HipFeWarmStart, StartingActiveSetChangesTheCostNotTheResult) {
-  const geometry::HipGeneratorResult hip = generated_hip({20.0, 40.0});
-  ASSERT_EQ(hip.status, geometry::HipGeneratorResult::Status::ok);
-  std::vector<MotionStep> steps = sitting_down_steps();
-  steps.resize(6);
   ContactOptions warm, cold;
   warm.warm_start_active_set = true;
   cold.warm_start_active_set = false;
-  const std::vector<ContactResult> warm_results = run_coarse_motion(hip, steps, warm);
-  const std::vector<ContactResult> cold_results = run_coarse_motion(hip, steps, cold);
-  ASSERT_EQ(warm_results.size(), steps.size());
-  ASSERT_EQ(cold_results.size(), steps.size());
+  const auto [warm_results, cold_results] = six_normal_hip_steps(warm, cold);
+  ASSERT_EQ(warm_results.size(), 6u);
+  ASSERT_EQ(cold_results.size(), 6u);
   unsigned warm_iterations = 0, cold_iterations = 0;
-  for (std::size_t k = 0; k < steps.size(); ++k) {
+  for (std::size_t k = 0; k < warm_results.size(); ++k) {
     const ContactResult& w = warm_results[k];
     const ContactResult& c = cold_results[k];
     ASSERT_EQ(w.status, ContactStatus::kConverged) << "step " << k + 1;
@@ -138,9 +145,48 @@ TEST(HipFeWarmStart, StartingActiveSetChangesTheCostNotTheResult) {
     warm_iterations += w.active_set_iterations;
     cold_iterations += c.active_set_iterations;
   }
-  std::printf("active-set iterations over %zu steps: warm %u, cold %u\n", steps.size(), warm_iterations,
+  std::printf("active-set iterations over %zu steps: warm %u, cold %u\n", warm_results.size(), warm_iterations,
               cold_iterations);
   EXPECT_LT(warm_iterations, cold_iterations);
+}
+
+// The bordered (low-rank) correction for small changes of the active set solves the same
+// equations as a new factorisation: the first six steps of the normal hip with it and without
+// it agree to round-off, and with it fewer factorisations are needed.
+TEST(HipFeLowRank, BorderedUpdateGivesTheRefactorisedResult) {
+  ContactOptions with, without;
+  with.low_rank_updates = true;
+  without.low_rank_updates = false;
+  const auto [updated, refactorised] = six_normal_hip_steps(with, without);
+  ASSERT_EQ(updated.size(), 6u);
+  ASSERT_EQ(refactorised.size(), 6u);
+  unsigned factorisations_with = 0, factorisations_without = 0, updates = 0;
+  for (std::size_t k = 0; k < updated.size(); ++k) {
+    const ContactResult& u = updated[k];
+    const ContactResult& r = refactorised[k];
+    ASSERT_EQ(u.status, ContactStatus::kConverged) << "step " << k + 1;
+    ASSERT_EQ(r.status, ContactStatus::kConverged) << "step " << k + 1;
+    EXPECT_EQ(u.active_set_iterations, r.active_set_iterations) << "step " << k + 1;
+    ASSERT_EQ(u.nodes.size(), r.nodes.size());
+    for (std::size_t n = 0; n < u.nodes.size(); ++n) {
+      ASSERT_EQ(u.nodes[n].active, r.nodes[n].active) << "step " << k + 1 << " node " << n;
+      EXPECT_NEAR(u.nodes[n].pressure_mpa, r.nodes[n].pressure_mpa, 1e-9 * r.max_pressure_mpa);
+      EXPECT_NEAR(u.nodes[n].gap_mm, r.nodes[n].gap_mm, 1e-12);
+    }
+    EXPECT_LT((u.rigid_translation_mm[kFemurBody] - r.rigid_translation_mm[kFemurBody]).norm(),
+              1e-9 * r.rigid_translation_mm[kFemurBody].norm());
+    for (std::size_t b = 0; b < r.max_von_mises_mpa.size(); ++b) {
+      EXPECT_NEAR(u.max_von_mises_mpa[b], r.max_von_mises_mpa[b], 1e-9 * r.max_von_mises_mpa[b]);
+    }
+    factorisations_with += u.factorisations;
+    factorisations_without += r.factorisations;
+    updates += u.low_rank_updates;
+    EXPECT_EQ(r.low_rank_updates, 0u);
+  }
+  std::printf("six steps: %u factorisations + %u bordered updates, against %u factorisations\n",
+              factorisations_with, updates, factorisations_without);
+  EXPECT_GT(updates, 0u);
+  EXPECT_LT(factorisations_with, factorisations_without);
 }
 
 INSTANTIATE_TEST_SUITE_P(StudyGrid, HipFeGenerated, ::testing::Values(Hip{40.0, 80.0}, Hip{0.0, 40.0}),
