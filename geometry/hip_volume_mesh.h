@@ -15,8 +15,11 @@
 // come out near edge_mm on the articular sphere), and mapped back. Each node becomes a column
 // along its ray from the first to the last crossing of the tissue's surface, split into `layers`
 // hexahedra. Consequences a user of the mesh should know:
-//   - every hex edge through the thickness lies on a ray from the HJC, and the articular and
-//     far faces' nodes lie on the tissue's triangles (a spherical manifold about the HJC fits);
+//   - every hex edge through the thickness lies on a ray from the HJC; the articular and far
+//     faces' nodes lie at the distance from the HJC interpolated between the vertices of the
+//     triangle the ray crosses (barycentric), so on the sphere itself where the tissue's
+//     vertices sample a sphere about the HJC, not on its chords (a spherical manifold about the
+//     HJC fits); on side walls (faces more than 45 deg from radial) they lie on the triangles;
 //   - a column thinner than min_thickness_mm keeps its articular end and is lengthened at the
 //     far end (at a side wall seen from the joint, e.g. the fossa silhouette, the bonded end
 //     stays on the bone instead);
