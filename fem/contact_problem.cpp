@@ -266,6 +266,31 @@ class CholeskySolve {
         << static_cast<int>(pc_reason) << std::endl;
     return false;
   }
+  // k right-hand sides at once (one rank): rhs and x are n x k, column-major. MUMPS runs the
+  // forward and backward substitutions on the block, which costs little more than one column:
+  // the factor is read once instead of k times. False, with the reason on `log`, when the
+  // factorisation or the solve failed.
+  bool solve_block(PetscInt n, PetscInt k, double* rhs, double* x, dealii::ConditionalOStream& log) {
+    Mat factor = nullptr;
+    PCFactorGetMatrix(pc_, &factor);
+    MatFactorError error = MAT_FACTOR_NOERROR;
+    if (factor) MatFactorGetError(factor, &error);
+    if (!factor || error != MAT_FACTOR_NOERROR) {
+      log << "fem: direct solve failed: factorisation error " << static_cast<int>(error) << std::endl;
+      return false;
+    }
+    Mat b = nullptr, solution = nullptr;
+    MatCreateSeqDense(PETSC_COMM_SELF, n, k, rhs, &b);
+    MatCreateSeqDense(PETSC_COMM_SELF, n, k, x, &solution);
+    const PetscErrorCode code = MatMatSolve(factor, b, solution);
+    MatDestroy(&b);
+    MatDestroy(&solution);
+    if (code != 0) {
+      log << "fem: direct block solve failed: PETSc error " << static_cast<int>(code) << std::endl;
+      return false;
+    }
+    return true;
+  }
 
  private:
   KSP ksp_ = nullptr;
@@ -339,6 +364,8 @@ class ContactProblem::Impl {
   void base_rhs(const dealii::AffineConstraints<double>& constraint, dealii::Vector<double>& g,
                 dealii::Vector<double>& kg, std::vector<double>& rhs) const;
   bool base_solve(const std::vector<double>& rhs, std::vector<double>& x, Lap& lap);
+  // Several right-hand sides with the base's factor in one block solve; x[i] answers rhs[i].
+  bool base_solve_many(const std::vector<std::vector<double>>& rhs, std::vector<std::vector<double>>& x, Lap& lap);
   bool solve_low_rank(const std::vector<dealii::AffineConstraints<double>>& constraints,
                       const std::vector<std::vector<dealii::Tensor<1, 3>>>& translation_sets,
                       std::vector<Linearization>& states);
@@ -1163,16 +1190,16 @@ std::vector<Linearization> ContactProblem::Impl::solve_with_base(
   const std::size_t n_free = base.free_dofs.size();
   std::vector<Linearization> states;
   dealii::Vector<double> g(n_dofs), kg(n_dofs);
-  std::vector<double> rhs_values(n_free), v_values(n_free);
-  for (const dealii::AffineConstraints<double>& constraint : constraints) {
-    base_rhs(constraint, g, kg, rhs_values);
-    ++linear_solves;
-    if (!base_solve(rhs_values, v_values, lap)) linear_failure = true;
+  std::vector<std::vector<double>> rhs(constraints.size(), std::vector<double>(n_free)), v;
+  for (std::size_t k = 0; k < constraints.size(); ++k) base_rhs(constraints[k], g, kg, rhs[k]);
+  linear_solves += static_cast<unsigned int>(constraints.size());
+  if (!base_solve_many(rhs, v, lap)) linear_failure = true;
+  for (std::size_t k = 0; k < constraints.size(); ++k) {
     // u = P v + g: the free dofs from v, the constrained ones from their constraints.
     Linearization state;
     state.displacement.reinit(n_dofs);
-    for (std::size_t r = 0; r < n_free; ++r) state.displacement(base.free_dofs[r]) = v_values[r];
-    constraint.distribute(state.displacement);
+    for (std::size_t r = 0; r < n_free; ++r) state.displacement(base.free_dofs[r]) = v[k][r];
+    constraints[k].distribute(state.displacement);
     states.push_back(std::move(state));
   }
   times.solves += lap();
@@ -1217,6 +1244,39 @@ bool ContactProblem::Impl::base_solve(const std::vector<double>& rhs, std::vecto
   VecDestroy(&v);
   ++linear_iterations;
   return ok;
+}
+
+bool ContactProblem::Impl::base_solve_many(const std::vector<std::vector<double>>& rhs,
+                                           std::vector<std::vector<double>>& x, Lap& lap) {
+  SerialBase& base = serial_base;
+  const std::size_t n = base.free_dofs.size();
+  x.assign(rhs.size(), std::vector<double>(n, 0.0));
+  // Zero right-hand sides have the zero solution (and a block of them would ask MUMPS for
+  // nothing); the others go in one block.
+  std::vector<std::size_t> columns;
+  for (std::size_t i = 0; i < rhs.size(); ++i) {
+    if (std::any_of(rhs[i].begin(), rhs[i].end(), [](double value) { return value != 0.0; })) columns.push_back(i);
+  }
+  if (columns.empty()) return true;
+  if (columns.size() == 1) return base_solve(rhs[columns.front()], x[columns.front()], lap);
+  if (!base.cholesky->factorised()) {
+    base.cholesky->factorise();
+    ++factorisations;
+    times.solver_setup += lap();
+  }
+  const std::size_t k = columns.size();
+  std::vector<double> block(n * k), solution(n * k, 0.0);
+  for (std::size_t c = 0; c < k; ++c) std::copy(rhs[columns[c]].begin(), rhs[columns[c]].end(), block.begin() + static_cast<std::ptrdiff_t>(c * n));
+  const bool ok = base.cholesky->solve_block(static_cast<PetscInt>(n), static_cast<PetscInt>(k), block.data(),
+                                             solution.data(), pcout);
+  linear_iterations += static_cast<unsigned int>(k);
+  if (!ok) return false;
+  for (std::size_t c = 0; c < k; ++c) {
+    const auto first = solution.begin() + static_cast<std::ptrdiff_t>(c * n);
+    if (!std::all_of(first, first + static_cast<std::ptrdiff_t>(n), [](double value) { return std::isfinite(value); })) return false;
+    std::copy(first, first + static_cast<std::ptrdiff_t>(n), x[columns[c]].begin());
+  }
+  return true;
 }
 
 bool ContactProblem::Impl::solve_low_rank(const std::vector<dealii::AffineConstraints<double>>& constraints,
@@ -1310,11 +1370,28 @@ bool ContactProblem::Impl::solve_low_rank(const std::vector<dealii::AffineConstr
     }
   }
   Lap lap;
-  std::vector<std::vector<double>> z(m, std::vector<double>(n_free, 0.0));
-  for (std::size_t i = 0; i < m; ++i) {
-    ++linear_solves;
-    if (!base_solve(border[i], z[i], lap)) return false;
+  // Every solve with the base's factor in one block: the m border columns (Z = A^-1 B) and the
+  // right-hand sides of the translation sets.
+  const std::size_t n_sets = constraints.size();
+  dealii::Vector<double> g(n_dofs), kg(n_dofs);
+  std::vector<std::vector<double>> block(border);
+  std::vector<dealii::Vector<double>> d_sets(n_sets, dealii::Vector<double>(m));
+  for (std::size_t k = 0; k < n_sets; ++k) {
+    std::vector<double> rhs_values(n_free);
+    base_rhs(base_constraints[k], g, kg, rhs_values);
+    block.push_back(std::move(rhs_values));
+    for (std::size_t i = 0; i < n_released; ++i) d_sets[k][i] = -kg(slave[i]);
+    for (std::size_t a = 0; a < added.size(); ++a) {
+      double row_g = 0.0;
+      for (const auto& [dof, value] : rows[a]) row_g += value * g(dof);
+      d_sets[k][n_released + a] = constraints[k].get_inhomogeneity(slave[n_released + a]) - row_g;
+    }
   }
+  std::vector<std::vector<double>> solved;
+  linear_solves += static_cast<unsigned int>(block.size());
+  if (!base_solve_many(block, solved, lap)) return false;
+  block.clear();
+  const std::vector<std::vector<double>>& z = solved;  // z[i] = A^-1 border[i], i < m
   for (std::size_t i = 0; i < m; ++i) {
     for (std::size_t j = 0; j < m; ++j) {
       double product = 0.0;
@@ -1328,20 +1405,11 @@ bool ContactProblem::Impl::solve_low_rank(const std::vector<dealii::AffineConstr
       if (!std::isfinite(schur(i, j))) return false;
     }
   }
-  dealii::Vector<double> g(n_dofs), kg(n_dofs);
-  std::vector<double> rhs_values(n_free), v_values(n_free);
-  dealii::Vector<double> d(m), y(m);
+  dealii::Vector<double> y(m);
   std::vector<Linearization> result;
-  for (std::size_t k = 0; k < constraints.size(); ++k) {
-    base_rhs(base_constraints[k], g, kg, rhs_values);
-    ++linear_solves;
-    if (!base_solve(rhs_values, v_values, lap)) return false;
-    for (std::size_t i = 0; i < n_released; ++i) d[i] = -kg(slave[i]);
-    for (std::size_t a = 0; a < added.size(); ++a) {
-      double row_g = 0.0;
-      for (const auto& [dof, value] : rows[a]) row_g += value * g(dof);
-      d[n_released + a] = constraints[k].get_inhomogeneity(slave[n_released + a]) - row_g;
-    }
+  for (std::size_t k = 0; k < n_sets; ++k) {
+    std::vector<double>& v_values = solved[m + k];
+    dealii::Vector<double>& d = d_sets[k];
     for (std::size_t i = 0; i < m; ++i) {
       for (std::size_t r = 0; r < n_free; ++r) d[i] -= border[i][r] * v_values[r];
     }
