@@ -401,8 +401,13 @@ class ContactProblem::Impl {
   dealii::Vector<double> solution;
   // Stiffness of every locally owned cell (by active cell index) in the configuration of this
   // run: independent of the active set, so computed once per run and reused by every
-  // assembly and internal-force pass.
+  // assembly and internal-force pass. The vertices and Lame constants each was computed with:
+  // a cell whose vertices have not moved since (the tissues of the fixed bodies) keeps its
+  // matrix in the next run — the mapping's other support points follow from the vertices and
+  // the triangulation's manifolds, which do not change.
   std::vector<dealii::FullMatrix<double>> cell_matrices;
+  std::vector<std::array<dealii::Point<3>, 8>> cell_matrix_vertices;
+  std::vector<std::pair<double, double>> cell_matrix_lame;
   // Unconstrained stiffness K of this run (direct solver only), assembled on first use.
   dealii::PETScWrappers::MPI::SparseMatrix stiffness;
   bool stiffness_assembled = false;
@@ -819,11 +824,27 @@ void ContactProblem::Impl::cell_stiffness(const dealii::DoFHandler<3>::active_ce
 }
 
 void ContactProblem::Impl::compute_cell_matrices() {
+  const std::size_t n_cells = triangulation.n_active_cells();
+  if (cell_matrices.size() != n_cells) {
+    cell_matrices.assign(n_cells, dealii::FullMatrix<double>());
+    cell_matrix_vertices.assign(n_cells, {});
+    cell_matrix_lame.assign(n_cells, {std::numeric_limits<double>::quiet_NaN(), 0.0});
+  }
   std::vector<dealii::DoFHandler<3>::active_cell_iterator> cells;
   for (const auto& cell : dof_handler.active_cell_iterators()) {
-    if (cell->is_locally_owned()) cells.push_back(cell);
+    if (!cell->is_locally_owned()) continue;
+    const std::size_t index = cell->active_cell_index();
+    std::array<dealii::Point<3>, 8> vertices;
+    for (unsigned int v = 0; v < 8; ++v) vertices[v] = cell->vertex(v);
+    const std::pair<double, double> lame = lame_by_material.at(cell->material_id());
+    if (cell_matrices[index].m() == fe.n_dofs_per_cell() && vertices == cell_matrix_vertices[index] &&
+        lame == cell_matrix_lame[index]) {
+      continue;  // unmoved since the last run
+    }
+    cell_matrix_vertices[index] = vertices;
+    cell_matrix_lame[index] = lame;
+    cells.push_back(cell);
   }
-  cell_matrices.assign(triangulation.n_active_cells(), dealii::FullMatrix<double>());
   auto compute = [&](std::size_t first, std::size_t last) {
     dealii::FEValues<3> fe_values(mapping, fe, dealii::QGauss<3>(fe.degree + 1),
                                   dealii::update_gradients | dealii::update_JxW_values);
@@ -1265,14 +1286,14 @@ bool ContactProblem::Impl::base_solve_many(const std::vector<std::vector<double>
     times.solver_setup += lap();
   }
   const std::size_t k = columns.size();
-  std::vector<double> block(n * k), solution(n * k, 0.0);
+  std::vector<double> block(n * k), answers(n * k, 0.0);
   for (std::size_t c = 0; c < k; ++c) std::copy(rhs[columns[c]].begin(), rhs[columns[c]].end(), block.begin() + static_cast<std::ptrdiff_t>(c * n));
   const bool ok = base.cholesky->solve_block(static_cast<PetscInt>(n), static_cast<PetscInt>(k), block.data(),
-                                             solution.data(), pcout);
+                                             answers.data(), pcout);
   linear_iterations += static_cast<unsigned int>(k);
   if (!ok) return false;
   for (std::size_t c = 0; c < k; ++c) {
-    const auto first = solution.begin() + static_cast<std::ptrdiff_t>(c * n);
+    const auto first = answers.begin() + static_cast<std::ptrdiff_t>(c * n);
     if (!std::all_of(first, first + static_cast<std::ptrdiff_t>(n), [](double value) { return std::isfinite(value); })) return false;
     std::copy(first, first + static_cast<std::ptrdiff_t>(n), x[columns[c]].begin());
   }

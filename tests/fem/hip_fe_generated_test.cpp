@@ -117,6 +117,33 @@ TEST_P(HipFeGenerated, CompletesStandingToSittingAtTheCoarseLevel) {
   EXPECT_GT(peak_pressure, steps.back().force_n.norm() / (M_PI * 25.0 * 25.0));
 }
 
+// A motion step's result does not depend on what the problem solved before it: between steps
+// the cell matrices of the tissues that did not move (acetabular cartilage, labrum) are kept
+// and those of the femoral cartilage, which turned with the femur, are recomputed. Step 4 of the
+// normal hip's motion, solved after steps 1-3, equals a fresh problem's solve of that pose
+// alone (the frictionless solution is unique) to round-off.
+TEST(HipFeCellMatrices, AStepAfterOthersEqualsTheSameStepSolvedAlone) {
+  const geometry::HipGeneratorResult hip = generated_hip({20.0, 40.0});
+  ASSERT_EQ(hip.status, geometry::HipGeneratorResult::Status::ok);
+  std::vector<MotionStep> steps = sitting_down_steps();
+  steps.resize(4);
+  const std::vector<ContactResult> sequence = run_coarse_motion(hip, steps, ContactOptions());
+  const std::vector<ContactResult> alone = run_coarse_motion(hip, {steps.back()}, ContactOptions());
+  ASSERT_EQ(sequence.size(), 4u);
+  ASSERT_EQ(alone.size(), 1u);
+  const ContactResult& after = sequence.back();
+  const ContactResult& fresh = alone.front();
+  ASSERT_EQ(after.status, ContactStatus::kConverged);
+  ASSERT_EQ(fresh.status, ContactStatus::kConverged);
+  EXPECT_NEAR(after.max_pressure_mpa, fresh.max_pressure_mpa, 1e-9 * fresh.max_pressure_mpa);
+  EXPECT_NEAR(after.contact_area_mm2, fresh.contact_area_mm2, 1e-9 * fresh.contact_area_mm2);
+  EXPECT_LT((after.rigid_translation_mm[kFemurBody] - fresh.rigid_translation_mm[kFemurBody]).norm(),
+            1e-9 * fresh.rigid_translation_mm[kFemurBody].norm());
+  for (std::size_t b = 0; b < fresh.max_von_mises_mpa.size(); ++b) {
+    EXPECT_NEAR(after.max_von_mises_mpa[b], fresh.max_von_mises_mpa[b], 1e-9 * fresh.max_von_mises_mpa[b]);
+  }
+}
+
 // Where a motion step's active set starts (the last converged set, plus the nodes the last
 // converged displacement predicts closed at the new pose) changes how many iterations the step
 // takes, never where it ends: the first six steps of the normal hip, warm against cold (every
