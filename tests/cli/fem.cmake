@@ -79,3 +79,16 @@ if(TARGET hipfai_fem)
                     COMMAND fem levels --model @TMP@ --peak-radius-mm ${radius} --out @TMP@/levels)
   endforeach()
 endif()
+
+# scripts/fem-sweep: a model whose run fails is listed in summary.csv with its exit status, and
+# the sweep exits 1 so that whoever ran it notices (it used to exit 0 however many failed).
+if(TARGET hipfai_fem)
+  set(fem_sweep_tmp ${CMAKE_BINARY_DIR}/cli-tmp/fem_sweep_failed_model)
+  add_test(NAME cli.fem_sweep_failed_model_exits_1
+           COMMAND sh -c "rm -rf \"$2\" && mkdir -p \"$2/grid/broken\" && echo '{}' > \"$2/grid/broken/model.json\" && \
+HIPFAI_BIN=\"$1\" \"$3/scripts/fem-sweep\" --grid \"$2/grid\" --out \"$2/out\" > \"$2/sweep.log\" 2>&1; status=$?; \
+if [ $status -ne 1 ]; then echo \"fem-sweep exited $status, expected 1\"; cat \"$2/sweep.log\"; exit 1; fi; \
+grep -Eq '^broken,[1-9][0-9]*,0,0,' \"$2/out/summary.csv\" || { echo 'summary.csv lacks the failed model'; cat \"$2/out/summary.csv\"; exit 1; }"
+                   sh $<TARGET_FILE:hipfai> ${fem_sweep_tmp} ${CMAKE_SOURCE_DIR})
+  set_tests_properties(cli.fem_sweep_failed_model_exits_1 PROPERTIES LABELS "cli;fast" TIMEOUT 120)
+endif()
