@@ -363,9 +363,9 @@ class ContactProblem::Impl {
                                              Lap& lap);
   void base_rhs(const dealii::AffineConstraints<double>& constraint, dealii::Vector<double>& g,
                 dealii::Vector<double>& kg, std::vector<double>& rhs) const;
-  bool base_solve(const std::vector<double>& rhs, std::vector<double>& x, Lap& lap);
-  // Several right-hand sides with the base's factor in one block solve; x[i] answers rhs[i].
-  bool base_solve_many(const std::vector<std::vector<double>>& rhs, std::vector<std::vector<double>>& x, Lap& lap);
+  // The right-hand sides with the base's factor (factorised on first use), the nonzero ones in
+  // one block solve; x[i] answers rhs[i].
+  bool base_solve(const std::vector<std::vector<double>>& rhs, std::vector<std::vector<double>>& x, Lap& lap);
   bool solve_low_rank(const std::vector<dealii::AffineConstraints<double>>& constraints,
                       const std::vector<std::vector<dealii::Tensor<1, 3>>>& translation_sets,
                       std::vector<Linearization>& states);
@@ -1214,7 +1214,7 @@ std::vector<Linearization> ContactProblem::Impl::solve_with_base(
   std::vector<std::vector<double>> rhs(constraints.size(), std::vector<double>(n_free)), v;
   for (std::size_t k = 0; k < constraints.size(); ++k) base_rhs(constraints[k], g, kg, rhs[k]);
   linear_solves += static_cast<unsigned int>(constraints.size());
-  if (!base_solve_many(rhs, v, lap)) linear_failure = true;
+  if (!base_solve(rhs, v, lap)) linear_failure = true;
   for (std::size_t k = 0; k < constraints.size(); ++k) {
     // u = P v + g: the free dofs from v, the constrained ones from their constraints.
     Linearization state;
@@ -1245,30 +1245,8 @@ void ContactProblem::Impl::base_rhs(const dealii::AffineConstraints<double>& con
   }
 }
 
-bool ContactProblem::Impl::base_solve(const std::vector<double>& rhs, std::vector<double>& x, Lap& lap) {
-  SerialBase& base = serial_base;
-  std::fill(x.begin(), x.end(), 0.0);
-  double norm = 0.0;
-  for (const double value : rhs) norm += value * value;
-  if (!(norm > 0.0)) return true;
-  if (!base.cholesky->factorised()) {
-    base.cholesky->factorise();
-    ++factorisations;
-    times.solver_setup += lap();
-  }
-  Vec b, v;
-  const PetscInt n = static_cast<PetscInt>(x.size());
-  VecCreateSeqWithArray(PETSC_COMM_SELF, 1, n, rhs.data(), &b);
-  VecCreateSeqWithArray(PETSC_COMM_SELF, 1, n, x.data(), &v);
-  const bool ok = base.cholesky->solve(b, v, pcout);
-  VecDestroy(&b);
-  VecDestroy(&v);
-  ++linear_iterations;
-  return ok;
-}
-
-bool ContactProblem::Impl::base_solve_many(const std::vector<std::vector<double>>& rhs,
-                                           std::vector<std::vector<double>>& x, Lap& lap) {
+bool ContactProblem::Impl::base_solve(const std::vector<std::vector<double>>& rhs,
+                                      std::vector<std::vector<double>>& x, Lap& lap) {
   SerialBase& base = serial_base;
   const std::size_t n = base.free_dofs.size();
   x.assign(rhs.size(), std::vector<double>(n, 0.0));
@@ -1279,23 +1257,33 @@ bool ContactProblem::Impl::base_solve_many(const std::vector<std::vector<double>
     if (std::any_of(rhs[i].begin(), rhs[i].end(), [](double value) { return value != 0.0; })) columns.push_back(i);
   }
   if (columns.empty()) return true;
-  if (columns.size() == 1) return base_solve(rhs[columns.front()], x[columns.front()], lap);
   if (!base.cholesky->factorised()) {
     base.cholesky->factorise();
     ++factorisations;
     times.solver_setup += lap();
   }
   const std::size_t k = columns.size();
-  std::vector<double> block(n * k), answers(n * k, 0.0);
-  for (std::size_t c = 0; c < k; ++c) std::copy(rhs[columns[c]].begin(), rhs[columns[c]].end(), block.begin() + static_cast<std::ptrdiff_t>(c * n));
-  const bool ok = base.cholesky->solve_block(static_cast<PetscInt>(n), static_cast<PetscInt>(k), block.data(),
-                                             answers.data(), pcout);
   linear_iterations += static_cast<unsigned int>(k);
-  if (!ok) return false;
+  const PetscInt rows = static_cast<PetscInt>(n);
+  if (k == 1) {
+    Vec b, v;
+    VecCreateSeqWithArray(PETSC_COMM_SELF, 1, rows, rhs[columns.front()].data(), &b);
+    VecCreateSeqWithArray(PETSC_COMM_SELF, 1, rows, x[columns.front()].data(), &v);
+    const bool ok = base.cholesky->solve(b, v, pcout);
+    VecDestroy(&b);
+    VecDestroy(&v);
+    return ok;
+  }
+  std::vector<double> block(n * k), answers(n * k, 0.0);
+  for (std::size_t c = 0; c < k; ++c) {
+    std::copy(rhs[columns[c]].begin(), rhs[columns[c]].end(), block.begin() + static_cast<std::ptrdiff_t>(c * n));
+  }
+  if (!base.cholesky->solve_block(rows, static_cast<PetscInt>(k), block.data(), answers.data(), pcout)) return false;
   for (std::size_t c = 0; c < k; ++c) {
     const auto first = answers.begin() + static_cast<std::ptrdiff_t>(c * n);
-    if (!std::all_of(first, first + static_cast<std::ptrdiff_t>(n), [](double value) { return std::isfinite(value); })) return false;
-    std::copy(first, first + static_cast<std::ptrdiff_t>(n), x[columns[c]].begin());
+    const auto last = first + static_cast<std::ptrdiff_t>(n);
+    if (!std::all_of(first, last, [](double value) { return std::isfinite(value); })) return false;
+    std::copy(first, last, x[columns[c]].begin());
   }
   return true;
 }
@@ -1410,7 +1398,7 @@ bool ContactProblem::Impl::solve_low_rank(const std::vector<dealii::AffineConstr
   }
   std::vector<std::vector<double>> solved;
   linear_solves += static_cast<unsigned int>(block.size());
-  if (!base_solve_many(block, solved, lap)) return false;
+  if (!base_solve(block, solved, lap)) return false;
   block.clear();
   const std::vector<std::vector<double>>& z = solved;  // z[i] = A^-1 border[i], i < m
   for (std::size_t i = 0; i < m; ++i) {

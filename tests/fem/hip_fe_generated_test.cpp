@@ -81,6 +81,19 @@ std::pair<std::vector<ContactResult>, std::vector<ContactResult>> six_normal_hip
   return {run_coarse_motion(hip, steps, first), run_coarse_motion(hip, steps, second)};
 }
 
+// The same converged solution to round-off (1e-9 relative): peak pressure, contact area, femur
+// translation and the peak von Mises of every tissue.
+void expect_same_solution(const ContactResult& result, const ContactResult& reference) {
+  EXPECT_NEAR(result.max_pressure_mpa, reference.max_pressure_mpa, 1e-9 * reference.max_pressure_mpa);
+  EXPECT_NEAR(result.contact_area_mm2, reference.contact_area_mm2, 1e-9 * reference.contact_area_mm2);
+  EXPECT_LT((result.rigid_translation_mm[kFemurBody] - reference.rigid_translation_mm[kFemurBody]).norm(),
+            1e-9 * reference.rigid_translation_mm[kFemurBody].norm());
+  ASSERT_EQ(result.max_von_mises_mpa.size(), reference.max_von_mises_mpa.size());
+  for (std::size_t b = 0; b < reference.max_von_mises_mpa.size(); ++b) {
+    EXPECT_NEAR(result.max_von_mises_mpa[b], reference.max_von_mises_mpa[b], 1e-9 * reference.max_von_mises_mpa[b]);
+  }
+}
+
 TEST_P(HipFeGenerated, CompletesStandingToSittingAtTheCoarseLevel) {
   const geometry::HipGeneratorResult hip = generated_hip(GetParam());
   ASSERT_EQ(hip.status, geometry::HipGeneratorResult::Status::ok);
@@ -135,13 +148,7 @@ TEST(HipFeCellMatrices, AStepAfterOthersEqualsTheSameStepSolvedAlone) {
   const ContactResult& fresh = alone.front();
   ASSERT_EQ(after.status, ContactStatus::kConverged);
   ASSERT_EQ(fresh.status, ContactStatus::kConverged);
-  EXPECT_NEAR(after.max_pressure_mpa, fresh.max_pressure_mpa, 1e-9 * fresh.max_pressure_mpa);
-  EXPECT_NEAR(after.contact_area_mm2, fresh.contact_area_mm2, 1e-9 * fresh.contact_area_mm2);
-  EXPECT_LT((after.rigid_translation_mm[kFemurBody] - fresh.rigid_translation_mm[kFemurBody]).norm(),
-            1e-9 * fresh.rigid_translation_mm[kFemurBody].norm());
-  for (std::size_t b = 0; b < fresh.max_von_mises_mpa.size(); ++b) {
-    EXPECT_NEAR(after.max_von_mises_mpa[b], fresh.max_von_mises_mpa[b], 1e-9 * fresh.max_von_mises_mpa[b]);
-  }
+  expect_same_solution(after, fresh);
 }
 
 // Where a motion step's active set starts (the last converged set, plus the nodes the last
@@ -161,14 +168,8 @@ TEST(HipFeWarmStart, StartingActiveSetChangesTheCostNotTheResult) {
     const ContactResult& c = cold_results[k];
     ASSERT_EQ(w.status, ContactStatus::kConverged) << "step " << k + 1;
     ASSERT_EQ(c.status, ContactStatus::kConverged) << "step " << k + 1;
-    EXPECT_NEAR(w.max_pressure_mpa, c.max_pressure_mpa, 1e-9 * c.max_pressure_mpa) << "step " << k + 1;
-    EXPECT_NEAR(w.contact_area_mm2, c.contact_area_mm2, 1e-9 * c.contact_area_mm2) << "step " << k + 1;
-    EXPECT_LT((w.rigid_translation_mm[kFemurBody] - c.rigid_translation_mm[kFemurBody]).norm(),
-              1e-9 * c.rigid_translation_mm[kFemurBody].norm())
-        << "step " << k + 1;
-    for (std::size_t b = 0; b < c.max_von_mises_mpa.size(); ++b) {
-      EXPECT_NEAR(w.max_von_mises_mpa[b], c.max_von_mises_mpa[b], 1e-9 * c.max_von_mises_mpa[b]);
-    }
+    SCOPED_TRACE("step " + std::to_string(k + 1));
+    expect_same_solution(w, c);
     warm_iterations += w.active_set_iterations;
     cold_iterations += c.active_set_iterations;
   }
@@ -200,11 +201,8 @@ TEST(HipFeLowRank, BorderedUpdateGivesTheRefactorisedResult) {
       EXPECT_NEAR(u.nodes[n].pressure_mpa, r.nodes[n].pressure_mpa, 1e-9 * r.max_pressure_mpa);
       EXPECT_NEAR(u.nodes[n].gap_mm, r.nodes[n].gap_mm, 1e-12);
     }
-    EXPECT_LT((u.rigid_translation_mm[kFemurBody] - r.rigid_translation_mm[kFemurBody]).norm(),
-              1e-9 * r.rigid_translation_mm[kFemurBody].norm());
-    for (std::size_t b = 0; b < r.max_von_mises_mpa.size(); ++b) {
-      EXPECT_NEAR(u.max_von_mises_mpa[b], r.max_von_mises_mpa[b], 1e-9 * r.max_von_mises_mpa[b]);
-    }
+    SCOPED_TRACE("step " + std::to_string(k + 1));
+    expect_same_solution(u, r);
     factorisations_with += u.factorisations;
     factorisations_without += r.factorisations;
     updates += u.low_rank_updates;
