@@ -6,7 +6,7 @@
 // joint, with per-step HDF5 results: the motion machinery end to end until the hip volume
 // meshes are ready.
 // hipfai fem run --model DIR [--motion CSV] [--steps N] [--level coarse|default|fine]
-// [--body-weight-n W] [--peak-radius-mm R] --out FILE.h5 [--verbose]: the hip FE model (fem/hip_fe_model.h) of a model
+// [--body-weight-n W] [--peak-radius-mm R] [--labrum-refinement N] --out FILE.h5 [--verbose]: the hip FE model (fem/hip_fe_model.h) of a model
 // directory through a motion, per-step HDF5 (fem/fem_results.h). A sub-command `run` because
 // `fem` itself has sub-commands.
 #ifdef HIPFAI_WITH_FEM
@@ -180,6 +180,9 @@ struct FemRunOptions {
   std::string level = "coarse";
   double body_weight_n = fem::kDefaultBodyWeightN;
   double peak_radius_mm = fem::ContactOptions{}.peak_average_radius_mm;
+  // The labrum meshed n times finer than the level (edge / n, layers * n): for the study of its
+  // singular corner (docs/fem-levels.md), not for the ground truth.
+  int labrum_refinement = 1;
   std::string out_file;
   std::string csv_file;
   std::string solver = "direct";
@@ -274,7 +277,12 @@ FemRunSummary run_fem_hip(const FemRunOptions& options, bool throw_on_failure = 
   const fem::HipFeLevel level = fem::parse_hip_fe_level(options.level);
   const geometry::HipModel model = geometry::load_hip_model(
       options.model_dir, {"femur_bone", "femoral_cartilage", "acetabular_cartilage", "labrum"});
-  const geometry::HipVolumeMesh volume = geometry::build_hip_volume_mesh(model, fem::hip_volume_options(level));
+  geometry::HipVolumeOptions volume_options = fem::hip_volume_options(level);
+  if (options.labrum_refinement > 1) {
+    volume_options.labrum_edge_mm = volume_options.edge_mm / options.labrum_refinement;
+    volume_options.labrum_layers = volume_options.layers * options.labrum_refinement;
+  }
+  const geometry::HipVolumeMesh volume = geometry::build_hip_volume_mesh(model, volume_options);
 
   fem::ContactOptions solver;
   solver.verbose = options.verbose;
@@ -544,7 +552,11 @@ void run_fem_levels(const FemLevelsOptions& options) {
   md << "Model `" << options.run.model_dir << "`, "
      << (options.run.motion_file.empty() ? "standing-to-sitting in " + std::to_string(options.run.steps) + " steps"
                                          : "motion `" + options.run.motion_file + "`")
-     << ", " << finest.summary.results.size() << " step(s) per level. Peak = maximum over the steps. "
+     << ", " << finest.summary.results.size() << " step(s) per level"
+     << (options.run.labrum_refinement > 1
+             ? ", labrum meshed " + std::to_string(options.run.labrum_refinement) + " times finer than each level"
+             : std::string())
+     << ". Peak = maximum over the steps. "
      << "Differences are relative to the finest level run (" << finest.level << "). Times are wall "
      << "times on this machine (" << std::thread::hardware_concurrency() << " hardware threads).\n\n";
   md << "| level | hexahedra | DOFs | not converged | wall per step (s) | wall per model (s) | peak pressure (MPa) | diff |";
@@ -675,6 +687,10 @@ const CommandRegistrar registrar{"fem", [](CLI::App& parent) {
   run->add_option("--body-weight-n", run_options->body_weight_n,
                   "Body weight (N) scaling the joint force when the motion has none")
       ->check(CLI::Range(1.0, 5000.0));
+  run->add_option("--labrum-refinement", run_options->labrum_refinement,
+                  "Mesh the labrum N times finer than the level (edge / N, layers * N)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 4));
   run->add_option("--peak-radius-mm", run_options->peak_radius_mm,
                   "Ball radius (mm) of the ball-averaged peak von Mises and pressure")
       ->capture_default_str()
@@ -708,6 +724,10 @@ const CommandRegistrar registrar{"fem", [](CLI::App& parent) {
   levels->add_option("--body-weight-n", levels_options->run.body_weight_n,
                      "Body weight (N) scaling the joint force when the motion has none")
       ->check(CLI::Range(1.0, 5000.0));
+  levels->add_option("--labrum-refinement", levels_options->run.labrum_refinement,
+                     "Mesh the labrum N times finer than the level (edge / N, layers * N)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 4));
   levels->add_option("--peak-radius-mm", levels_options->run.peak_radius_mm,
                      "Ball radius (mm) of the ball-averaged peak von Mises and pressure")
       ->capture_default_str()

@@ -793,8 +793,17 @@ HipVolumeMesh build_hip_volume_mesh(const HipModel& model, const HipVolumeOption
   }
   HipVolumeMesh result;
   result.options = options;
+  if (options.labrum_edge_mm < 0.0 || !std::isfinite(options.labrum_edge_mm) || options.labrum_layers < 0) {
+    throw_error("hip volume mesh: labrum_edge_mm = ", options.labrum_edge_mm, " and labrum_layers = ",
+                options.labrum_layers, " must not be negative (0: as the cartilage)");
+  }
   for (const auto& recipe : kRecipes) {
-    mesh_tissue(recipe, model.tissue(recipe.name), model.hjc_mm, model.acetabular_axis.normalized(), options,
+    HipVolumeOptions tissue_options = options;
+    if (recipe.volume == VolumeTag::kLabrum) {
+      if (options.labrum_edge_mm > 0.0) tissue_options.edge_mm = options.labrum_edge_mm;
+      if (options.labrum_layers > 0) tissue_options.layers = options.labrum_layers;
+    }
+    mesh_tissue(recipe, model.tissue(recipe.name), model.hjc_mm, model.acetabular_axis.normalized(), tissue_options,
                 result.mesh);
   }
   result.min_scaled_jacobian = min_scaled_jacobian(result.mesh);

@@ -76,6 +76,10 @@ struct HipVolumeOptions {
   double edge_mm = 2.0;            // target edge length on the articular faces
   int layers = 2;                  // hexahedra through the thickness
   double min_thickness_mm = 0.25;  // tapered edges (cartilage edge, labrum tip) are blunted to this
+  // The labrum's own edge length and layers (0: edge_mm and layers). Its 5 mm section holds
+  // only a few cells at the cartilage's sizes.
+  double labrum_edge_mm = 0.0;
+  int labrum_layers = 0;
 };
 
 struct HipVolumeMesh {

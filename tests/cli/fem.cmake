@@ -80,6 +80,16 @@ if(TARGET hipfai_fem)
   endforeach()
 endif()
 
+# --labrum-refinement (the labrum meshed N times finer): an integer 1-4.
+if(TARGET hipfai_fem)
+  foreach(factor 0 5 1.5 abc)
+    hipfai_cli_test(NAME fem_run_bad_labrum_refinement_${factor} EXIT nonzero STDERR "labrum-refinement"
+                    COMMAND fem run --model @TMP@ --labrum-refinement ${factor} --out @TMP@/r.h5)
+    hipfai_cli_test(NAME fem_levels_bad_labrum_refinement_${factor} EXIT nonzero STDERR "labrum-refinement"
+                    COMMAND fem levels --model @TMP@ --labrum-refinement ${factor} --out @TMP@/levels)
+  endforeach()
+endif()
+
 # scripts/fem-sweep: a model whose run fails is listed in summary.csv with its exit status, and
 # the sweep exits 1 so that whoever ran it notices (it used to exit 0 however many failed).
 if(TARGET hipfai_fem)

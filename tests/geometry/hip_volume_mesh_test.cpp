@@ -585,6 +585,12 @@ TEST(HipVolumeMeshOptions, InvalidOptionsAndMissingTissuesThrow) {
   options = {};
   options.min_thickness_mm = -1.0;
   EXPECT_THROW(build_hip_volume_mesh(model, options), Error);
+  options = {};
+  options.labrum_edge_mm = -1.0;
+  EXPECT_THROW(build_hip_volume_mesh(model, options), Error);
+  options = {};
+  options.labrum_layers = -1;
+  EXPECT_THROW(build_hip_volume_mesh(model, options), Error);
   HipModel without_labrum = model;
   without_labrum.tissues.erase("labrum");
   EXPECT_THROW(build_hip_volume_mesh(without_labrum, {}), Error);
@@ -600,6 +606,31 @@ TEST(HipVolumeMeshOptions, LayersMultiplyTheHexahedra) {
   const HipVolumeMesh& two = volume(20.0, 40.0);
   EXPECT_EQ(2 * one.mesh.hexes.size(), two.mesh.hexes.size());
   EXPECT_GT(one.min_scaled_jacobian, 0.0);
+}
+
+// The labrum's own sizes refine the labrum alone: twice its layers at the same edge doubles its
+// hexahedra exactly and leaves the cartilages' meshes as they were; a finer edge adds labrum
+// columns.
+TEST(HipVolumeMeshOptions, LabrumSizesRefineTheLabrumAlone) {
+  const auto count = [](const HexMesh& mesh) {
+    std::map<VolumeTag, std::size_t> hexes;
+    for (const VolumeTag tag : mesh.hex_tags) ++hexes[tag];
+    return hexes;
+  };
+  const HipVolumeMesh& base = volume(20.0, 40.0);
+  HipVolumeOptions options = base.options;
+  options.labrum_layers = 2 * base.options.layers;
+  const HipVolumeMesh layered = build_hip_volume_mesh(hip(20.0, 40.0), options);
+  options.labrum_edge_mm = 0.5 * base.options.edge_mm;
+  const HipVolumeMesh finer = build_hip_volume_mesh(hip(20.0, 40.0), options);
+  const auto before = count(base.mesh), after_layers = count(layered.mesh), after_edge = count(finer.mesh);
+  EXPECT_EQ(after_layers.at(VolumeTag::kLabrum), 2 * before.at(VolumeTag::kLabrum));
+  EXPECT_GT(after_edge.at(VolumeTag::kLabrum), 2 * after_layers.at(VolumeTag::kLabrum));
+  for (const VolumeTag tag : {VolumeTag::kFemoralCartilage, VolumeTag::kAcetabularCartilage}) {
+    EXPECT_EQ(after_layers.at(tag), before.at(tag)) << to_string(tag);
+    EXPECT_EQ(after_edge.at(tag), before.at(tag)) << to_string(tag);
+  }
+  EXPECT_GT(finer.min_scaled_jacobian, 0.0);
 }
 
 }  // namespace
