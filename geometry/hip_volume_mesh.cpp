@@ -791,12 +791,12 @@ HipVolumeMesh build_hip_volume_mesh(const HipModel& model, const HipVolumeOption
   if (!(options.min_thickness_mm > 0.0)) {
     throw_error("hip volume mesh: min_thickness_mm = ", options.min_thickness_mm, " must be positive");
   }
-  HipVolumeMesh result;
-  result.options = options;
   if (options.labrum_edge_mm < 0.0 || !std::isfinite(options.labrum_edge_mm) || options.labrum_layers < 0) {
     throw_error("hip volume mesh: labrum_edge_mm = ", options.labrum_edge_mm, " and labrum_layers = ",
                 options.labrum_layers, " must not be negative (0: as the cartilage)");
   }
+  HipVolumeMesh result;
+  result.options = options;
   for (const auto& recipe : kRecipes) {
     HipVolumeOptions tissue_options = options;
     if (recipe.volume == VolumeTag::kLabrum) {
