@@ -1,6 +1,7 @@
 // hipfai study fai: the 25-model FAI penetration study (thesis §4.3).
 #include "app/command_registry.h"
 #include "studies/fai_study.h"
+#include "studies/hip_sensitivity.h"
 
 #include <iomanip>
 #include <iostream>
@@ -9,7 +10,7 @@ namespace hipfai::app {
 namespace {
 
 const CommandRegistrar registrar("study", [](CLI::App& parent) {
-  auto* study = parent.add_subcommand("study", "Run a study: fai (thesis §4.3)");
+  auto* study = parent.add_subcommand("study", "Run a study: fai (thesis §4.3), sensitivity (hip geometry)");
   study->require_subcommand(1);
   auto* fai = study->add_subcommand(
       "fai", "FAI penetration study: 25 hips (CE 0-40, alpha 40-80), standing to sitting; writes "
@@ -36,6 +37,10 @@ const CommandRegistrar registrar("study", [](CLI::App& parent) {
       ->check(CLI::Range(6LL, 100000000LL));
   fai->add_option("--threads", options->threads, "Threads for the per-pose queries")->capture_default_str()
       ->check(CLI::Range(1, 256));
+  fai->add_option("--contact-tolerance-mm", options->contact_tolerance_mm,
+                  "Touching is not penetrating below this (mm); default: max(chord sagitta of the mesh, 0.1 mm "
+                  "sphericity), the same tolerance at every resolution when given")
+      ->check(CLI::Range(0.0, 5.0));
   fai->callback([=] {
     studies::FaiStudyOptions run = *options;
     run.out_dir = *out;
@@ -54,6 +59,25 @@ const CommandRegistrar registrar("study", [](CLI::App& parent) {
                 << '\n';
     }
     std::cout << "total " << result.total_seconds << " s; report: " << result.report_path << '\n';
+  });
+
+  auto* sensitivity = study->add_subcommand(
+      "sensitivity", "Which hip features decide first contact of cam and rim: each parameter over its published "
+                     "range on the pure-cam and pure-pincer hips; writes sensitivity.csv and sensitivity.md");
+  auto sensitivity_options = std::make_shared<studies::SensitivityOptions>();
+  auto sensitivity_out = std::make_shared<std::string>("out/sensitivity");
+  sensitivity->add_option("--out", *sensitivity_out, "Output folder")->capture_default_str();
+  sensitivity->add_option("--edge-mm", sensitivity_options->edge_mm, "Surface edge length")->capture_default_str()
+      ->check(CLI::Range(0.5, 10.0));
+  sensitivity->add_option("--sub-motions", sensitivity_options->sub_motions, "Sub-motions of standing to sitting")
+      ->capture_default_str()->check(CLI::Range(1, 1000));
+  sensitivity->add_option("--threads", sensitivity_options->threads, "Threads for the queries")->capture_default_str()
+      ->check(CLI::Range(1, 256));
+  sensitivity->callback([=] {
+    const auto result = studies::run_hip_sensitivity(*sensitivity_options);
+    studies::write_sensitivity_report(result, *sensitivity_out);
+    std::cout << "hip sensitivity: " << result.rows.size() << " hips in " << std::fixed << std::setprecision(1)
+              << result.seconds << " s; report: " << *sensitivity_out << "/sensitivity.md\n";
   });
 });
 

@@ -12,6 +12,10 @@ namespace hipfai::literature {
 inline constexpr double kArticularRadiusMm = 25.0;
 // Acetabular cartilage: horseshoe shaped, constant 2 mm thickness.
 inline constexpr double kAcetabularCartilageThicknessMm = 2.0;
+// Deviation from sphericity of the articular surfaces: < 100 um (Macirowski, Tepic & Mann 1994,
+// cited in thesis §4.3.2.2). Surfaces within this of the articular sphere are spherical for the
+// study: touching, not penetrating (studies/penetration_run.h).
+inline constexpr double kSphericityToleranceMm = 0.1;
 // Femoral head cartilage: 2 mm at its thickest point, thinning to zero towards the edge
 // (Eckstein et al. 1997).
 inline constexpr double kFemoralCartilageMaxThicknessMm = 2.0;
@@ -35,9 +39,23 @@ inline constexpr double kLabrumBaseWidthMm = 5.0;
 // Alpha angle of a hip without cam: the thesis's normal hip has alpha 40 deg (§4.3.2.2); Nötzli
 // et al. 2002 (JBJS Br 84:556) measured 42 deg on average in asymptomatic hips.
 inline constexpr double kNormalAlphaDeg = 40.0;
-// Cam position: cam lesions sit anterosuperiorly at the head-neck junction (Beck et al. 2005,
-// JBJS Br 87:1012; Nötzli et al. 2002), i.e. 45 deg from anterior towards superior about the neck.
-inline constexpr double kCamPositionDeg = 45.0;
+// Alpha angle definition: Nötzli et al. 2002 (JBJS Br 84:556) measure it on the oblique axial
+// MR image through the femoral neck axis, i.e. at the anterior head-neck junction ("3 o'clock"
+// on the clock face of a right hip seen from lateral: 12 superior, 3 anterior).
+inline constexpr double kNotzliPlaneClockDeg = 0.0;  // from anterior towards superior
+// Cam extent: the cam lies anterosuperiorly, between 12 and 3 o'clock; radial MR sequences find
+// the largest alpha angles there, at 1:30-3:00, with 3 o'clock (Nötzli's plane) part of it
+// (Rakhra et al. 2009, Clin Orthop Relat Res 467:660; Beck et al. 2005, JBJS Br 87:1012). The
+// model's cam holds its alpha from 3:00 to 1:30 and tapers towards 12 and 4 o'clock.
+inline constexpr double kCamArcBeginDeg = 0.0;   // 3 o'clock
+inline constexpr double kCamArcEndDeg = 45.0;    // 1:30
+// Cam height: Gosvig et al. 2007 (Acta Radiol 48:1011) call a head-neck contour cam-shaped when it
+// stands more than 2 mm outside the head's radius (triangular index); the model's cam stands
+// 2.5 mm out, just beyond that threshold.
+inline constexpr double kCamHeightMm = 2.5;
+// The thesis' normal hip has CE 20 deg (§4.3.2.2; Chegini et al. 2009); the model's socket is a
+// hemisphere there (its rim a plane through the HJC) and CE changes its depth all around.
+inline constexpr double kThesisNormalCeDeg = 20.0;
 
 // --- Materials (thesis §4.3.2.3) --------------------------------------------------------------
 // Articular cartilage, linear elastic (Moglo & Shirazi-Adl 2003).

@@ -42,6 +42,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <set>
 #include <memory>
 #include <optional>
 #include <thread>
@@ -381,7 +382,8 @@ class ContactProblem::Impl {
                       std::vector<double>& force, std::vector<double>& gap) const;
   void von_mises(const ContactProblem& model, ContactResult& result);
   void initial_active_set(const std::vector<dealii::Tensor<1, 3>>& translations, double gap_tolerance);
-  void one_constraint_per_node(std::vector<bool>& set, const std::vector<double>& gap) const;
+  void one_constraint_per_node(std::vector<bool>& set, const std::vector<double>& gap,
+                               const std::vector<bool>* current = nullptr) const;
   static bool make_finite(ContactResult& result, dealii::Vector<double>& displacement);
 
   std::map<dealii::types::material_id, std::pair<double, double>> lame_by_material;
@@ -1667,21 +1669,31 @@ void ContactProblem::Impl::initial_active_set(const std::vector<dealii::Tensor<1
   one_constraint_per_node(active, predicted);
 }
 
-void ContactProblem::Impl::one_constraint_per_node(std::vector<bool>& set, const std::vector<double>& gap) const {
+void ContactProblem::Impl::one_constraint_per_node(std::vector<bool>& set, const std::vector<double>& gap,
+                                                   const std::vector<bool>* current) const {
   // A slave node can belong to several pairs (the acetabular cartilage and the labrum meet both
   // the femoral cartilage and, past its edge, the bone of the head-neck). Two constraints on one
   // node, each eliminating one of its components in terms of the others, can form a cycle that
   // the constraint closure cannot resolve, and where the two masters meet (the cartilage edge
   // on the bone) their normals are nearly parallel, so the pair would be singular anyway. Each
   // node is held by the master it penetrates most (smallest gap; ties: the earlier pair), which
-  // leaves the other master in front of it.
+  // leaves the other master in front of it. With `current` (the active set just solved), a node
+  // keeps the master that holds it now: where the two masters meet, the gaps of a held node to
+  // them trade places from one solve to the next, and the plain rule would hand the node back and
+  // forth forever (an active-set 2-cycle of the cam against the cartilage's edge and the labrum)
+  // unless the other master is penetrated by more than options.holder_switch_mm beyond it.
   std::map<global_dof_index, std::size_t> holder;
   for (std::size_t n = 0; n < nodes.size(); ++n) {
     if (!set[n]) continue;
     const auto [it, inserted] = holder.try_emplace(nodes[n].dofs[0], n);
     if (inserted) continue;
     const std::size_t other = it->second;
-    if (gap[n] < gap[other]) {
+    // The current holder is kept unless the other master is penetrated more, by over
+    // options.holder_switch_mm (so a converged node penetrates its other master by less).
+    const double margin = options.holder_switch_mm;
+    const bool keep_n = current != nullptr && (*current)[n] && !(*current)[other] && !(gap[other] < gap[n] - margin);
+    const bool keep_other = current != nullptr && (*current)[other] && !(*current)[n] && !(gap[n] < gap[other] - margin);
+    if (keep_n || (!keep_other && gap[n] < gap[other])) {
       set[other] = false;
       it->second = n;
     } else {
@@ -1821,6 +1833,8 @@ ContactResult ContactProblem::Impl::run(ContactProblem& model) {
 
   Linearization state;
   std::vector<double> force, gap;
+  std::set<std::vector<bool>> tried;  // active sets already solved in this run
+  bool least_index_rule = false;
   result.status = ContactStatus::kActiveSetNotConverged;
   for (unsigned int iteration = 1; iteration <= options.max_active_set_iterations; ++iteration) {
     result.active_set_iterations = iteration;
@@ -1891,7 +1905,27 @@ ContactResult ContactProblem::Impl::run(ContactProblem& model) {
       enter_threshold = std::max(gap_tolerance, 0.5 * deepest);
     }
     for (std::size_t n = 0; n < nodes.size(); ++n) next[n] = active[n] ? force[n] > 0.0 : gap[n] < -enter_threshold;
-    one_constraint_per_node(next, gap);
+    one_constraint_per_node(next, gap, &active);
+    tried.insert(active);
+    if (!least_index_rule && tried.count(next) > 0) {
+      // The plain rule returns to a set already solved: it would cycle. From here on, one change
+      // per iteration, the lowest-numbered node first (Murty's least-index rule, which ends for
+      // the positive definite systems of linear elastic contact).
+      least_index_rule = true;
+      pcout << "fem: active-set cycle detected at iteration " << iteration << "; one change per iteration from here"
+            << std::endl;
+    }
+    if (least_index_rule) {
+      std::vector<bool> single = active;
+      for (std::size_t n = 0; n < nodes.size(); ++n) {
+        if (next[n] != active[n]) {
+          single[n] = next[n];
+          break;
+        }
+      }
+      one_constraint_per_node(single, gap, &active);
+      next = std::move(single);
+    }
     for (std::size_t n = 0; n < nodes.size(); ++n) {
       n_active += next[n];
       changes += next[n] != active[n];

@@ -4,15 +4,18 @@
 
 #include "core/error.h"
 #include "geometry/hip_frame.h"
+#include "geometry/hip_measure.h"
 
 #include <gmsh.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <cmath>
 #include <map>
 #include <mutex>
 #include <numbers>
+#include <optional>
 #include <queue>
 #include <unordered_map>
 #include <utility>
@@ -80,13 +83,165 @@ DimTags fuse(const DimTags& object, const DimTags& tool) {
   return out;
 }
 
-// Half-space {x : x . normal <= 0} as a large cylinder (OCC has no unbounded solids).
-DimTags half_space_below(const Vec3& normal, double size) {
-  return cylinder(Vec3::Zero(), -size * normal, size);
-}
-
 Vec3 unit_perpendicular(const Vec3& axis, const Vec3& hint) {
   return (hint - hint.dot(axis) * axis).normalized();
+}
+
+// The cam (see build_solids): the cross-section circle swept over the clock arc, plus its end
+// balls, as OCC solids (new ones on every call: booleans consume their tools).
+DimTags cam_solids(const HipParameters& p) {
+  const double radius = p.articular_radius_mm;
+  const double rc = p.cam_radius_mm;
+  const double distance = radius + p.cam_height_mm - rc;
+  const double delta = std::acos((radius * radius + distance * distance - rc * rc) / (2.0 * radius * distance));
+  const double centre_angle = p.alpha_deg * kDegToRad - delta;
+  const Vec3 n = neck_axis(p);
+  auto centre_at = [&](double clock_deg) {
+    const Vec3 u = clock_direction(p, clock_deg);
+    return Vec3(distance * (std::cos(centre_angle) * n + std::sin(centre_angle) * u));
+  };
+  const double sweep = (p.cam_end_deg - p.cam_begin_deg) * kDegToRad;
+  if (sweep <= 1e-9) return ball(centre_at(p.cam_begin_deg), rc);
+  // End caps: half balls whose flat faces are the sweep's end discs (shared faces, not tangent
+  // overlapping solids, which OpenCASCADE's booleans do not always resolve). Each is OCC's
+  // half sphere (azimuth 0..pi, flat face through its poles) turned so that its poles lie on the
+  // section circle at +-n and its dome faces away from the sweep: no seam crosses the cam.
+  // Near the neck axis the section would cross the axis of revolution (small alpha): everything
+  // closer to the axis than half the neck radius is inside the neck cylinder anyway, so the
+  // section (and the caps) are clipped there.
+  const double clip = 0.5 * p.neck_radius_mm;
+  DimTags solids;
+  for (const auto& [clock_deg, outwards] : {std::pair{p.cam_begin_deg, -1.0}, std::pair{p.cam_end_deg, 1.0}}) {
+    const Vec3 c = centre_at(clock_deg);
+    const Vec3 away = outwards * clock_direction(p, clock_deg + 90.0);
+    const Vec3 x_axis = clock_direction(p, clock_deg);
+    Eigen::Matrix3d frame;
+    frame.col(0) = x_axis;
+    frame.col(1) = away;
+    frame.col(2) = x_axis.cross(away);
+    const Eigen::AngleAxisd turn(frame);
+    DimTags cap = {{3, occ::addSphere(0, 0, 0, rc, -1, -0.5 * std::numbers::pi, 0.5 * std::numbers::pi, std::numbers::pi)}};
+    if (turn.angle() > 1e-12) {
+      occ::rotate(cap, 0, 0, 0, turn.axis().x(), turn.axis().y(), turn.axis().z(), turn.angle());
+    }
+    occ::translate(cap, c.x(), c.y(), c.z());
+    cap = cut(cap, cylinder(Vec3::Zero(), p.neck_length_mm * n, clip));
+    solids.insert(solids.end(), cap.begin(), cap.end());
+  }
+  {
+    // Section in the plane spanned by n and u (the begin plane): the disc, or its part at least
+    // `clip` from the axis (arcs of less than a half turn each, then the chord).
+    const Vec3 u = clock_direction(p, p.cam_begin_deg);
+    const Vec3 c = centre_at(p.cam_begin_deg);
+    const double height = c.dot(u);  // distance of the section's centre from the neck axis
+    const int centre_tag = occ::addPoint(c.x(), c.y(), c.z());
+    auto point = [](const Vec3& q) { return occ::addPoint(q.x(), q.y(), q.z()); };
+    std::vector<int> curves;
+    if (height - rc >= clip) {
+      std::vector<int> points;
+      for (const Vec3& d : {Vec3(n), Vec3(u), Vec3(-n), Vec3(-u)}) points.push_back(point(c + rc * d));
+      for (int k = 0; k < 4; ++k) curves.push_back(occ::addCircleArc(points[k], centre_tag, points[(k + 1) % 4]));
+    } else {
+      const double half_chord = std::sqrt(rc * rc - (height - clip) * (height - clip));
+      const int right = point(c + (clip - height) * u + half_chord * n);
+      const int top = point(c + rc * u);
+      const int left = point(c + (clip - height) * u - half_chord * n);
+      curves = {occ::addCircleArc(right, centre_tag, top), occ::addCircleArc(top, centre_tag, left),
+                occ::addLine(left, right)};
+    }
+    const int section = occ::addPlaneSurface({occ::addCurveLoop(curves)});
+    // Positive rotation about `turn` takes anterior to superior (clock angles grow).
+    const Vec3 turn = clock_direction(p, 0.0).cross(clock_direction(p, 90.0)).normalized();
+    DimTags revolved;
+    occ::revolve({{2, section}}, 0, 0, 0, turn.x(), turn.y(), turn.z(), sweep, revolved);
+    occ::remove({{0, centre_tag}});
+    for (const auto& dim_tag : revolved) {
+      if (dim_tag.first == 3) solids.push_back(dim_tag);
+    }
+    occ::remove({{2, section}}, true);
+  }
+  return fuse(DimTags{solids.front()}, DimTags(solids.begin() + 1, solids.end()));
+}
+
+// Directions at least `opening` (rad) from the axis a, i.e. the socket side of the rim cone, as a
+// solid of size `size`: a half-space for a hemisphere, else a cone about -a or the complement of
+// a cone about +a. Applied to `object` (consumed).
+DimTags restrict_to_socket(const DimTags& object, const Vec3& a, double opening, double size) {
+  const double half_pi = 0.5 * std::numbers::pi;
+  if (std::abs(opening - half_pi) < 1e-9) {
+    DimTags out;
+    std::vector<DimTags> map;
+    occ::intersect(object, {{3, occ::addCylinder(0, 0, 0, -size * a.x(), -size * a.y(), -size * a.z(), size)}}, out, map);
+    return out;
+  }
+  DimTags out;
+  std::vector<DimTags> map;
+  if (opening > half_pi) {
+    const double half = std::numbers::pi - opening;  // cone about -a
+    const int cone = occ::addCone(0, 0, 0, -size * a.x(), -size * a.y(), -size * a.z(), 0.0, size * std::tan(half));
+    occ::intersect(object, {{3, cone}}, out, map);
+  } else {
+    const int cone = occ::addCone(0, 0, 0, size * a.x(), size * a.y(), size * a.z(), 0.0, size * std::tan(opening));
+    occ::cut(object, {{3, cone}}, out, map);
+  }
+  return out;
+}
+
+// The sector of azimuths about the acetabular axis a (from the +Z meridian towards a x it, rad)
+// over which the labrum's section (base on the rim cone at `opening`, tip at `tip_angle` from a)
+// comes within neck radius + clearance of the neck axis; none when it stays clear.
+std::optional<std::pair<double, double>> labrum_neck_sector(const HipParameters& p, const Vec3& a, double opening,
+                                                            double tip_angle) {
+  const Vec3 n = neck_axis(p);
+  const Vec3 e1 = unit_perpendicular(a, Vec3::UnitZ());
+  const Vec3 e2 = a.cross(e1);
+  const double reach = p.neck_radius_mm + p.labrum_neck_clearance_mm;
+  const double radius = p.articular_radius_mm;
+  // Samples of the section: the triangle (R, opening), (R + base, opening), (R, tip).
+  constexpr int kSamples = 12;
+  std::vector<std::pair<double, double>> section;  // (distance from the HJC, angle from a)
+  for (int i = 0; i <= kSamples; ++i) {
+    for (int j = 0; i + j <= kSamples; ++j) {
+      const double u = static_cast<double>(i) / kSamples, v = static_cast<double>(j) / kSamples;
+      // Barycentric in the (radial, angular) meridian coordinates of the three corners.
+      const Eigen::Vector2d pa(radius * std::sin(opening), radius * std::cos(opening));
+      const Eigen::Vector2d pb((radius + p.labrum_base_mm) * std::sin(opening), (radius + p.labrum_base_mm) * std::cos(opening));
+      const Eigen::Vector2d pt(radius * std::sin(tip_angle), radius * std::cos(tip_angle));
+      const Eigen::Vector2d q = (1.0 - u - v) * pa + u * pb + v * pt;
+      section.emplace_back(q.norm(), std::atan2(q.x(), q.y()));
+    }
+  }
+  constexpr int kAzimuths = 1440;
+  std::vector<bool> hit(kAzimuths, false);
+  for (int k = 0; k < kAzimuths; ++k) {
+    const double psi = 2.0 * std::numbers::pi * k / kAzimuths - std::numbers::pi;
+    const Vec3 across = std::cos(psi) * e1 + std::sin(psi) * e2;
+    for (const auto& [distance, angle] : section) {
+      const Vec3 q = distance * (std::cos(angle) * a + std::sin(angle) * across);
+      const double along = q.dot(n);
+      if (along >= 0.0 && along <= p.neck_length_mm && (q - along * n).norm() < reach) {
+        hit[static_cast<std::size_t>(k)] = true;
+        break;
+      }
+    }
+  }
+  const auto count = std::count(hit.begin(), hit.end(), true);
+  if (count == 0) return std::nullopt;
+  if (count == kAzimuths) throw_error("hip generator: the labrum lies around the femoral neck all the way round");
+  // The longest circular run of hits, widened by one sample on each side.
+  int best_start = 0, best_length = 0;
+  for (int start = 0; start < kAzimuths; ++start) {
+    if (!hit[static_cast<std::size_t>(start)] || hit[static_cast<std::size_t>((start + kAzimuths - 1) % kAzimuths)]) continue;
+    int length = 0;
+    while (length < kAzimuths && hit[static_cast<std::size_t>((start + length) % kAzimuths)]) ++length;
+    if (length > best_length) {
+      best_length = length;
+      best_start = start;
+    }
+  }
+  const double step = 2.0 * std::numbers::pi / kAzimuths;
+  const double begin = -std::numbers::pi + (best_start - 1) * step;
+  return std::make_pair(begin, begin + (best_length + 1) * step);
 }
 
 struct TissueSolids {
@@ -126,19 +281,14 @@ TissueSolids build_solids(const HipParameters& p) {
 
   DimTags cartilage_tools = ball(shift * n, head_radius);
   if (p.alpha_deg > p.normal_alpha_deg) {
-    // Cam ball of radius rc standing h out of the R sphere: centre distance D = R + h - rc; its
-    // intersection circle with the R sphere has angular radius delta seen from the HJC
-    // (law of cosines). Placing the centre at alpha - delta from n in the cam plane puts the
-    // circle's far point at exactly alpha there.
-    const double rc = p.cam_radius_mm;
-    const double distance = radius + p.cam_height_mm - rc;
-    const double delta = std::acos((radius * radius + distance * distance - rc * rc) /
-                                   (2.0 * radius * distance));
-    const double centre_angle = p.alpha_deg * kDegToRad - delta;
-    const Vec3 u = cam_direction(p);
-    const Vec3 centre = distance * (std::cos(centre_angle) * n + std::sin(centre_angle) * u);
-    bone = fuse(bone, ball(centre, rc));
-    cartilage_tools.push_back(ball(centre, rc).front());
+    // The cam's cross-section in each clock plane: a circle of radius rc standing h out of the R
+    // sphere, centre distance D = R + h - rc from the HJC; its intersection with the R sphere
+    // has angular radius delta seen from the HJC (law of cosines). Placing the centre at
+    // alpha - delta from n puts the far point of that intersection, where the contour walking
+    // from the pole first leaves the sphere, at exactly alpha. The circle is swept about the neck
+    // axis over the cam arc, and balls close both ends (the cam tapers over them).
+    bone = fuse(bone, cam_solids(p));
+    for (const auto& dim_tag : cam_solids(p)) cartilage_tools.push_back(dim_tag);
   }
   // The cartilage lens: R ball minus the head ball (and minus the cam, which replaces it).
   const DimTags femoral_cartilage = cut(ball(Vec3::Zero(), radius), cartilage_tools);
@@ -151,28 +301,45 @@ TissueSolids build_solids(const HipParameters& p) {
                                                    p.pelvis_block_z_mm);
   DimTags block = {{3, occ::addBox(block_min.x(), block_min.y(), block_min.z(),
                                    p.pelvis_block_x_mm, p.pelvis_block_y_mm, p.pelvis_block_z_mm)}};
-  block = intersect(block, half_space_below(a, big));
+  const double opening = socket_opening_deg(p) * kDegToRad;
+  block = restrict_to_socket(block, a, opening, big);
   const DimTags acetabular_bone = cut(block, ball(Vec3::Zero(), socket_radius));
 
-  // Inferior rim direction (in the opening plane, towards -Z) and the fossa axis 30 deg from it
-  // towards the acetabular pole -a.
-  const Vec3 inferior_rim = unit_perpendicular(a, -Vec3::UnitZ());
+  // Directions in the meridian plane of `towards` (perpendicular to a) at `angle` from a.
+  auto meridian = [&](const Vec3& towards, double angle) {
+    return Vec3(std::cos(angle) * a + std::sin(angle) * unit_perpendicular(a, towards));
+  };
+  // Inferior rim direction. The acetabular fossa is part of the pelvis, not of the rim: its axis
+  // lies 30 deg beyond the inferior rim of the hemispherical socket towards the acetabular pole
+  // -a, whatever the rim's depth (a rim that moved with CE would bring the fossa under the
+  // loaded dome of a shallow socket).
+  const Vec3 inferior_rim = meridian(-Vec3::UnitZ(), opening);
   const double fossa_tilt = 30.0 * kDegToRad;
-  const Vec3 fossa_axis = (std::cos(fossa_tilt) * inferior_rim - std::sin(fossa_tilt) * a).normalized();
+  const double half_pi = 0.5 * std::numbers::pi;
+  const Vec3 fossa_axis = meridian(-Vec3::UnitZ(), half_pi + fossa_tilt);
   DimTags shell = cut(ball(Vec3::Zero(), socket_radius), ball(Vec3::Zero(), radius));
-  shell = intersect(shell, half_space_below(a, big));
+  shell = restrict_to_socket(shell, a, opening, big);
   const double fossa_radius =
       (radius + 0.5 * p.acetabular_cartilage_mm) * std::sin(p.fossa_half_angle_deg * kDegToRad);
-  const DimTags acetabular_cartilage =
+  DimTags acetabular_cartilage =
       cut(shell, cylinder(Vec3::Zero(), (socket_radius + 20.0) * fossa_axis, fossa_radius));
+  // The horseshoe is open at the notch: where the fossa does not reach the (deeper) rim, the
+  // labrum's notch gap is cut through the cartilage too.
+  const double fossa_reach = half_pi + fossa_tilt -
+                             std::asin(std::min(1.0, fossa_radius / (radius + 0.5 * p.acetabular_cartilage_mm)));
+  if (fossa_reach > opening) {
+    acetabular_cartilage = cut(acetabular_cartilage, cylinder(Vec3::Zero(), (socket_radius + 20.0) * inferior_rim,
+                                                              0.5 * p.notch_width_mm));
+  }
 
-  // Labrum: triangular section in the meridian plane spanned by e (in the opening plane) and a,
-  // revolved about a. The tip lies on the R sphere at labrum_height above the rim plane.
-  const Vec3 e = unit_perpendicular(a, Vec3::UnitZ());
-  const double tip_angle = std::asin(p.labrum_height_mm / radius);
-  const Vec3 pa = radius * e;
-  const Vec3 pb = (radius + p.labrum_base_mm) * e;
-  const Vec3 pt = radius * (std::cos(tip_angle) * e + std::sin(tip_angle) * a);
+  // Labrum: triangular section in a meridian plane of a, revolved about a: base on the rim cone
+  // from R to R + base, tip on the R sphere asin(labrum_height / R) nearer the axis than the rim
+  // (the section of a hemispherical socket, whose tip stands labrum_height above the rim plane,
+  // turned with the rim).
+  const double tip_angle = opening - std::asin(p.labrum_height_mm / radius);
+  const Vec3 pa = radius * meridian(Vec3::UnitZ(), opening);
+  const Vec3 pb = (radius + p.labrum_base_mm) * meridian(Vec3::UnitZ(), opening);
+  const Vec3 pt = radius * meridian(Vec3::UnitZ(), tip_angle);
   const int origin_tag = occ::addPoint(0, 0, 0);
   const int a_tag = occ::addPoint(pa.x(), pa.y(), pa.z());
   const int b_tag = occ::addPoint(pb.x(), pb.y(), pb.z());
@@ -193,15 +360,36 @@ TissueSolids build_solids(const HipParameters& p) {
   labrum = cut(labrum, cylinder(Vec3::Zero(), (radius + p.labrum_base_mm + 20.0) * inferior_rim,
                                 0.5 * p.notch_width_mm));
   // Where the femoral neck passes under the rim in the neutral pose, the labrum stops short of
-  // it. With a shallow socket (CE 0-10 deg) the opening plane through the HJC is nearly
-  // vertical, so the posteroinferior rim comes within the neck's cone (the neck leaves the head
-  // sphere asin(neck_radius / R) from its axis) and a full-height labrum there would stand inside
-  // the bone before any motion. In a hip the labrum ends at the acetabular notch, which the
+  // it. A deep socket (CE 30-40 deg, its rim turned towards the neck all around) brings the
+  // posteroinferior rim within the neck's cone (the neck leaves the head sphere
+  // asin(neck_radius / R) from its axis), and a full-height labrum there would stand inside the
+  // bone before any motion. In a hip the labrum ends at the acetabular notch, which the
   // transverse acetabular ligament bridges below the head (Seldes et al. 2001), and is never
-  // inside the neck; removing the labrum within the neck radius plus a clearance keeps the
-  // soft tissue outside the bone. Hips whose rim stays clear of the neck are unchanged.
-  labrum = cut(labrum, cylinder(Vec3::Zero(), p.neck_length_mm * n,
-                                p.neck_radius_mm + p.labrum_neck_clearance_mm));
+  // inside the neck: the labrum is removed over the sector of azimuths (about the acetabular
+  // axis) in which any of it comes within the neck radius plus a clearance of the neck axis. The
+  // sector's faces are half-planes through the acetabular axis, radial like the rim (a plane
+  // cut meshes into hexahedral columns from the HJC). Hips whose rim stays clear of the neck are
+  // unchanged.
+  if (const auto sector = labrum_neck_sector(p, a, opening, tip_angle)) {
+    const Vec3 e1 = unit_perpendicular(a, Vec3::UnitZ());
+    const Vec3 e2 = a.cross(e1);
+    const Vec3 m0 = std::cos(sector->first) * e1 + std::sin(sector->first) * e2;
+    const double extent = big;
+    const Vec3 c0 = -extent * a, c1 = -extent * a + extent * m0, c2 = extent * a + extent * m0, c3 = extent * a;
+    std::vector<int> corners;
+    for (const Vec3& c : {c0, c1, c2, c3}) corners.push_back(occ::addPoint(c.x(), c.y(), c.z()));
+    std::vector<int> sides;
+    for (int k = 0; k < 4; ++k) sides.push_back(occ::addLine(corners[k], corners[(k + 1) % 4]));
+    const int face = occ::addPlaneSurface({occ::addCurveLoop(sides)});
+    DimTags wedge_parts;
+    occ::revolve({{2, face}}, 0, 0, 0, a.x(), a.y(), a.z(), sector->second - sector->first, wedge_parts);
+    DimTags wedge;
+    for (const auto& dim_tag : wedge_parts) {
+      if (dim_tag.first == 3) wedge.push_back(dim_tag);
+    }
+    occ::remove({{2, face}}, true);
+    labrum = cut(labrum, wedge);
+  }
 
   solids.tissues.emplace_back("acetabular_bone", acetabular_bone);
   solids.tissues.emplace_back("acetabular_cartilage", acetabular_cartilage);
@@ -239,15 +427,50 @@ std::string generate_logging_errors(int dim) {
   return errors;
 }
 
+// Longest triangle edge of the current surface mesh (mm).
+double longest_surface_edge() {
+  std::vector<std::size_t> tags;
+  std::vector<double> coords, parametric;
+  gmsh::model::mesh::getNodes(tags, coords, parametric, -1, -1, true, false);
+  std::unordered_map<std::size_t, std::size_t> slot;
+  for (std::size_t i = 0; i < tags.size(); ++i) slot.emplace(tags[i], i);
+  auto at = [&](std::size_t tag) {
+    const double* xyz = &coords[3 * slot.at(tag)];
+    return Vec3(xyz[0], xyz[1], xyz[2]);
+  };
+  std::vector<int> types;
+  std::vector<std::vector<std::size_t>> element_tags, node_tags;
+  gmsh::model::mesh::getElements(types, element_tags, node_tags, 2, -1);
+  double longest = 0.0;
+  for (std::size_t k = 0; k < types.size(); ++k) {
+    if (types[k] != 2) continue;
+    const auto& nodes = node_tags[k];
+    for (std::size_t i = 0; i + 2 < nodes.size(); i += 3) {
+      for (int c = 0; c < 3; ++c) {
+        longest = std::max(longest, (at(nodes[i + static_cast<std::size_t>(c)]) -
+                                     at(nodes[i + static_cast<std::size_t>((c + 1) % 3)])).norm());
+      }
+    }
+  }
+  return longest;
+}
+
 // Surface mesh of every entity. Frontal-Delaunay gives the best triangles but can fail on the
 // small seam curves OCC leaves on spheres at coarse sizes; MeshAdapt and Delaunay are the fallbacks.
+// A mesh with a triangle edge over four target edges (a triangle spanning a spherical face whose
+// parametrisation the mesher mishandled; seen on socket caps) counts as a failure too.
 void mesh_surfaces(double edge_mm) {
   std::string failures;
   for (int algorithm : {6, 1, 5}) {
     set_mesh_options(edge_mm);
     gmsh::option::setNumber("Mesh.Algorithm", algorithm);
-    const std::string errors = generate_logging_errors(2);
-    if (errors.empty()) return;
+    std::string errors = generate_logging_errors(2);
+    if (errors.empty()) {
+      const double longest = longest_surface_edge();
+      if (longest <= 4.0 * edge_mm) return;
+      errors = "algorithm " + std::to_string(algorithm) + ": a triangle edge of " + std::to_string(longest) +
+               " mm for a target of " + std::to_string(edge_mm) + " mm";
+    }
     failures += (failures.empty() ? "" : " | ") + errors;
     gmsh::model::mesh::clear();
   }
@@ -392,6 +615,19 @@ HipGeneratorResult generate_hip(const HipParameters& parameters) {
   model.superior = Vec3::UnitZ();
   model.lateral = Vec3::UnitX();
   model.acetabular_axis = acetabular_axis(parameters);
+  model.socket_opening_deg = socket_opening_deg(parameters);
+  // The clinical angles measured back on the meshes (never from the parameters above).
+  const auto ce = measure_ce_angle({&model.tissue("acetabular_bone"), &model.tissue("acetabular_cartilage")},
+                                   model.hjc_mm, model.lateral, model.superior);
+  const auto alpha = measure_alpha_angle({&model.tissue("femur_bone"), &model.tissue("femoral_cartilage")},
+                                         model.hjc_mm, model.neck_axis, model.superior, Vec3::UnitY());
+  if (ce.status == MeasureStatus::ok) model.measured_ce_deg = ce.ce_deg;
+  if (alpha.status == MeasureStatus::ok) model.measured_alpha_notzli_deg = alpha.alpha_deg;
+  if (alpha.max_alpha_deg >= 0.0) {
+    model.measured_alpha_max_deg = alpha.max_alpha_deg;
+    model.measured_alpha_max_clock_deg = alpha.max_plane_deg;
+  }
+  model.alpha_profile = alpha.profile;
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   result.status = HipGeneratorResult::Status::ok;
   return result;

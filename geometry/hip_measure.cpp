@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 namespace hipfai::geometry {
@@ -196,29 +197,56 @@ AlphaMeasurement measure_alpha_angle(const std::vector<const TriMesh*>& femur, c
   auto plane_direction = [&](double angle_deg) {
     return (std::cos(angle_deg * kDegToRad) * anterior + std::sin(angle_deg * kDegToRad) * superior).normalized();
   };
+  auto alpha_at = [&](double angle_deg) {
+    return alpha_in_plane(femur, centre, radius, n, plane_direction(angle_deg), result.tolerance_mm);
+  };
   double best_alpha = -1.0;
   double best_plane = 0.0;
   auto consider = [&](double angle_deg) {
-    const double alpha = alpha_in_plane(femur, centre, radius, n, plane_direction(angle_deg),
-                                        result.tolerance_mm);
+    const double alpha = alpha_at(angle_deg);
     if (std::isfinite(alpha) && alpha > best_alpha) {
       best_alpha = alpha;
       best_plane = angle_deg;
     }
   };
   for (double angle = options.sector_begin_deg; angle <= options.sector_end_deg + 1e-9; angle += 2.0) consider(angle);
-  if (best_alpha < 0.0) return result;
-  const double coarse = best_plane;
-  for (double angle = coarse - 2.0; angle <= coarse + 2.0 + 1e-9; angle += 0.25) {
-    if (angle >= options.sector_begin_deg && angle <= options.sector_end_deg) consider(angle);
+  if (best_alpha >= 0.0) {
+    const double coarse = best_plane;
+    for (double angle = coarse - 2.0; angle <= coarse + 2.0 + 1e-9; angle += 0.25) {
+      if (angle >= options.sector_begin_deg && angle <= options.sector_end_deg) consider(angle);
+    }
   }
-  result.alpha_deg = best_alpha;
-  result.plane_deg = best_plane;
-  result.plane_direction = plane_direction(best_plane);
-  alpha_in_plane(femur, centre, radius, n, result.plane_direction, result.tolerance_mm,
-                 &result.departure_point_mm);
+  result.max_alpha_deg = best_alpha;
+  result.max_plane_deg = best_plane;
+  if (options.profile_step_deg > 0.0) {
+    for (double angle = -180.0 + options.profile_step_deg; angle <= 180.0 + 1e-9; angle += options.profile_step_deg) {
+      result.profile.emplace_back(angle, alpha_at(angle));
+    }
+  }
+  // 3. Nötzli's plane.
+  result.plane_deg = options.notzli_clock_deg;
+  result.plane_direction = plane_direction(result.plane_deg);
+  result.alpha_deg = alpha_in_plane(femur, centre, radius, n, result.plane_direction, result.tolerance_mm,
+                                    &result.departure_point_mm);
+  if (!std::isfinite(result.alpha_deg)) return result;
   result.status = MeasureStatus::ok;
   return result;
+}
+
+std::string clock_label(double clock_deg) {
+  // 3 o'clock at 0 deg, one hour per 30 deg towards 12.
+  double hours = 3.0 - clock_deg / 30.0;
+  hours = std::fmod(std::fmod(hours, 12.0) + 12.0, 12.0);
+  int whole = static_cast<int>(std::floor(hours + 1e-9));
+  int minutes = static_cast<int>(std::lround((hours - whole) * 60.0));
+  if (minutes == 60) {
+    ++whole;
+    minutes = 0;
+  }
+  if (whole == 0) whole = 12;
+  char text[16];
+  std::snprintf(text, sizeof text, "%d:%02d", whole, minutes);
+  return text;
 }
 
 }  // namespace hipfai::geometry

@@ -10,16 +10,23 @@
 // CE is that angle. The labrum is deliberately not an input: the bony rim defines CE.
 //
 // Alpha angle (Nötzli): the head sphere is fitted (linear least squares) to the outermost
-// bone+cartilage vertices within 60 deg of the pole (-neck axis). Planes containing the neck axis
-// through the fitted centre are swept over the anterosuperior sector (from anterior to superior,
-// 2 deg steps, then 0.25 deg around the best); in each the section contour of bone and cartilage
-// is sampled, and walking from the pole towards the neck, the first angle (from the neck axis)
-// where the outermost contour deviates from the sphere by more than `tolerance_mm` is that
-// plane's alpha. The result is the largest over the sector.
+// bone+cartilage vertices within 60 deg of the pole (-neck axis). In a half-plane containing the
+// neck axis through the fitted centre, the section contour of bone and cartilage is sampled, and
+// walking from the pole towards the neck, the first angle (from the neck axis) where the
+// outermost contour deviates from the sphere by more than `tolerance_mm` is that plane's alpha.
+// THE alpha angle is the one in Nötzli's plane: the oblique axial plane through the neck axis,
+// i.e. the half-plane towards anterior ("3 o'clock", Nötzli et al. 2002). Besides it: the clock
+// profile (every profile_step_deg around the neck) and the largest alpha over the
+// anterosuperior sector (2 deg steps, then 0.25 deg around the best), with its clock position.
+//
+// Clock positions are angles about the neck axis from anterior (3 o'clock) towards superior
+// (12 o'clock): 0 = 3:00, 45 = 1:30, 90 = 12:00, -90 = 6:00 (a right hip seen from lateral).
 #pragma once
 
 #include "geometry/tri_mesh.h"
 
+#include <string>
+#include <utility>
 #include <vector>
 
 namespace hipfai::geometry {
@@ -51,16 +58,24 @@ struct AlphaOptions {
   double tolerance_mm = 0.0;
   double sector_begin_deg = 0.0;  // from anterior ...
   double sector_end_deg = 90.0;   // ... to superior
+  double notzli_clock_deg = 0.0;  // Nötzli's plane: anterior (3 o'clock)
+  double profile_step_deg = 15.0; // clock profile step (0: no profile)
 };
+
+// "3:00" for 0 deg, "1:30" for 45, "12:00" for 90, "4:30" for -45.
+std::string clock_label(double clock_deg);
 
 struct AlphaMeasurement {
   MeasureStatus status = MeasureStatus::no_section;
-  double alpha_deg = 0.0;
-  double plane_deg = 0.0;          // plane angle from anterior towards superior
+  double alpha_deg = 0.0;          // in Nötzli's plane (options.notzli_clock_deg)
+  double plane_deg = 0.0;          // that plane's clock angle
+  double max_alpha_deg = 0.0;      // largest over the anterosuperior sector ...
+  double max_plane_deg = 0.0;      // ... and where (clock angle)
+  std::vector<std::pair<double, double>> profile;  // (clock angle, alpha; NaN: no contour)
   Vec3 head_centre_mm = Vec3::Zero();
   double head_radius_mm = 0.0;
   Vec3 departure_point_mm = Vec3::Zero();
-  Vec3 plane_direction = Vec3::Zero();  // unit, perpendicular to the neck axis, in the plane
+  Vec3 plane_direction = Vec3::Zero();  // unit, perpendicular to the neck axis, in Nötzli's plane
   double tolerance_mm = 0.0;
 };
 

@@ -1,6 +1,7 @@
 #include "geometry/hip_model.h"
 
 #include "core/error.h"
+#include "geometry/hip_measure.h"
 #include "geometry/mesh_io.h"
 
 #include <nlohmann/json.hpp>
@@ -75,6 +76,23 @@ void write_hip_model(const HipModel& model, const std::filesystem::path& dir,
   json["superior"] = to_json(model.superior);
   json["lateral"] = to_json(model.lateral);
   json["acetabular_axis"] = to_json(model.acetabular_axis);
+  json["socket_opening_deg"] = model.socket_opening_deg;
+  if (std::isfinite(model.measured_ce_deg) || !model.alpha_profile.empty()) {
+    nlohmann::ordered_json measured;
+    auto number_or_null = [](double v) { return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json(); };
+    measured["ce_deg"] = number_or_null(model.measured_ce_deg);
+    measured["alpha_notzli_deg"] = number_or_null(model.measured_alpha_notzli_deg);
+    measured["alpha_max_deg"] = number_or_null(model.measured_alpha_max_deg);
+    measured["alpha_max_clock"] = std::isfinite(model.measured_alpha_max_clock_deg)
+                                      ? nlohmann::ordered_json(clock_label(model.measured_alpha_max_clock_deg))
+                                      : nlohmann::ordered_json();
+    nlohmann::ordered_json profile = nlohmann::ordered_json::array();
+    for (const auto& [clock_deg, alpha] : model.alpha_profile) {
+      profile.push_back({{"clock", clock_label(clock_deg)}, {"clock_deg", clock_deg}, {"alpha_deg", number_or_null(alpha)}});
+    }
+    measured["alpha_profile"] = profile;
+    json["measured"] = measured;
+  }
   json["edge_mm"] = model.parameters.edge_mm;
   json["parameters"] = nlohmann::ordered_json::parse(hip_parameters_to_json(model.parameters));
   nlohmann::ordered_json tissues = nlohmann::ordered_json::object();
@@ -135,6 +153,12 @@ HipModel load_hip_model(const std::filesystem::path& dir, const std::set<std::st
   model.superior = read_vector(json, "superior", what, true);
   model.lateral = read_vector(json, "lateral", what, true);
   model.acetabular_axis = read_vector(json, "acetabular_axis", what, true);
+  if (json.contains("socket_opening_deg")) {
+    model.socket_opening_deg = read_number(json, "socket_opening_deg", what);
+    if (!(model.socket_opening_deg > 0.0 && model.socket_opening_deg < 180.0)) {
+      throw_error(what, ": socket_opening_deg: ", model.socket_opening_deg, " is outside (0, 180)");
+    }
+  }
 
   if (!json.contains("tissues") || !json["tissues"].is_object() || json["tissues"].empty()) {
     throw_error(what, ": tissues: missing, empty or not an object");

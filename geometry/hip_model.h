@@ -6,6 +6,10 @@
 //     "hjc_mm"                         [x, y, z] hip joint centre,
 //     "flexion_axis", "adduction_axis", "internal_rotation_axis", "neck_axis", "superior",
 //     "lateral", "acetabular_axis"     unit vectors (hip frame, geometry/hip_frame.h),
+//     "socket_opening_deg"             rim cone angle from acetabular_axis (90: hemisphere),
+//     "measured"                       {"ce_deg", "alpha_notzli_deg", "alpha_max_deg",
+//                                       "alpha_max_clock", "alpha_profile": [{"clock",
+//                                       "clock_deg", "alpha_deg"}, ...]} (generated hips),
 //     "edge_mm"                        target surface edge length,
 //     "parameters"                     every HipParameters field,
 //     "tissues"                        name -> file name relative to the directory,
@@ -19,6 +23,9 @@
 #include "geometry/tri_mesh.h"
 
 #include <array>
+#include <limits>
+#include <utility>
+#include <vector>
 #include <filesystem>
 #include <map>
 #include <set>
@@ -37,6 +44,16 @@ struct HipModel {
   Vec3 superior = Vec3::UnitZ();
   Vec3 lateral = Vec3::UnitX();
   Vec3 acetabular_axis = Vec3::UnitX();  // out of the socket opening
+  // Angle between acetabular_axis and every rim direction (the rim is a cone through the HJC);
+  // 90 = a hemispherical socket (models written before this key default to it).
+  double socket_opening_deg = 90.0;
+  // Angles measured back on the meshes by the generator (geometry/hip_measure.h); NaN when not
+  // measured. alpha_profile: (clock angle from anterior towards superior, alpha) every 15 deg.
+  double measured_ce_deg = std::numeric_limits<double>::quiet_NaN();
+  double measured_alpha_notzli_deg = std::numeric_limits<double>::quiet_NaN();
+  double measured_alpha_max_deg = std::numeric_limits<double>::quiet_NaN();
+  double measured_alpha_max_clock_deg = std::numeric_limits<double>::quiet_NaN();
+  std::vector<std::pair<double, double>> alpha_profile;
   std::map<std::string, TriMesh> tissues;
 
   // The tissue named `name`; throws hipfai::Error when the model has none.

@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -19,7 +20,7 @@ struct Field {
 };
 
 // One row per field: the JSON key, the member, the allowed range (see hip_parameters.h).
-constexpr std::array<Field, 26> kFields{{
+constexpr std::array<Field, 29> kFields{{
     {"ce_deg", &HipParameters::ce_deg, 0.0, 45.0},
     {"alpha_deg", &HipParameters::alpha_deg, 35.0, 90.0},
     {"articular_radius_mm", &HipParameters::articular_radius_mm, 20.0, 30.0},
@@ -31,13 +32,16 @@ constexpr std::array<Field, 26> kFields{{
     {"neck_shaft_angle_deg", &HipParameters::neck_shaft_angle_deg, 110.0, 150.0},
     {"femoral_anteversion_deg", &HipParameters::femoral_anteversion_deg, -10.0, 40.0},
     {"acetabular_anteversion_deg", &HipParameters::acetabular_anteversion_deg, 0.0, 35.0},
+    {"hemisphere_ce_deg", &HipParameters::hemisphere_ce_deg, 0.0, 45.0},
+    {"ce_rim_mode", &HipParameters::ce_rim_mode, 0.0, 1.0},
     {"neck_radius_mm", &HipParameters::neck_radius_mm, 8.0, 20.0},
     {"neck_length_mm", &HipParameters::neck_length_mm, 30.0, 70.0},
     {"shaft_radius_mm", &HipParameters::shaft_radius_mm, 8.0, 25.0},
     {"shaft_length_mm", &HipParameters::shaft_length_mm, 10.0, 120.0},
     {"normal_alpha_deg", &HipParameters::normal_alpha_deg, 30.0, 50.0},
     {"femoral_cartilage_edge_deg", &HipParameters::femoral_cartilage_edge_deg, 32.0, 80.0},
-    {"cam_position_deg", &HipParameters::cam_position_deg, 0.0, 90.0},
+    {"cam_begin_deg", &HipParameters::cam_begin_deg, -90.0, 180.0},
+    {"cam_end_deg", &HipParameters::cam_end_deg, -90.0, 180.0},
     {"cam_radius_mm", &HipParameters::cam_radius_mm, 4.0, 20.0},
     {"cam_height_mm", &HipParameters::cam_height_mm, 0.5, 6.0},
     {"pelvis_block_x_mm", &HipParameters::pelvis_block_x_mm, 60.0, 200.0},
@@ -68,6 +72,21 @@ void validate_hip_parameters(const HipParameters& p, const std::string& what) {
   if (p.femoral_cartilage_edge_deg < junction_deg + 2.0) {
     throw_error(what, ": femoral_cartilage_edge_deg = ", p.femoral_cartilage_edge_deg,
                 " must be at least min(alpha_deg, normal_alpha_deg) + 2");
+  }
+  if (p.ce_rim_mode != 0.0 && p.ce_rim_mode != 1.0) {
+    throw_error(what, ": ce_rim_mode = ", p.ce_rim_mode, " must be 0 (whole rim) or 1 (tilt)");
+  }
+  if (p.cam_end_deg < p.cam_begin_deg || p.cam_end_deg - p.cam_begin_deg > 180.0) {
+    throw_error(what, ": cam_end_deg = ", p.cam_end_deg, " must be within [cam_begin_deg, cam_begin_deg + 180]");
+  }
+  {
+    // The labrum's tip must stay on the socket side of the acetabular axis.
+    const double open = socket_opening_deg(p);
+    const double tip = open - std::asin(std::min(1.0, p.labrum_height_mm / p.articular_radius_mm)) * kRadToDeg;
+    if (tip < 10.0 || open > 150.0) {
+      throw_error(what, ": ce_deg = ", p.ce_deg, " with hemisphere_ce_deg = ", p.hemisphere_ce_deg,
+                  " gives a socket opening of ", open, " deg from its axis; outside the range the construction supports");
+    }
   }
   if (p.cam_radius_mm <= p.cam_height_mm) {
     throw_error(what, ": cam_radius_mm = ", p.cam_radius_mm, " must exceed cam_height_mm");
@@ -120,23 +139,39 @@ Vec3 neck_axis(const HipParameters& p) {
 }
 
 Vec3 acetabular_axis(const HipParameters& p) {
-  // Opening plane through the HJC; its trace in Y = 0 is the line at ce_deg from +Z, so the
-  // in-plane component of the normal is (cos CE, 0, -sin CE); anteversion tilts it anteriorly
-  // about Z without moving that trace.
-  const double ce = p.ce_deg * kDegToRad;
+  // The axis of the hemisphere whose rim passes through the lateral edge at CE0 (CE0 = ce_deg
+  // when CE tilts the socket, hemisphere_ce_deg when it sets the rim's depth): the opening plane
+  // through the HJC has its trace in Y = 0 at CE0 from +Z, so the in-plane component of the
+  // normal is (cos CE0, 0, -sin CE0); anteversion tilts it anteriorly about Z without moving
+  // that trace.
+  const double ce = (p.ce_rim_mode == 1.0 ? p.ce_deg : p.hemisphere_ce_deg) * kDegToRad;
   const double version = p.acetabular_anteversion_deg * kDegToRad;
   return Vec3(std::cos(ce) * std::cos(version), std::sin(version), -std::sin(ce) * std::cos(version))
       .normalized();
 }
 
-Vec3 cam_direction(const HipParameters& p) {
+double socket_opening_deg(const HipParameters& p) {
+  if (p.ce_rim_mode == 1.0) return 90.0;
+  // The lateral edge at CE in the frontal plane, L = (sin CE, 0, cos CE), lies on the rim cone.
+  const double ce = p.ce_deg * kDegToRad;
+  const Vec3 lateral_edge(std::sin(ce), 0.0, std::cos(ce));
+  return std::acos(std::clamp(lateral_edge.dot(acetabular_axis(p)), -1.0, 1.0)) * kRadToDeg;
+}
+
+Vec3 neck_superior(const HipParameters& p) {
   const Vec3 n = neck_axis(p);
-  const Vec3 superior = (Vec3::UnitZ() - Vec3::UnitZ().dot(n) * n).normalized();
-  const Vec3 anterior = superior.cross(n).normalized();
+  return (Vec3::UnitZ() - Vec3::UnitZ().dot(n) * n).normalized();
+}
+
+Vec3 neck_anterior(const HipParameters& p) {
   // superior x n: with n lateral-inferior, this points anteriorly (+Y) for a right hip.
-  const double angle = p.cam_position_deg * kDegToRad;
-  const Vec3 a = anterior.dot(Vec3::UnitY()) >= 0.0 ? anterior : Vec3(-anterior);
-  return (std::cos(angle) * a + std::sin(angle) * superior).normalized();
+  const Vec3 anterior = neck_superior(p).cross(neck_axis(p)).normalized();
+  return anterior.dot(Vec3::UnitY()) >= 0.0 ? anterior : Vec3(-anterior);
+}
+
+Vec3 clock_direction(const HipParameters& p, double clock_deg) {
+  const double angle = clock_deg * kDegToRad;
+  return (std::cos(angle) * neck_anterior(p) + std::sin(angle) * neck_superior(p)).normalized();
 }
 
 }  // namespace hipfai::geometry

@@ -7,12 +7,18 @@
 // The two clinical parameters of the FAI study are
 //   ce_deg     lateral centre-edge angle of Wiberg: in the frontal plane Y = 0, the angle between
 //              +Z and the line from the HJC to the lateral edge of the bony acetabulum (the rim of
-//              the acetabular bone and cartilage; the labrum is NOT part of it). The acetabular
-//              opening is a plane through the HJC whose trace in Y = 0 is that line, so the
-//              angle is the same on the 25 mm and 27 mm spheres.
-//   alpha_deg  alpha angle of Nötzli: in the plane containing the neck axis rotated to the
-//              anterosuperior cam position, the angle between the neck axis and the line from the
-//              HJC to where the bone+cartilage contour first leaves the 25 mm head sphere.
+//              the acetabular bone and cartilage; the labrum is NOT part of it). The rim is a
+//              cone with its apex at the HJC (every rim point is seen from the HJC at the same
+//              angle socket_opening_deg from the acetabular axis), so the angle is the same on
+//              the 25 mm and 27 mm spheres. By default (ce_rim_mode 0) CE sets the depth of the
+//              whole rim about a fixed acetabular axis: the socket is a hemisphere at
+//              hemisphere_ce_deg (the thesis' normal hip), deeper everywhere above it
+//              (coxa profunda, global over-coverage) and shallower below it (dysplasia).
+//   alpha_deg  alpha angle of Nötzli: in the oblique axial plane through the neck axis (the
+//              half-plane towards anterior, "3 o'clock"), the angle between the neck axis and
+//              the line from the HJC to where the bone+cartilage contour first leaves the head
+//              sphere. The cam holds this alpha over the clock arc cam_begin_deg..cam_end_deg
+//              (3 o'clock to 1:30 by default) and tapers outside it.
 #pragma once
 
 #include "core/literature.h"
@@ -47,8 +53,17 @@ struct HipParameters {
   // Femoral anteversion, [-10, 40] deg (literature::kFemoralAnteversionDeg).
   double femoral_anteversion_deg = literature::kFemoralAnteversionDeg;
   // Acetabular anteversion, [0, 35] deg (literature::kAcetabularAnteversionDeg). Tilts the
-  // opening plane about Z; it leaves the CE angle unchanged.
+  // acetabular axis about Z; it leaves the CE angle unchanged.
   double acetabular_anteversion_deg = literature::kAcetabularAnteversionDeg;
+  // The CE angle at which the socket is exactly a hemisphere (its rim cone a plane through the
+  // HJC), [0, 45] deg: the thesis' normal hip, CE 20 (literature::kThesisNormalCeDeg). Fixes the
+  // acetabular axis; with ce_rim_mode 0 the CE then sets the rim's depth all around.
+  double hemisphere_ce_deg = literature::kThesisNormalCeDeg;
+  // How CE is imposed, 0 or 1: 0 = the whole rim (a spherical cap about the fixed axis whose
+  // lateral edge is at CE; thesis Fig. 59's pincer and dysplastic sockets differ in depth);
+  // 1 = a hemispherical socket tilted so its lateral edge is at CE (lateral only: the anterior and
+  // posterior rims barely move). docs/hip-sensitivity.md compares the two.
+  double ce_rim_mode = 0.0;
   // Neck radius, [8, 20] mm (must be below articular_radius * sin(min(alpha, 40 deg))).
   double neck_radius_mm = 13.0;
   // HJC to the shaft axis along the neck axis, [30, 70] mm (a femoral offset of ~40 mm).
@@ -63,12 +78,17 @@ struct HipParameters {
   // Edge of the femoral cartilage from the neck axis, [normal_alpha + 2, 80] deg; the cartilage
   // thins to zero there (Eckstein et al. 1997: thinning towards the head-neck junction).
   double femoral_cartilage_edge_deg = 45.0;
-  // Cam position: angle of the cam plane from anterior towards superior about the neck axis,
-  // [0, 90] deg; anterosuperior (literature::kCamPositionDeg).
-  double cam_position_deg = literature::kCamPositionDeg;
-  // The cam is a ball of this radius [4, 20] mm standing this far out of the head sphere [0.5, 6] mm.
+  // Cam extent on the clock face, as angles about the neck axis from anterior (3 o'clock)
+  // towards superior (12 o'clock), [-90, 180] deg: the cam holds alpha_deg from cam_begin_deg to
+  // cam_end_deg and tapers to the normal junction within about a cam radius beyond each end
+  // (literature::kCamArcBeginDeg / kCamArcEndDeg: 3 o'clock to 1:30). Equal ends: a single bump.
+  double cam_begin_deg = literature::kCamArcBeginDeg;
+  double cam_end_deg = literature::kCamArcEndDeg;
+  // Cam cross-section: a circle of this radius [4, 20] mm standing this far out of the head
+  // sphere [0.5, 6] mm (literature::kCamHeightMm), swept along the arc; balls of the same
+  // radius close its ends.
   double cam_radius_mm = 10.0;
-  double cam_height_mm = 2.5;
+  double cam_height_mm = literature::kCamHeightMm;
   // Pelvis block around the socket, extents along X, Y, Z [60, 200] mm; the block is centred
   // medially and superiorly of the HJC by a quarter of its X and Z extents.
   double pelvis_block_x_mm = 80.0;
@@ -95,11 +115,16 @@ HipParameters hip_parameters_from_json(const std::string& text, const std::strin
 // Directions derived from the parameters, unit vectors in the hip frame.
 // Neck axis: from the HJC towards the neck (lateral, inferior and, with anteversion, posterior).
 Vec3 neck_axis(const HipParameters& parameters);
-// Acetabular axis: normal of the opening plane, pointing out of the socket (lateral, inferior,
-// anterior). The socket is the half-space x . axis <= 0.
+// Acetabular axis: axis of the rim cone, pointing out of the socket (lateral, inferior,
+// anterior). The socket is the set of directions at least socket_opening_deg from it.
 Vec3 acetabular_axis(const HipParameters& parameters);
-// Unit vector perpendicular to the neck axis pointing to the cam (cam_position_deg from the
-// anterior towards the superior direction).
-Vec3 cam_direction(const HipParameters& parameters);
+// Angle (deg) between the acetabular axis and every rim direction: 90 for a hemisphere, below 90
+// for a deeper socket. Chosen so that the rim passes through the lateral edge at CE.
+double socket_opening_deg(const HipParameters& parameters);
+// Unit vector perpendicular to the neck axis at `clock_deg` from anterior towards superior.
+Vec3 clock_direction(const HipParameters& parameters, double clock_deg);
+// Anterior and superior directions perpendicular to the neck axis (clock 0 and 90 deg).
+Vec3 neck_anterior(const HipParameters& parameters);
+Vec3 neck_superior(const HipParameters& parameters);
 
 }  // namespace hipfai::geometry

@@ -17,6 +17,7 @@
 #include <mutex>
 #include <set>
 #include <numbers>
+#include <optional>
 #include <sstream>
 #include <unordered_map>
 #include <unordered_set>
@@ -54,6 +55,8 @@ constexpr std::array<TissueRecipe, 3> kRecipes{{
 // Faces this close to containing the ray direction (|n . d| below it) have no extent in the
 // shadow (the rim-plane faces through the HJC): they bound neither side.
 constexpr double kGrazingCosine = 1e-4;
+// Length scale of the rim-cone membership tolerance (1e-6 of it), of the order of the joint.
+constexpr double kRimToleranceScaleMm = 25.0;
 // A face whose normal is within 45 deg of the ray counts as "radial" (the articular sphere, the
 // bone shells), steeper ones are side walls (fossa, notch): columns hitting a wall are not
 // articular.
@@ -61,6 +64,9 @@ constexpr double kRadialCosine = 0.7071067811865476;
 // Barycentric slack of the ray-triangle test (relative): rays through a shared edge or vertex
 // must hit at least one of its triangles.
 constexpr double kBarycentricSlack = 1e-9;
+// Slack for rays along the rim cone against faces looking at the HJC: a boundary chord of a
+// sphere sits within about e / (8 r) of the cone in barycentric terms (1 % at 2 mm on 25 mm).
+constexpr double kRimRaySlack = 0.05;
 
 const Vec3& vertex(const TriMesh& mesh, std::int32_t index) {
   return mesh.vertices[static_cast<std::size_t>(index)];
@@ -77,7 +83,11 @@ struct RayCaster {
   std::vector<double> cone_cos;
   std::vector<Vec3> unit_normal;
 
-  RayCaster(const TriMesh& tissue, const Vec3& hjc) : mesh(&tissue), origin(hjc) {
+  std::vector<bool> ignored;  // side faces the rays graze (the rim cone), never crossed
+
+  RayCaster(const TriMesh& tissue, const Vec3& hjc, std::vector<bool> ignore = {})
+      : mesh(&tissue), origin(hjc), ignored(std::move(ignore)) {
+    ignored.resize(tissue.triangles.size(), false);
     const std::size_t count = tissue.triangles.size();
     cone_axis.resize(count);
     cone_cos.resize(count);
@@ -106,12 +116,15 @@ struct RayCaster {
     double far_radial = 0.0;
   };
 
-  // First and last crossing of the ray origin + t d (d unit) with the surface.
-  Interval cast(const Vec3& direction) const {
+  // First and last crossing of the ray origin + t d (d unit) with the surface. `radial_slack`:
+  // barycentric slack for faces that look at the HJC (|n . d| >= kRadialCosine), whose hits are
+  // interpolated on the surface the triangles sample; larger than kBarycentricSlack only for rays
+  // along a rim, which may pass just outside the chords of a sphere's boundary edge.
+  Interval cast(const Vec3& direction, double radial_slack = kBarycentricSlack) const {
     Interval interval;
     std::vector<std::pair<double, double>> hits;  // (t, n . d)
     for (std::size_t t = 0; t < cone_axis.size(); ++t) {
-      if (direction.dot(cone_axis[t]) < cone_cos[t]) continue;
+      if (ignored[t] || direction.dot(cone_axis[t]) < cone_cos[t]) continue;
       const auto& tri = mesh->triangles[t];
       const Vec3 a = vertex(*mesh, tri[0]) - origin;
       const Vec3 e1 = vertex(*mesh, tri[1]) - origin - a;
@@ -120,15 +133,16 @@ struct RayCaster {
       const Vec3 p = direction.cross(e2);
       const double det = e1.dot(p);
       if (std::abs(det) < 1e-14 * e1.norm() * e2.norm()) continue;  // ray in the triangle's plane
+      const double facing = unit_normal[t].dot(direction);
+      const double slack = std::abs(facing) >= kRadialCosine ? radial_slack : kBarycentricSlack;
       const Vec3 s = -a;
       const double u = s.dot(p) / det;
-      if (u < -kBarycentricSlack || u > 1.0 + kBarycentricSlack) continue;
+      if (u < -slack || u > 1.0 + slack) continue;
       const Vec3 q = s.cross(e1);
       const double v = direction.dot(q) / det;
-      if (v < -kBarycentricSlack || u + v > 1.0 + kBarycentricSlack) continue;
+      if (v < -slack || u + v > 1.0 + slack) continue;
       double distance = e2.dot(q) / det;
       if (distance <= 0.0) continue;
-      const double facing = unit_normal[t].dot(direction);
       // On a face that looks at the HJC, the node goes where the surface the triangles sample
       // is, not onto the chord: the vertices' distances from the HJC interpolated with the hit's
       // barycentric coordinates (for rays from the HJC these are those of the central
@@ -535,8 +549,27 @@ double planar_quality(const PlanarQuadMesh& plane) {
 }
 
 // Closest point to the line through the HJC along `direction` on the polyline edges of `loops`.
-Vec3 snap_to_boundary(const std::vector<std::vector<Vec3>>& loops, const Vec3& direction) {
+// The rim cone {d : d . axis = |d| cos_angle} through the HJC (a plane when cos_angle = 0).
+struct RimCone {
+  Vec3 axis = Vec3::UnitX();
+  double cos_angle = 0.0;
+  bool contains(const Vec3& d) const { return std::abs(d.normalized().dot(axis) - cos_angle) < 1e-9; }
+  // The direction of `d` turned within its meridian plane onto the cone.
+  Vec3 onto(const Vec3& d) const {
+    const Vec3 across = d - d.dot(axis) * axis;
+    if (across.norm() == 0.0) return d;
+    const double sin_angle = std::sqrt(std::max(0.0, 1.0 - cos_angle * cos_angle));
+    return d.norm() * (cos_angle * axis + sin_angle * across.normalized());
+  }
+};
+
+// The point of the loops nearest to the ray along `direction`. With `rim`: a point on a loop
+// segment whose two ends lie on the rim cone (a chord of the rim circle) is moved onto the cone,
+// so the columns of the rim lie on the rim face exactly, as they do on a plane rim.
+Vec3 snap_to_boundary(const std::vector<std::vector<Vec3>>& loops, const Vec3& direction,
+                      const RimCone* rim = nullptr) {
   Vec3 best = Vec3::Zero();
+  bool best_on_rim = false;
   double best_distance = std::numeric_limits<double>::infinity();
   for (const auto& loop : loops) {
     for (std::size_t i = 0; i < loop.size(); ++i) {
@@ -553,10 +586,11 @@ Vec3 snap_to_boundary(const std::vector<std::vector<Vec3>>& loops, const Vec3& d
       if (distance < best_distance) {
         best_distance = distance;
         best = point;
+        best_on_rim = rim != nullptr && rim->contains(a) && rim->contains(a + edge);
       }
     }
   }
-  return best;
+  return best_on_rim ? rim->onto(best) : best;
 }
 
 // Quad mesh of the shadow bounded by `loops_3d` (relative to the HJC) in the projection plane:
@@ -609,17 +643,73 @@ PlanarQuadMesh quad_mesh_shadow(const std::vector<std::vector<Vec3>>& loops_3d, 
 
 // --- one tissue ------------------------------------------------------------------------------
 
-// rim_axis: normal of the acetabular opening plane through the HJC (the labrum's base lies in it).
+// rim_axis, rim_cos: the acetabular rim cone through the HJC, {d : d . rim_axis = |d| rim_cos}
+// (a plane when rim_cos = 0); the labrum's base lies on it.
 void mesh_tissue(const TissueRecipe& recipe, const TriMesh& tissue, const Vec3& hjc, const Vec3& rim_axis,
-                 const HipVolumeOptions& options, HexMesh& out) {
+                 double rim_cos, const HipVolumeOptions& options, HexMesh& out) {
   const std::string name = recipe.name;
   validate_mesh(tissue, name);
-  const RayCaster caster(tissue, hjc);
 
   // Faces through which the rays leave the tissue on its articular side.
   std::vector<std::size_t> articular_side;
+  // Faces on the rim cone are radial (the cone's apex is the HJC), but their flat triangles
+  // only approximate the cone, so their facing is not exactly zero and rays along the rim graze
+  // them: they are recognised by their vertices, belong to neither side, and rays ignore them
+  // (as they ignore a plane rim through the HJC, which contains the rays).
+  const double rim_tolerance = 1e-6 * kRimToleranceScaleMm;
+  std::vector<bool> rim_face(tissue.triangles.size(), false);
+  for (std::size_t t = 0; t < tissue.triangles.size(); ++t) {
+    bool on_cone = true;
+    for (std::int32_t i : tissue.triangles[t]) {
+      const Vec3 d = vertex(tissue, i) - hjc;
+      on_cone = on_cone && std::abs(d.dot(rim_axis) - d.norm() * rim_cos) <= rim_tolerance;
+    }
+    rim_face[t] = on_cone;
+  }
+  const RayCaster caster(tissue, hjc, rim_face);
+  const RimCone rim_cone{rim_axis, rim_cos};
+  // The rim face developed into the plane: per rim triangle, its vertices' distances from the
+  // HJC and azimuths about the axis.
+  const Vec3 azimuth_x = (std::abs(rim_axis.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY()).cross(rim_axis).normalized();
+  const Vec3 azimuth_y = rim_axis.cross(azimuth_x);
+  auto azimuth = [&](const Vec3& d) { return std::atan2(d.dot(azimuth_y), d.dot(azimuth_x)); };
+  std::vector<std::array<std::pair<double, double>, 3>> developed;  // (distance, azimuth)
+  for (std::size_t t = 0; t < tissue.triangles.size(); ++t) {
+    if (!rim_face[t]) continue;
+    std::array<std::pair<double, double>, 3> corners;
+    for (std::size_t c = 0; c < 3; ++c) {
+      const Vec3 d = vertex(tissue, tissue.triangles[t][c]) - hjc;
+      corners[c] = {d.norm(), azimuth(d)};
+    }
+    developed.push_back(corners);
+  }
+  // Distances at which the generator of the rim cone along `direction` enters and leaves the rim
+  // face (none when it misses every rim triangle).
+  auto rim_extent = [&](const Vec3& direction) -> std::optional<std::pair<double, double>> {
+    const double at = azimuth(direction);
+    double lowest = std::numeric_limits<double>::infinity(), highest = -lowest;
+    for (const auto& corners : developed) {
+      for (std::size_t c = 0; c < 3; ++c) {
+        const auto& [r0, phi0] = corners[c];
+        const auto& [r1, phi1] = corners[(c + 1) % 3];
+        // Azimuths relative to the ray's, in (-pi, pi].
+        const double a0 = std::remainder(phi0 - at, 2.0 * std::numbers::pi);
+        const double a1 = std::remainder(phi1 - at, 2.0 * std::numbers::pi);
+        if (std::abs(a0 - a1) > std::numbers::pi) continue;  // across the back of the cone
+        if ((a0 > 0.0) == (a1 > 0.0) && a0 != 0.0 && a1 != 0.0) continue;
+        const double f = a0 == a1 ? 0.0 : a0 / (a0 - a1);
+        const double r = r0 + f * (r1 - r0);
+        lowest = std::min(lowest, r);
+        highest = std::max(highest, r);
+      }
+    }
+    if (!(highest > lowest)) return std::nullopt;
+    return std::make_pair(lowest, highest);
+  };
+
   for (std::size_t t = 0; t < tissue.triangles.size(); ++t) {
     const auto& tri = tissue.triangles[t];
+    if (rim_face[t]) continue;
     const Vec3 centroid = (vertex(tissue, tri[0]) + vertex(tissue, tri[1]) + vertex(tissue, tri[2])) / 3.0;
     const double facing = caster.unit_normal[t].dot((centroid - hjc).normalized());
     if (recipe.articular_outer ? facing > kGrazingCosine : facing < -kGrazingCosine) articular_side.push_back(t);
@@ -655,19 +745,35 @@ void mesh_tissue(const TissueRecipe& recipe, const TriMesh& tissue, const Vec3& 
   };
   for (std::size_t node = 0; node < plane.nodes.size(); ++node) {
     Vec3 direction = projection.unproject(plane.nodes[node]).normalized();
-    if (plane.on_boundary[node]) direction = snap_to_boundary(loops_3d, direction).normalized();
+    if (plane.on_boundary[node]) direction = snap_to_boundary(loops_3d, direction, &rim_cone).normalized();
     auto interval = caster.cast(direction);
     if (!interval.hit) {
       // Just outside a concave stretch of the boundary: move onto it.
-      direction = snap_to_boundary(loops_3d, direction).normalized();
+      direction = snap_to_boundary(loops_3d, direction, &rim_cone).normalized();
       interval = caster.cast(direction);
     }
+    if (!interval.hit && rim_cone.contains(direction)) interval = caster.cast(direction, kRimRaySlack);
     if (!interval.hit) {
       throw_error("hip volume mesh: ", name, ": the ray from the HJC along (", direction.x(), ", ",
                   direction.y(), ", ", direction.z(), ") misses the tissue");
     }
+    // A ray along the rim cone (a boundary column of the rim face) runs IN the rim face, whose
+    // flat triangles only approximate the cone: cast letting it hit the faces that look at the
+    // HJC a little beyond their edges (their distance is interpolated on the sphere, so the node
+    // still lands on it), and take the column's extent from the rim face itself, developed into
+    // the plane (distance from the HJC, azimuth about the axis), where it is exact.
     double inner = interval.near_mm;
     double outer = interval.far_mm;
+    if (rim_cone.contains(direction)) {
+      const auto again = caster.cast(direction, kRimRaySlack);
+      if (again.hit) interval = again;
+      inner = interval.near_mm;
+      outer = interval.far_mm;
+      if (const auto extent = rim_extent(direction)) {
+        inner = extent->first;
+        outer = extent->second;
+      }
+    }
     const double articular_radial = recipe.articular_outer ? interval.far_radial : interval.near_radial;
     const double far_radial = recipe.articular_outer ? interval.near_radial : interval.far_radial;
     articular_column[node] = articular_radial >= kRadialCosine;
@@ -725,7 +831,8 @@ void mesh_tissue(const TissueRecipe& recipe, const TriMesh& tissue, const Vec3& 
         if (recipe.rim_side_bonded) {
           bool on_rim = true;
           for (std::int32_t v : side) {
-            on_rim = on_rim && std::abs((out.vertices[static_cast<std::size_t>(v)] - hjc).dot(rim_axis)) < rim_tolerance_mm;
+            const Vec3 d = out.vertices[static_cast<std::size_t>(v)] - hjc;
+            on_rim = on_rim && std::abs(d.dot(rim_axis) - d.norm() * rim_cos) < rim_tolerance_mm;
           }
           if (on_rim) tag = SurfaceTag::kLabrumBonded;
         }
@@ -803,8 +910,8 @@ HipVolumeMesh build_hip_volume_mesh(const HipModel& model, const HipVolumeOption
       if (options.labrum_edge_mm > 0.0) tissue_options.edge_mm = options.labrum_edge_mm;
       if (options.labrum_layers > 0) tissue_options.layers = options.labrum_layers;
     }
-    mesh_tissue(recipe, model.tissue(recipe.name), model.hjc_mm, model.acetabular_axis.normalized(), tissue_options,
-                result.mesh);
+    mesh_tissue(recipe, model.tissue(recipe.name), model.hjc_mm, model.acetabular_axis.normalized(),
+                std::cos(model.socket_opening_deg * kDegToRad), tissue_options, result.mesh);
   }
   result.min_scaled_jacobian = min_scaled_jacobian(result.mesh);
   if (!(result.min_scaled_jacobian > 0.0)) {

@@ -1,4 +1,5 @@
 #include "studies/fai_study.h"
+#include "studies/fai_reference.h"
 
 #include "contact/radial_mapping.h"
 #include "core/error.h"
@@ -71,6 +72,7 @@ ModelRun run_model(double ce, double alpha, double edge_mm, const Motion& motion
   penetration.table_size = options.table_size;
   penetration.threads = options.threads;
   penetration.cache_dir = options.cache_dir;
+  penetration.contact_tolerance_mm = options.contact_tolerance_mm;
   const auto compute_start = Clock::now();
   const std::string id = model_id(ce, alpha);
   const bool wants_vtp = edge_mm == options.edge_mm &&
@@ -485,6 +487,13 @@ FaiStudyResult run_fai_study(const FaiStudyOptions& options) {
     md << "- Most negative normalised difference (radial dominating) at pure cam: found at CE "
        << fixed(most_negative->ce_deg, 0) << ", alpha " << fixed(most_negative->alpha_deg, 0) << " — "
        << verdict(most_negative->pathology == "cam") << ".\n";
+  }
+  {
+    std::vector<StudyCell> cells;
+    for (const auto& m : result.models) {
+      cells.push_back({m.ce_deg, m.alpha_deg, m.max_curvilinear_mm, m.max_radial_mm, m.normalised_difference});
+    }
+    md << '\n' << compare_with_thesis(cells).markdown;
   }
   md << "\nThe geometry is not tuned to these statements: the hips are built from the parameters of "
         "geometry/hip_parameters.h and the angles are measured back independently.\n\n";

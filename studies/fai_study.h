@@ -29,6 +29,9 @@ struct FaiStudyOptions {
   std::string mapping = "cube";
   std::int64_t table_size = 20000;
   int threads = 2;
+  // Contact tolerance (mm) of the penetration method; negative: max(sagitta bound, sphericity)
+  // of each hip's mesh (studies/penetration_run.h).
+  double contact_tolerance_mm = -1.0;
   bool progress = true;
   // Per-step VTP files (each tissue with that step's depth fields) for these models and steps
   // (1-based; 0 = the last step): <out>/vtp/<model>_<tissue>_stepNNN.vtp.

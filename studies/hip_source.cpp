@@ -29,6 +29,25 @@ std::string id_of(const ParametricHip& hip) {
 
 }  // namespace
 
+LoadedHip loaded_hip_from_model(const geometry::HipModel& model, const std::string& id,
+                                const std::set<std::string>& tissues) {
+  LoadedHip hip;
+  hip.id = id;
+  hip.hjc_mm = model.hjc_mm;
+  hip.frame.col(0) = model.axes.flexion_axis;
+  hip.frame.col(1) = model.axes.adduction_axis;
+  hip.frame.col(2) = model.axes.internal_rotation_axis;
+  hip.ce_deg = model.parameters.ce_deg;
+  hip.alpha_deg = model.parameters.alpha_deg;
+  hip.articular_radius_mm = model.parameters.articular_radius_mm;
+  for (const auto& [name, mesh] : model.tissues) {
+    if (!tissues.empty() && tissues.count(name) == 0) continue;
+    hip.tissues[name] = mesh;
+    hip.mesh_hash[name] = geometry::mesh_hash(mesh);
+  }
+  return hip;
+}
+
 std::filesystem::path generated_hip_dir(const ParametricHip& hip, const std::filesystem::path& cache_dir) {
   Hasher key;
   key.add(geometry::hip_parameters_to_json(parameters_of(hip))).add(kGitSha);
@@ -59,18 +78,10 @@ LoadedHip acquire_hip(const Scene& scene, const std::set<std::string>& tissues,
     log.ran(StageKind::kLocateHip);
   }
   const geometry::HipModel model = geometry::load_hip_model(hip.dir, tissues);
-  hip.hjc_mm = model.hjc_mm;
-  hip.frame.col(0) = model.axes.flexion_axis;
-  hip.frame.col(1) = model.axes.adduction_axis;
-  hip.frame.col(2) = model.axes.internal_rotation_axis;
-  hip.ce_deg = model.parameters.ce_deg;
-  hip.alpha_deg = model.parameters.alpha_deg;
-  hip.articular_radius_mm = model.parameters.articular_radius_mm;
-  for (const auto& name : tissues) {
-    hip.tissues[name] = model.tissue(name);
-    hip.mesh_hash[name] = geometry::mesh_hash(hip.tissues[name]);
-    log.ran(StageKind::kLoadTissue);
-  }
+  LoadedHip loaded = loaded_hip_from_model(model, hip.id, tissues);
+  loaded.dir = hip.dir;
+  for (std::size_t k = 0; k < loaded.tissues.size(); ++k) log.ran(StageKind::kLoadTissue);
+  hip = std::move(loaded);
   return hip;
 }
 

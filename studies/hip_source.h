@@ -3,6 +3,7 @@
 
 #include "studies/plan.h"
 #include "studies/scene.h"
+#include "geometry/hip_model.h"
 #include "geometry/tri_mesh.h"
 
 #include <Eigen/Core>
@@ -41,6 +42,11 @@ struct LoadedHip {
   std::map<std::string, geometry::TriMesh> tissues;  // only the tissues asked for
   std::map<std::string, std::string> mesh_hash;      // tissue -> content hash of its file
 };
+
+// A loaded hip from a model in memory: frame, angles, radius and `tissues` (empty: all of them)
+// with their content hashes. `id` names it in outputs.
+LoadedHip loaded_hip_from_model(const geometry::HipModel& model, const std::string& id,
+                                const std::set<std::string>& tissues = {});
 
 // Folder of the cached generated hip for these parameters under `cache_dir` (key: parameters and
 // code revision).

@@ -5,6 +5,7 @@
 #include "contact/radial_segmenting.h"
 #include "core/error.h"
 #include "core/hash.h"
+#include "core/literature.h"
 #include "studies/radial_table_cache.h"
 
 #include <algorithm>
@@ -153,7 +154,8 @@ PenetrationRun compute_penetration(const LoadedHip& hip, const Motion& motion,
   } else {
     double longest = 0.0;
     for (const auto& [name, mesh] : hip.tissues) longest = std::max(longest, longest_edge(mesh));
-    run.contact_tolerance_mm = longest * longest / (2.0 * hip.articular_radius_mm);
+    run.contact_tolerance_mm =
+        std::max(longest * longest / (2.0 * hip.articular_radius_mm), literature::kSphericityToleranceMm);
   }
   const double tolerance = run.contact_tolerance_mm;
   PairFilter radial_filter;

@@ -10,8 +10,12 @@
 // Touching is not penetrating. The articulating surfaces of both sides are discretisations of the
 // same sphere (radius R), so their vertices lie up to a chord's sagitta beyond the other side's
 // triangles without any real overlap. The contact tolerance is that sagitta bound,
-// tol = e^2 / (2 R) with e the longest edge of the tissues involved (a triangle's circumradius is
-// at most its longest edge), and:
+// e^2 / (2 R) with e the longest edge of the tissues involved (a triangle's circumradius is at
+// most its longest edge), but never below the articular surfaces' own deviation from a sphere,
+// 0.1 mm (literature::kSphericityToleranceMm): tol = max(e^2 / (2 R), 0.1 mm). Without the floor
+// the set of counted vertices grows as the mesh is refined (cam flanks a few um outside R, whose
+// arcs run along under the labrum's face), and the maximum curvilinear depth does not converge.
+// Then:
 //   - radial: a vertex penetrates only if its radial depth exceeds tol;
 //   - curvilinear: only STRIKING vertices count — those farther than R + tol from the HJC. Vertices
 //     on the articular sphere slide along it (thesis §3.6.3: the hybrid split by a distance
@@ -40,7 +44,7 @@ struct PenetrationOptions {
   std::int64_t table_size = 20000;
   int threads = 2;
   std::filesystem::path cache_dir;  // radial tables are cached here when not empty
-  // Negative: the sagitta bound above; 0 disables the tolerance (raw geometric results).
+  // Negative: max(sagitta bound, sphericity) above; 0 disables the tolerance (raw geometric results).
   double contact_tolerance_mm = -1.0;
 };
 

@@ -19,8 +19,10 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -100,7 +102,18 @@ TEST_P(HipFeGenerated, CompletesStandingToSittingAtTheCoarseLevel) {
     for (const auto& pair_force : r.pair_force_n) resultant += pair_force;
     const dealii::Tensor<1, 3> applied = steps[k].force_n;
     EXPECT_LT((resultant - applied).norm(), 1e-6 * applied.norm()) << "step " << k + 1;
-    EXPECT_LT(r.max_penetration_mm, 0.01 * thickness) << "step " << k + 1;
+    // Penetration: below 1 % of the cartilage at nodes with one master; a slave node where two
+    // masters meet (the femoral cartilage's edge on the cam) is held by one of them
+    // (ContactOptions::holder_switch_mm) and may penetrate the other, bounded at 5 %.
+    std::map<std::array<double, 3>, int> masters;
+    for (const auto& node : r.nodes) ++masters[{node.position_mm[0], node.position_mm[1], node.position_mm[2]}];
+    double single = 0.0, corner = 0.0;
+    for (const auto& node : r.nodes) {
+      const int count = masters[{node.position_mm[0], node.position_mm[1], node.position_mm[2]}];
+      (count > 1 ? corner : single) = std::max(count > 1 ? corner : single, -node.gap_mm);
+    }
+    EXPECT_LT(single, 0.01 * thickness) << "step " << k + 1;
+    EXPECT_LT(corner, 0.05 * thickness) << "step " << k + 1;
     ASSERT_TRUE(std::isfinite(r.max_pressure_mpa) && std::isfinite(r.contact_area_mm2));
     for (const double v : r.max_von_mises_mpa) ASSERT_TRUE(std::isfinite(v) && v >= 0.0);
     // The joint force is carried by a finite area: mean pressure = force / area on it, and the

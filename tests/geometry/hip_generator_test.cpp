@@ -135,16 +135,21 @@ TEST(HipGenerator, AcetabularCartilageIsTwoMillimetreShell) {
   EXPECT_EQ(ray_hits(model.tissue("acetabular_cartilage"), model.hjc_mm, (roof - 0.3 * a).normalized()).size(), 2u);
 }
 
-// Labrum height: its tip above the rim plane (the plane of the cartilage rim), along the
-// acetabular axis. The tip circle is meshed by vertices lying on it, so only rounding is lost;
-// 0.2 mm as required.
+// Labrum height: its tip's distance from the rim, i.e. from the rim cone's generator in the
+// tip's meridian plane: R sin(opening - tip angle), the tip angle being the smallest angle of a
+// labrum vertex from the acetabular axis (a plane rim: the height above the rim plane). The tip
+// circle is meshed by vertices lying on it, so only rounding is lost; 0.2 mm as required.
 TEST(HipGenerator, LabrumIsSevenMillimetresHigh) {
-  for (double ce : {0.0, 40.0}) {
+  for (double ce : {0.0, 20.0, 40.0}) {
     const HipModel& model = hip(ce, 40, 2.0);
-    double rim = -1e9, tip = -1e9;
-    for (const Vec3& p : model.tissue("acetabular_cartilage").vertices) rim = std::max(rim, (p - model.hjc_mm).dot(model.acetabular_axis));
-    for (const Vec3& p : model.tissue("labrum").vertices) tip = std::max(tip, (p - model.hjc_mm).dot(model.acetabular_axis));
-    EXPECT_NEAR(tip - rim, literature::kLabrumHeightMm, 0.2) << "ce " << ce;
+    const double opening = model.socket_opening_deg * kDegToRad;
+    double tip_angle = 10.0;
+    for (const Vec3& p : model.tissue("labrum").vertices) {
+      const Vec3 d = (p - model.hjc_mm).normalized();
+      tip_angle = std::min(tip_angle, std::acos(std::clamp(d.dot(model.acetabular_axis), -1.0, 1.0)));
+    }
+    EXPECT_NEAR(model.parameters.articular_radius_mm * std::sin(opening - tip_angle), literature::kLabrumHeightMm, 0.2)
+        << "ce " << ce;
     // Its inner face continues the articular sphere: no labrum vertex inside 25 mm.
     for (const Vec3& p : model.tissue("labrum").vertices) EXPECT_GE((p - model.hjc_mm).norm(), 25.0 - 1e-6);
   }

@@ -228,7 +228,7 @@ void check_boundary_is_closed_and_every_boundary_face_is_tagged_once(const Subje
 }
 
 // Where the tags sit: femoral articular quads on the 25 mm sphere, acetabular bonded quads on
-// the R + 2 mm socket, labrum bonded quads in the acetabular rim plane; every tissue has its
+// the R + 2 mm socket, labrum bonded quads on the acetabular rim cone; every tissue has its
 // articular and bonded surfaces. The nodes of faces that look at the HJC are placed on the
 // surface the triangles sample (distances from the HJC interpolated between the triangle's
 // vertices), so on these spheres exactly, not up to the facets' dip e^2 / (6 r) (13-27 um here)
@@ -248,7 +248,9 @@ void check_surface_tags_sit_on_their_surfaces(const Subject& s) {
       } else if (tag == SurfaceTag::kAcetabularCartilageBonded) {
         EXPECT_NEAR(r, socket, kOnSphereMm);
       } else if (tag == SurfaceTag::kLabrumBonded) {
-        EXPECT_NEAR((at(s.mesh(), v) - s.model().hjc_mm).dot(s.model().acetabular_axis), 0.0, 1e-6);
+        // On the rim cone through the HJC (a plane for a hemispherical socket).
+        const Vec3 d = at(s.mesh(), v) - s.model().hjc_mm;
+        EXPECT_NEAR(d.dot(s.model().acetabular_axis), d.norm() * std::cos(s.model().socket_opening_deg * kDegToRad), 1e-6);
       }
     }
   }
@@ -275,15 +277,17 @@ void check_surface_tags_sit_on_their_surfaces(const Subject& s) {
 //             the section: r = p sec(beta - beta0)): r'' (h/r)^2 / 8 = 0.09 mm at most, 2/3 of
 //             that on average over its ~1300 mm^2: 78 mm^3 = 3.3 % of the labrum at most;
 //             spherical faces cancel between inner and outer faces to second order.
-// Tolerance 2.5 % of each tissue (the labrum bound above is not reached: its tip and base
-// columns are exact). Measured on the three hips: femoral +0.8 %, acetabular -1.0 to -1.2 %,
-// labrum +1.6 to +1.9 %.
+// Tolerance 2.5 % of each tissue, the labrum's its bound above, 3.3 % (its tip and base columns
+// are exact). Measured on the three hips: femoral +0.8 %, acetabular -1.0 to -1.2 %, labrum +1.6
+// to +1.9 % on the hemispherical sockets, +2.5 % on the deep CE 40 socket (its labrum turned
+// towards the axis and cut short around the neck, so less volume per length of outer face).
 void check_hexahedra_fill_the_tissue_volumes(const Subject& s) {
   std::map<VolumeTag, double> volumes;
   for (std::size_t h = 0; h < s.mesh().hexes.size(); ++h) volumes[s.mesh().hex_tags[h]] += hex_volume(s.mesh(), s.mesh().hexes[h]);
   for (VolumeTag tag : kTissues) {
     const double expected = signed_volume(s.model().tissue(to_string(tag)));
-    EXPECT_NEAR(volumes[tag], expected, 0.025 * expected) << to_string(tag);
+    const double tolerance = tag == VolumeTag::kLabrum ? 0.033 : 0.025;
+    EXPECT_NEAR(volumes[tag], expected, tolerance * expected) << to_string(tag);
   }
 }
 
