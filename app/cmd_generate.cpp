@@ -172,6 +172,20 @@ void run(const GenerateOptions& options) {
       progress.advance();
     }
     progress.finish();
+    if (options.figures) {
+      // The six characteristic morphologies of thesis Table 10 side by side.
+      const std::vector<std::pair<std::string, std::pair<int, int>>> six{
+          {"normal", {20, 40}}, {"pincer", {40, 40}}, {"cam", {20, 80}},
+          {"combined cam-pincer", {40, 80}}, {"dysplasia", {0, 40}}, {"dysplasia + cam", {0, 80}}};
+      std::vector<geometry::HipModel> models;
+      for (const auto& [label, angles] : six) {
+        models.push_back(geometry::load_hip_model(out / ("ce" + std::to_string(angles.first) + "_alpha" +
+                                                         std::to_string(angles.second))));
+      }
+      std::vector<geometry::MorphologyPanel> panels;
+      for (std::size_t i = 0; i < six.size(); ++i) panels.push_back({six[i].first, &models[i]});
+      geometry::write_morphology_sheet(panels, out / "morphologies.svg");
+    }
   }
   print_table(rows, options.volume);
 }

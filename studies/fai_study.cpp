@@ -1,11 +1,12 @@
 #include "studies/fai_study.h"
-#include "studies/fai_reference.h"
 
 #include "contact/radial_mapping.h"
 #include "core/error.h"
 #include "core/progress.h"
 #include "core/version.h"
 #include "geometry/mesh_io.h"
+#include "studies/fai_reference.h"
+#include "studies/hip_sensitivity.h"
 #include "studies/penetration_run.h"
 #include "studies/results_file.h"
 #include "studies/svg_plot.h"
@@ -14,6 +15,7 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <iomanip>
 #include <map>
 #include <sstream>
@@ -104,6 +106,11 @@ ModelRun run_model(double ce, double alpha, double edge_mm, const Motion& motion
   model.summary.max_curvilinear_mm = model.run.max_curvilinear_mm();
   model.summary.max_radial_mm = model.run.max_radial_mm();
   model.summary.pathology = pathology_of(ce, alpha);
+  // Where impingement begins along the motion's single axis (exact, hip_sensitivity.h).
+  model.summary.first_contact_deg = first_striking_contact_deg(
+      model.hip.tissues.at("femur_bone"), model.hip.tissues.at("labrum"), model.hip.hjc_mm,
+      (model.hip.frame * motion.steps.front().axis).normalized(),
+      model.hip.articular_radius_mm + model.run.contact_tolerance_mm, options.threads);
   return model;
 }
 
@@ -238,13 +245,13 @@ FaiStudyResult run_fai_study(const FaiStudyOptions& options) {
   {
     std::ostringstream summary, steps;
     summary << "ce_deg,alpha_deg,pathology,max_curvilinear_mm,max_radial_mm,normalised_difference,"
-               "curvilinear_band,radial_band,difference_band,penetration_ms\n";
+               "curvilinear_band,radial_band,difference_band,penetration_ms,first_contact_deg\n";
     steps << "ce_deg,alpha_deg,step,angle_deg,max_curvilinear_mm,max_radial_mm,curvilinear_ms,radial_ms\n";
     for (const auto& m : result.models) {
       summary << m.ce_deg << ',' << m.alpha_deg << ',' << m.pathology << ',' << m.max_curvilinear_mm << ','
               << m.max_radial_mm << ',' << m.normalised_difference << ',' << curvilinear_band(m.max_curvilinear_mm)
               << ',' << radial_band(m.max_radial_mm) << ',' << difference_band(m.normalised_difference) << ','
-              << m.penetration_ms << '\n';
+              << m.penetration_ms << ',' << m.first_contact_deg << '\n';
       const auto& run = runs.at(model_id(m.ce_deg, m.alpha_deg)).run;
       for (std::size_t k = 0; k < run.steps.size(); ++k) {
         steps << m.ce_deg << ',' << m.alpha_deg << ',' << (k + 1) << ',' << motion.steps[k].angle_deg << ','
@@ -419,20 +426,32 @@ FaiStudyResult run_fai_study(const FaiStudyOptions& options) {
      << ", " << options.table_size << " cells. Curvilinear: femur bone vs labrum, cylindrical segmenting; "
      << "radial: femoral cartilage vs acetabular cartilage + labrum, radial segmenting; both with the role "
      << "swap (§4.3.2.1). Total run time " << fixed(result.total_seconds, 1) << " s.\n\n";
-  md << "## Maximum penetration depth over the motion (mm)\n\n| CE \\ alpha |";
-  for (double alpha : options.alpha_deg) md << ' ' << fixed(alpha, 0) << " |";
-  md << "\n|---|";
-  for (std::size_t i = 0; i < options.alpha_deg.size(); ++i) md << "---|";
-  md << '\n';
-  for (double ce : options.ce_deg) {
-    md << "| " << fixed(ce, 0) << " |";
-    for (double alpha : options.alpha_deg) {
-      const auto* m = find(result.models, ce, alpha);
-      md << ' ' << (m ? fixed(m->max_curvilinear_mm) + " / " + fixed(m->max_radial_mm) : "-") << " |";
-    }
+  // A CE x alpha table whose cells `cell` formats from a model ("-" where there is none).
+  auto grid_table = [&](const std::function<std::string(const FaiModelSummary&)>& cell) {
+    md << "| CE \\ alpha |";
+    for (double alpha : options.alpha_deg) md << ' ' << fixed(alpha, 0) << " |";
+    md << "\n|---|";
+    for (std::size_t i = 0; i < options.alpha_deg.size(); ++i) md << "---|";
     md << '\n';
-  }
+    for (double ce : options.ce_deg) {
+      md << "| " << fixed(ce, 0) << " |";
+      for (double alpha : options.alpha_deg) {
+        const auto* m = find(result.models, ce, alpha);
+        md << ' ' << (m ? cell(*m) : std::string("-")) << " |";
+      }
+      md << '\n';
+    }
+  };
+  md << "## Maximum penetration depth over the motion (mm)\n\n";
+  grid_table([](const FaiModelSummary& m) { return fixed(m.max_curvilinear_mm) + " / " + fixed(m.max_radial_mm); });
   md << "\nEach cell: curvilinear / radial.\n\n";
+  md << "## Where impingement begins\n\nAngle (deg) along the motion's single axis at which the femur bone first meets "
+        "the labrum (exact range finder, parts beyond R + tolerance; the motion turns "
+     << fixed(motion.steps.back().angle_deg, 1) << " deg; inf: never within a turn).\n\n";
+  grid_table([](const FaiModelSummary& m) {
+    return std::isfinite(m.first_contact_deg) ? fixed(m.first_contact_deg, 1) : std::string("inf");
+  });
+  md << '\n';
   md << "![curvilinear](fig63_curvilinear.svg) ![radial](fig63_radial.svg)\n\n"
      << "![difference](fig63_difference.svg) ![pathology](fig63_pathology.svg)\n\n";
   md << "## Table 10 from the computed values\n\n"

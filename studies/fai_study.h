@@ -55,6 +55,7 @@ struct FaiModelSummary {
   double max_curvilinear_mm = 0, max_radial_mm = 0;
   double normalised_difference = 0;  // curvilinear/max(curvilinear) - radial/max(radial)
   double generate_s = 0, penetration_ms = 0;
+  double first_contact_deg = 0;  // along the motion's axis, femur bone meets labrum (inf: never)
   std::string pathology;
 };
 
