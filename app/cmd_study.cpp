@@ -73,6 +73,9 @@ const CommandRegistrar registrar("study", [](CLI::App& parent) {
       ->capture_default_str()->check(CLI::Range(1, 1000));
   sensitivity->add_option("--threads", sensitivity_options->threads, "Threads for the queries")->capture_default_str()
       ->check(CLI::Range(1, 256));
+  sensitivity->add_option("--parameters", sensitivity_options->only_parameters,
+                          "Only these parameters' variants (comma-separated HipParameters keys)")
+      ->delimiter(',');
   sensitivity->callback([=] {
     const auto result = studies::run_hip_sensitivity(*sensitivity_options);
     studies::write_sensitivity_report(result, *sensitivity_out);

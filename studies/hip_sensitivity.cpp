@@ -123,8 +123,25 @@ std::vector<SensitivityVariant> default_sensitivity_variants() {
 
 SensitivityResult run_hip_sensitivity(const SensitivityOptions& options) {
   const auto start = std::chrono::steady_clock::now();
-  const std::vector<SensitivityVariant> variants =
+  std::vector<SensitivityVariant> variants =
       options.variants.empty() ? default_sensitivity_variants() : options.variants;
+  if (!options.only_parameters.empty()) {
+    std::vector<SensitivityVariant> kept;
+    for (const std::string& name : options.only_parameters) {
+      const auto before = kept.size();
+      for (const auto& v : variants) {
+        if (v.field == name) kept.push_back(v);
+      }
+      if (kept.size() == before) {
+        std::string known;
+        for (const auto& v : variants) {
+          if (known.find(v.field) == std::string::npos) known += (known.empty() ? "" : ", ") + v.field;
+        }
+        throw_error("study sensitivity: no variants of parameter '", name, "' (known: ", known, ")");
+      }
+    }
+    variants = std::move(kept);
+  }
   const Motion motion = standing_to_sitting(options.sub_motions);
   SensitivityResult result;
   result.motion_angle_deg = motion.steps.back().angle_deg;

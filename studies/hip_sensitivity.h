@@ -44,6 +44,8 @@ struct SensitivityOptions {
   std::vector<Hip> hips{{"pure cam", 20.0, 80.0}, {"pure pincer", 40.0, 40.0}};
   // Empty: default_sensitivity_variants().
   std::vector<SensitivityVariant> variants;
+  // When not empty: only the variants of these parameters (hipfai::Error for a name that has none).
+  std::vector<std::string> only_parameters;
 };
 
 // The parameters and published ranges of docs/hip-sensitivity.md (sources in the notes).
