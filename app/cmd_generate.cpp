@@ -97,12 +97,6 @@ GeneratedRow generate_one(const GenerateOptions& options, double ce_deg, double 
   geometry::validate_hip_parameters(parameters, "generate");
   const auto generated = geometry::generate_hip(parameters);
   const geometry::HipModel& model = generated.model;
-  const auto ce = geometry::measure_ce_angle(
-      {&model.tissue("acetabular_bone"), &model.tissue("acetabular_cartilage")}, model.hjc_mm,
-      model.lateral, model.superior);
-  const auto alpha = geometry::measure_alpha_angle(
-      {&model.tissue("femur_bone"), &model.tissue("femoral_cartilage")}, model.hjc_mm,
-      model.neck_axis, model.superior, model.superior.cross(model.lateral));
   // The volume mesh is built before anything is written: a hip it cannot mesh leaves no files.
   GeneratedRow row;
   std::optional<geometry::HipVolumeMesh> volume;
@@ -117,7 +111,17 @@ GeneratedRow generate_one(const GenerateOptions& options, double ce_deg, double 
     row.volume_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
   geometry::write_hip_model(model, dir, options.format);
-  if (options.figures) geometry::write_hip_figures(model, ce, alpha, dir);
+  if (options.figures) {
+    // The drawings need the constructions (rim point, departure point), not only the angles the
+    // generator recorded.
+    const auto ce = geometry::measure_ce_angle(
+        {&model.tissue("acetabular_bone"), &model.tissue("acetabular_cartilage")}, model.hjc_mm,
+        model.lateral, model.superior);
+    const auto alpha = geometry::measure_alpha_angle(
+        {&model.tissue("femur_bone"), &model.tissue("femoral_cartilage")}, model.hjc_mm,
+        model.neck_axis, model.superior, model.superior.cross(model.lateral));
+    geometry::write_hip_figures(model, ce, alpha, dir);
+  }
   if (volume) {
     geometry::write_hex_msh(volume->mesh, dir / "volume.msh");
     record_volume(dir, *volume);
@@ -125,8 +129,9 @@ GeneratedRow generate_one(const GenerateOptions& options, double ce_deg, double 
 
   row.ce_deg = ce_deg;
   row.alpha_deg = alpha_deg;
-  row.measured_ce_deg = ce.status == geometry::MeasureStatus::ok ? ce.ce_deg : std::nan("");
-  row.measured_alpha_deg = alpha.status == geometry::MeasureStatus::ok ? alpha.alpha_deg : std::nan("");
+  // Measured by the generator on the meshes (NaN where the measurement found no section).
+  row.measured_ce_deg = model.measured_ce_deg;
+  row.measured_alpha_deg = model.measured_alpha_notzli_deg;
   for (const auto& [name, mesh] : model.tissues) {
     row.vertices += mesh.num_vertices();
     row.triangles += mesh.num_triangles();
