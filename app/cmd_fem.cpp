@@ -20,6 +20,7 @@
 #include "fem/verification_cases.h"
 #include "geometry/hip_model.h"
 #include "geometry/hip_volume_mesh.h"
+#include "studies/hip_fe_run.h"
 #include "studies/motion.h"
 #include "studies/svg_plot.h"
 
@@ -173,176 +174,12 @@ void run_fem_shells(const FemShellsOptions& options) {
   if (failed > 0) throw_error("fem shells: ", failed, " step(s) did not converge (see ", options.out_file, ")");
 }
 
-struct FemRunOptions {
-  std::string model_dir;
-  std::string motion_file;
-  int steps = 30;
-  std::string level = "coarse";
-  double body_weight_n = fem::kDefaultBodyWeightN;
-  double peak_radius_mm = fem::ContactOptions{}.peak_average_radius_mm;
-  // The labrum meshed n times finer than the level (edge / n, layers * n): for the study of its
-  // singular corner (docs/fem-levels.md), not for the ground truth.
-  int labrum_refinement = 1;
-  std::string out_file;
-  std::string csv_file;
-  std::string solver = "direct";
-  unsigned int vtu_every = 0;
-  std::string vtu_prefix;
-  bool verbose = false;
-};
-
-// One row per step with round-trip precision: lets a script compare runs (e.g. 1 vs 2 ranks)
-// without an HDF5 reader.
-// Name of a contact pair's slave surface (the hip model's boundary ids are SurfaceTag values).
-std::string slave_surface_name(const fem::ContactProblem& problem, int pair) {
-  if (pair < 0 || pair >= static_cast<int>(problem.contact_pairs.size())) return "none";
-  return geometry::to_string(static_cast<geometry::SurfaceTag>(problem.contact_pairs[pair].slave_boundary_id));
-}
-
-void write_fem_run_csv(const std::string& file, const fem::ContactProblem& problem,
-                       const std::vector<fem::ContactResult>& results) {
-  const std::vector<std::string> bodies = fem::hip_fe_body_names(problem);
-  std::ofstream csv(file);
-  if (!csv) throw_error(file, ": cannot open for writing (--csv)");
-  csv << "step,status,ranks,dofs,active_set_iterations,max_pressure_mpa,mean_pressure_mpa,"
-         "contact_area_mm2,max_penetration_mm,tx_mm,ty_mm,tz_mm";
-  for (const std::string& body : bodies) csv << ",max_von_mises_mpa " << body;
-  for (const std::string& body : bodies) csv << ",p95_von_mises_mpa " << body;
-  csv << ",wall_time_s,sub_steps,cutbacks,linear_solves";
-  // Appended after the older columns, so that scripts indexing those keep working.
-  csv << ",peak_radius_mm,ball_peak_pressure_mpa";
-  for (const std::string& body : bodies) csv << ",ball_peak_von_mises_mpa " << body;
-  csv << ",max_pressure_x_mm,max_pressure_y_mm,max_pressure_z_mm,max_pressure_surface"
-         ",ball_peak_pressure_x_mm,ball_peak_pressure_y_mm,ball_peak_pressure_z_mm,ball_peak_pressure_surface";
-  for (const std::string& body : bodies) {
-    for (const char* axis : {"x", "y", "z"}) csv << ",ball_peak_von_mises_" << axis << "_mm " << body;
-  }
-  csv << '\n';
-  csv.precision(17);
-  for (std::size_t k = 0; k < results.size(); ++k) {
-    const fem::ContactResult& r = results[k];
-    csv << k + 1 << ',' << static_cast<int>(r.status) << ',' << r.n_ranks << ',' << r.n_dofs << ','
-        << r.active_set_iterations << ',' << r.max_pressure_mpa << ',' << r.mean_pressure_mpa << ','
-        << r.contact_area_mm2 << ',' << r.max_penetration_mm;
-    for (unsigned int d = 0; d < 3; ++d) {
-      csv << ',' << (r.rigid_translation_mm.empty() ? 0.0 : r.rigid_translation_mm[fem::kFemurBody][d]);
-    }
-    for (const double v : r.max_von_mises_mpa) csv << ',' << v;
-    for (const double v : r.p95_von_mises_mpa) csv << ',' << v;
-    csv << ',' << r.wall_time_s << ',' << r.sub_steps << ',' << r.cutbacks << ',' << r.linear_solves;
-    csv << ',' << r.peak_average_radius_mm << ',' << r.ball_peak_pressure_mpa;
-    for (const double v : r.ball_peak_von_mises_mpa) csv << ',' << v;
-    for (unsigned int d = 0; d < 3; ++d) csv << ',' << r.max_pressure_position_mm[d];
-    csv << ',' << slave_surface_name(problem, r.max_pressure_pair);
-    for (unsigned int d = 0; d < 3; ++d) csv << ',' << r.ball_peak_pressure_position_mm[d];
-    csv << ',' << slave_surface_name(problem, r.ball_peak_pressure_pair);
-    for (const dealii::Point<3>& centre : r.ball_peak_von_mises_position_mm) {
-      for (unsigned int d = 0; d < 3; ++d) csv << ',' << centre[d];
-    }
-    csv << '\n';
-  }
-  if (!csv) throw_error(file, ": write failed (--csv)");
-}
-
-struct FemRunSummary {
-  std::size_t hexes = 0;
-  double min_scaled_jacobian = 0.0;
-  std::vector<std::string> bodies;
-  std::vector<std::string> pair_surfaces;  // slave surface of each contact pair
-  std::vector<fem::ContactResult> results;
-  std::size_t failed = 0;
-  double seconds = 0.0;  // whole command: meshing, set-up and all steps
-};
+using FemRunOptions = studies::HipFeRunOptions;
+using FemRunSummary = studies::HipFeRunSummary;
 
 FemRunSummary run_fem_hip(const FemRunOptions& options, bool throw_on_failure = true) {
-  fem::ensure_mpi_initialized();
-  int rank = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  const auto start = std::chrono::steady_clock::now();
-  // Everything that can fail on the user's input is read before the first solve.
-  // Joint force: the CSV's when it has force columns; standing-to-sitting gets the sitting-down
-  // profile after Bergmann et al. (2001) (studies/motion.h); a CSV without forces the constant
-  // peak load (kStandToSitPeakForcePercentBW of body weight, superior; fem/hip_fe_model.h).
-  studies::Motion motion;
-  if (options.motion_file.empty()) {
-    motion = studies::standing_to_sitting(options.steps);
-    studies::SittingDownLoadOptions load;
-    load.body_weight_n = options.body_weight_n;
-    studies::attach_sitting_down_load(motion, load);
-  } else {
-    motion = studies::read_motion_csv(options.motion_file);
-  }
-  const std::vector<fem::MotionStep> steps =
-      to_fem_steps(motion, fem::constant_joint_force_n(options.body_weight_n));
-  const fem::HipFeLevel level = fem::parse_hip_fe_level(options.level);
-  const geometry::HipModel model = geometry::load_hip_model(
-      options.model_dir, {"femur_bone", "femoral_cartilage", "acetabular_cartilage", "labrum"});
-  geometry::HipVolumeOptions volume_options = fem::hip_volume_options(level);
-  if (options.labrum_refinement > 1) {
-    volume_options.labrum_edge_mm = volume_options.edge_mm / options.labrum_refinement;
-    volume_options.labrum_layers = volume_options.layers * options.labrum_refinement;
-  }
-  const geometry::HipVolumeMesh volume = geometry::build_hip_volume_mesh(model, volume_options);
-
-  fem::ContactOptions solver;
-  solver.verbose = options.verbose;
-  solver.peak_average_radius_mm = options.peak_radius_mm;
-  // Direct (MUMPS) by default: the hip meshes have 15-150 k DOFs with thin, nearly incompressible
-  // layers, where CG + GAMG needs ~600 iterations per solve (127 s vs 13 s per coarse step).
-  solver.linear_solver = options.solver == "cg" ? fem::LinearSolver::kCgAmg : fem::LinearSolver::kDirect;
-  fem::ContactProblem problem(MPI_COMM_WORLD, solver);
-  fem::build_hip_fe_model(problem, volume.mesh, model.tissue("femur_bone"), model.hjc_mm);
-  std::unique_ptr<fem::FemResultsWriter> writer;
-  if (rank == 0) {
-    writer = std::make_unique<fem::FemResultsWriter>(options.out_file, fem::hip_fe_body_names(problem),
-                                                     fem::kFemurBody);
-    std::printf("fem run: %s, level %s: %zu hexahedra (min scaled Jacobian %.2f), %zu steps\n",
-                options.model_dir.c_str(), options.level.c_str(), volume.mesh.hexes.size(),
-                volume.min_scaled_jacobian, steps.size());
-    std::fflush(stdout);
-  }
-  if (rank == 0 && !options.csv_file.empty()) {
-    // Fail on an unwritable --csv before the solve, not after it.
-    if (!std::ofstream(options.csv_file)) throw_error(options.csv_file, ": cannot open for writing (--csv)");
-  }
-  fem::MotionOptions motion_options;
-  motion_options.moving_body = fem::kFemurBody;
-  motion_options.vtu_every = options.vtu_every;
-  motion_options.vtu_prefix = options.vtu_prefix;
-  const auto results = run_motion_with_progress("fem run", problem, steps, motion_options,
-                                                writer.get(), rank == 0 && !options.verbose);
-  std::size_t failed = 0;
-  double peak_pressure = 0.0;
-  for (const auto& result : results) {
-    failed += result.status != fem::ContactStatus::kConverged;
-    peak_pressure = std::max(peak_pressure, result.max_pressure_mpa);
-  }
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (rank == 0 && !options.csv_file.empty()) {
-    write_fem_run_csv(options.csv_file, problem, results);
-  }
-  if (rank == 0) {
-    std::printf("fem run: %zu steps, %zu not converged, %lu dofs, peak pressure %.4g MPa, %.1f s; "
-                "results in %s\n",
-                results.size(), failed, results.empty() ? 0ul : results.front().n_dofs, peak_pressure,
-                seconds, options.out_file.c_str());
-  }
-  if (failed > 0 && throw_on_failure) {
-    throw_error("fem run: ", failed, " step(s) did not converge (see ", options.out_file, ")");
-  }
-  FemRunSummary summary;
-  summary.hexes = volume.mesh.hexes.size();
-  summary.min_scaled_jacobian = volume.min_scaled_jacobian;
-  summary.bodies = fem::hip_fe_body_names(problem);
-  for (int pair = 0; pair < static_cast<int>(problem.contact_pairs.size()); ++pair) {
-    summary.pair_surfaces.push_back(slave_surface_name(problem, pair));
-  }
-  summary.results = results;
-  summary.failed = failed;
-  summary.seconds = seconds;
-  return summary;
+  return studies::run_hip_fe(options, throw_on_failure);
 }
-
 // hipfai fem levels: the same model and motion at each mesh level; what accuracy costs in time.
 struct FemLevelsOptions {
   FemRunOptions run;  // model, motion, steps, body weight, solver

@@ -2,6 +2,10 @@
 #include "app/command_registry.h"
 #include "studies/fai_study.h"
 #include "studies/hip_sensitivity.h"
+#include "studies/validation_report.h"
+#include "studies/validation_study.h"
+
+#include <filesystem>
 
 #include <iomanip>
 #include <iostream>
@@ -10,7 +14,7 @@ namespace hipfai::app {
 namespace {
 
 const CommandRegistrar registrar("study", [](CLI::App& parent) {
-  auto* study = parent.add_subcommand("study", "Run a study: fai (thesis §4.3), sensitivity (hip geometry)");
+  auto* study = parent.add_subcommand("study", "Run a study: fai (thesis §4.3), validate (penetration vs FE, Tables 8-9), sensitivity (hip geometry)");
   study->require_subcommand(1);
   auto* fai = study->add_subcommand(
       "fai", "FAI penetration study: 25 hips (CE 0-40, alpha 40-80), standing to sitting; writes "
@@ -59,6 +63,49 @@ const CommandRegistrar registrar("study", [](CLI::App& parent) {
                 << '\n';
     }
     std::cout << "total " << result.total_seconds << " s; report: " << result.report_path << '\n';
+  });
+
+  auto* validate = study->add_subcommand(
+      "validate", "FAI validation: penetration depths vs the FE ground truth on 25 hips over standing to sitting "
+                  "(thesis Tables 8-9); writes steps.csv, timings.csv, correlation.csv and report.md");
+  auto validate_options = std::make_shared<studies::ValidationOptions>();
+  auto validate_quick = std::make_shared<bool>(false);
+  auto validate_out = std::make_shared<std::string>("out/validate");
+  auto validate_cache = std::make_shared<std::string>("cache");
+  validate->add_flag("--quick", *validate_quick,
+                     "Test-sized run: 2 hips (CE 20 / alpha 40, CE 40 / alpha 60) at 3 mm edges, 6 steps, FE coarse");
+  validate->add_option("--fe-level", validate_options->fe_level, "FE mesh level (docs/fem-levels.md)")
+      ->capture_default_str()->check(CLI::IsMember({"coarse", "default", "fine"}));
+  validate->add_option("--out", *validate_out, "Output folder")->capture_default_str();
+  validate->add_option("--cache", *validate_cache, "Cache folder: generated hips, radial tables, FE runs")
+      ->capture_default_str();
+  validate->add_option("--edge-mm", validate_options->edge_mm, "Surface edge length of the penetration method")
+      ->capture_default_str()->check(CLI::Range(0.5, 10.0));
+  validate->add_option("--steps", validate_options->sub_motions, "Sub-motions of standing to sitting")
+      ->capture_default_str()->check(CLI::Range(3, 1000));
+  validate->add_option("--jobs", validate_options->jobs, "FE runs at once (one hip per process)")
+      ->capture_default_str()->check(CLI::Range(1, 64));
+  validate->add_option("--threads", validate_options->threads, "Threads of the penetration queries")
+      ->capture_default_str()->check(CLI::Range(1, 256));
+  validate->callback([=] {
+    studies::ValidationOptions run = *validate_options;
+    run.out_dir = *validate_out;
+    run.cache_dir = *validate_cache;
+    run.program = std::filesystem::read_symlink("/proc/self/exe");
+    if (*validate_quick) {
+      // Two hips whose depths differ: the normal hip and the thesis' Fig. 60 hip.
+      run.hips = {{20, 40}, {40, 60}};
+      run.edge_mm = 3.0;
+      run.sub_motions = 6;
+      if (validate->count("--fe-level") == 0) run.fe_level = "coarse";
+    }
+    const auto result = studies::run_validation_study(run);
+    const auto report = studies::write_correlation_report(run.out_dir);
+    std::cout << std::fixed << std::setprecision(2) << "validate: " << result.hips.size() << " hips x " << result.steps
+              << " steps, FE level " << result.fe_level << ", " << std::setprecision(0) << result.seconds
+              << " s; mean r (primary measure) " << std::setprecision(2) << report.mean_r_all << " all, "
+              << report.mean_r_curvilinear << " curvilinear, " << report.mean_r_radial << " radial over "
+              << report.ok_cells << " cells; report: " << report.report.string() << '\n';
   });
 
   auto* sensitivity = study->add_subcommand(

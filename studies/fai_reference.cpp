@@ -1,5 +1,6 @@
 #include "studies/fai_reference.h"
 
+#include "core/error.h"
 #include "studies/fai_study.h"
 
 #include <algorithm>
@@ -46,6 +47,50 @@ ReferenceCell thesis_radial_cell(double ce, double alpha) {
   if (ce < 5.0) return ReferenceCell::kNoPenetration;  // CE 0, alpha 40-70: n.p.
   return ReferenceCell::kAmbiguous;  // Table 9 lists r; the text says none for the normal hip
 }
+
+namespace {
+
+// Arbabi 2009 thesis, Tables 8 and 9 (§4.3.3.1), transcribed cell by cell: rows CE 0, 10, 20,
+// 30, 40 deg, columns alpha 40, 50, 60, 70, 80 deg. kNp is a printed "n.p.".
+constexpr ThesisCorrelation kNp{};
+constexpr ThesisCorrelation pen(double r, double p) { return {true, r, p}; }
+
+constexpr ThesisCorrelation kTable8[5][5] = {
+    {kNp, kNp, kNp, kNp, pen(0.85, 2.14e-9)},
+    {kNp, kNp, kNp, pen(0.83, 5.75e-9), pen(0.89, 2.01e-11)},
+    {kNp, kNp, pen(0.89, 2.51e-11), pen(0.91, 1.43e-12), pen(0.89, 3.99e-10)},
+    {kNp, pen(0.90, 9.50e-12), pen(0.95, 1.04e-16), pen(0.90, 1.01e-11), pen(0.91, 5.31e-9)},
+    {pen(0.97, 3.73e-19), pen(0.96, 3.82e-18), pen(0.93, 4.15e-12), pen(0.88, 4.39e-9), pen(0.95, 3.42e-8)},
+};
+
+constexpr ThesisCorrelation kTable9[5][5] = {
+    {kNp, kNp, kNp, kNp, pen(0.83, 7.38e-9)},
+    {pen(0.31, 0.092), pen(0.34, 0.064), pen(0.39, 0.031), pen(0.83, 6.42e-9), pen(0.90, 3.96e-12)},
+    {pen(0.60, 3.88e-4), pen(0.61, 2.70e-4), pen(0.89, 2.75e-11), pen(0.95, 4.93e-16), pen(0.91, 1.58e-11)},
+    {pen(0.58, 6.20e-4), pen(0.90, 9.89e-12), pen(0.97, 7.90e-20), pen(0.97, 3.32e-20), pen(0.93, 4.27e-10)},
+    {pen(0.97, 7.17e-20), pen(0.97, 4.56e-20), pen(0.96, 4.98e-16), pen(0.97, 3.93e-16), pen(0.96, 1.34e-8)},
+};
+
+const ThesisCorrelation& table_cell(const ThesisCorrelation (&table)[5][5], const char* which, double ce,
+                                    double alpha) {
+  if (!on_grid(ce, alpha)) {
+    throw_error("thesis ", which, ": CE ", ce, " / alpha ", alpha,
+                " deg is off the table's grid (CE 0..40, alpha 40..80 in steps of 10)");
+  }
+  return table[static_cast<int>(std::lround(ce / 10.0))][static_cast<int>(std::lround((alpha - 40.0) / 10.0))];
+}
+
+}  // namespace
+
+ThesisCorrelation thesis_table8(double ce, double alpha) { return table_cell(kTable8, "Table 8", ce, alpha); }
+ThesisCorrelation thesis_table9(double ce, double alpha) { return table_cell(kTable9, "Table 9", ce, alpha); }
+
+// §4.3.3.1: "The mean correlation coefficient was 0.84 (standard deviation 0.18, range 0.31 - 0.97)
+// for all penetration depths, 0.91 (standard deviation 0.04, range 0.83 - 0.97) for the curvilinear
+// penetration, and 0.80 (standard deviation 0.22, range 0.31 - 0.97) for the radial penetration."
+ThesisCorrelationSummary thesis_summary_all() { return {0.84, 0.18, 0.31, 0.97}; }
+ThesisCorrelationSummary thesis_summary_curvilinear() { return {0.91, 0.04, 0.83, 0.97}; }
+ThesisCorrelationSummary thesis_summary_radial() { return {0.80, 0.22, 0.31, 0.97}; }
 
 const std::vector<ReferenceMorphology>& thesis_table10() {
   static const std::vector<ReferenceMorphology> table{

@@ -21,6 +21,23 @@ enum class ReferenceCell { kPenetrates, kNoPenetration, kAmbiguous };
 ReferenceCell thesis_curvilinear_cell(double ce_deg, double alpha_deg);
 ReferenceCell thesis_radial_cell(double ce_deg, double alpha_deg);
 
+// Thesis Tables 8 and 9, one cell: penetration with Pearson r and p between the per-step maximum
+// depth and the per-step maximum von Mises stress over the 30 steps of standing-to-sitting, or n.p.
+// (The printed p follow from r with 31 pairs, the start pose included; five extreme hips, CE 20 /
+// alpha 80, CE 30 / 80 and CE 40 / 60-80, fit shorter series: tests/studies/fai_reference_test.cpp.)
+struct ThesisCorrelation {
+  bool penetrates = false;  // false: "n.p."
+  double r = 0.0, p = 1.0;  // as printed (r to 2 decimals, p to 3 significant digits)
+};
+// Cells on the 10-degree grid (CE 0..40, alpha 40..80); throws hipfai::Error for angles off it.
+ThesisCorrelation thesis_table8(double ce_deg, double alpha_deg);  // curvilinear
+ThesisCorrelation thesis_table9(double ce_deg, double alpha_deg);  // radial
+// The thesis' summary of those r (§4.3.3.1): mean, SD, range, for all / curvilinear / radial.
+struct ThesisCorrelationSummary { double mean, sd, min, max; };
+ThesisCorrelationSummary thesis_summary_all();
+ThesisCorrelationSummary thesis_summary_curvilinear();
+ThesisCorrelationSummary thesis_summary_radial();
+
 // Thesis Table 10: the six characteristic morphologies and their bands.
 struct ReferenceMorphology {
   std::string name;

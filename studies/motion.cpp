@@ -1,5 +1,6 @@
 #include "studies/motion.h"
 
+#include "core/csv.h"
 #include "core/error.h"
 #include "core/literature.h"
 
@@ -23,18 +24,6 @@ void set_axis_angle(MotionStep& step) {
   step.angle_deg = axis_angle.angle() * geometry::kRadToDeg;
   // The neutral pose has no axis; keep +X (flexion) so downstream code always has a unit vector.
   step.axis = step.angle_deg > 1e-12 ? Eigen::Vector3d(axis_angle.axis()) : Eigen::Vector3d::UnitX();
-}
-
-std::vector<std::string> split_csv_line(const std::string& line) {
-  std::vector<std::string> cells;
-  std::stringstream stream(line);
-  std::string cell;
-  while (std::getline(stream, cell, ',')) {
-    const auto first = cell.find_first_not_of(" \t\r");
-    const auto last = cell.find_last_not_of(" \t\r");
-    cells.push_back(first == std::string::npos ? "" : cell.substr(first, last - first + 1));
-  }
-  return cells;
 }
 
 }  // namespace

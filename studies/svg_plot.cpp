@@ -86,28 +86,47 @@ void save(const std::filesystem::path& path, const std::string& svg) {
 }  // namespace
 
 void write_svg(const LineChart& chart, const std::filesystem::path& path) {
-  const double width = 720, height = 440, left = 70, right = 180, top = 40, bottom = 55;
+  const bool has_right = std::any_of(chart.series.begin(), chart.series.end(),
+                                     [](const Series& s) { return s.right_axis; });
+  const bool has_left = std::any_of(chart.series.begin(), chart.series.end(),
+                                    [](const Series& s) { return !s.right_axis; });
+  // A right axis adds a column for its tick labels and label; the plot keeps its size and the legend
+  // moves right with the chart's edge.
+  const double extra = has_right ? 76 : 0;
+  const double width = 720 + extra, height = 440, left = 70, right = 180 + extra, top = 40, bottom = 55;
   auto tx = [&](double v) { return chart.log_x ? std::log10(v) : v; };
   auto ty = [&](double v) { return chart.log_y ? std::log10(v) : v; };
   auto usable = [&](double x, double y) {
     return std::isfinite(x) && std::isfinite(y) && (!chart.log_x || x > 0) && (!chart.log_y || y > 0);
   };
-  double x0 = std::numeric_limits<double>::infinity(), x1 = -x0, y0 = x0, y1 = -x0;
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  double x0 = kInf, x1 = -kInf;
+  double y0 = kInf, y1 = -kInf, r0 = kInf, r1 = -kInf;  // left and right y ranges (transformed)
   for (const auto& s : chart.series) {
+    double& lo = s.right_axis ? r0 : y0;
+    double& hi = s.right_axis ? r1 : y1;
     for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); ++i) {
       if (!usable(s.x[i], s.y[i])) continue;
       x0 = std::min(x0, tx(s.x[i])), x1 = std::max(x1, tx(s.x[i]));
-      y0 = std::min(y0, ty(s.y[i])), y1 = std::max(y1, ty(s.y[i]));
+      lo = std::min(lo, ty(s.y[i])), hi = std::max(hi, ty(s.y[i]));
     }
   }
-  if (!std::isfinite(x0)) x0 = 0, x1 = 1, y0 = 0, y1 = 1;
-  if (!chart.log_y) y0 = std::min(y0, 0.0);
+  if (!std::isfinite(x0)) x0 = 0, x1 = 1;
+  auto finish_range = [&](double& lo, double& hi) {
+    if (!std::isfinite(lo)) lo = 0, hi = 1;
+    if (!chart.log_y) lo = std::min(lo, 0.0);
+    if (hi <= lo) hi = lo + 1;
+    hi += 0.05 * (hi - lo);
+  };
   if (x1 <= x0) x1 = x0 + 1;
-  if (y1 <= y0) y1 = y0 + 1;
-  y1 += 0.05 * (y1 - y0);
+  finish_range(y0, y1);
+  finish_range(r0, r1);
   const double plot_w = width - left - right, plot_h = height - top - bottom;
   auto px = [&](double v) { return left + (tx(v) - x0) / (x1 - x0) * plot_w; };
-  auto py = [&](double v) { return top + plot_h - (ty(v) - y0) / (y1 - y0) * plot_h; };
+  auto py = [&](double v, bool on_right) {
+    const double lo = on_right ? r0 : y0, hi = on_right ? r1 : y1;
+    return top + plot_h - (ty(v) - lo) / (hi - lo) * plot_h;
+  };
   std::ostringstream svg;
   svg << "<svg xmlns='http://www.w3.org/2000/svg' width='" << width << "' height='" << height
       << "' font-family='sans-serif' font-size='12'>\n<rect width='100%' height='100%' fill='white'/>\n";
@@ -132,26 +151,65 @@ void write_svg(const LineChart& chart, const std::filesystem::path& path) {
       << escape(chart.x_label) << "</text>\n";
   svg << "<text transform='translate(18," << top + plot_h / 2 << ") rotate(-90)' text-anchor='middle'>"
       << escape(chart.y_label) << "</text>\n";
+  // Right axis: short tick marks on the frame (the grid follows the left axis), labels in the colour
+  // of its series when only one series uses it; otherwise black, and the legend marks its series.
+  std::size_t right_count = 0;
+  std::string right_colour = "black";
+  for (std::size_t s = 0; s < chart.series.size(); ++s) {
+    if (chart.series[s].right_axis) ++right_count, right_colour = kPalette[s % std::size(kPalette)];
+  }
+  if (right_count != 1) right_colour = "black";
+  if (has_right) {
+    const std::string& colour = right_colour;
+    const double axis_x = left + plot_w;
+    for (double t : ticks(r0, r1, 6)) {
+      const double y = top + plot_h - (t - r0) / (r1 - r0) * plot_h;
+      svg << "<line x1='" << axis_x << "' y1='" << y << "' x2='" << axis_x + 5 << "' y2='" << y
+          << "' stroke='" << colour << "'/><text x='" << axis_x + 8 << "' y='" << y + 4
+          << "' text-anchor='start' fill='" << colour << "'>" << number(axis_value(t, chart.log_y))
+          << "</text>\n";
+    }
+    svg << "<text transform='translate(" << axis_x + extra - 8 << ',' << top + plot_h / 2
+        << ") rotate(-90)' text-anchor='middle' fill='" << colour << "'>" << escape(chart.y2_label)
+        << "</text>\n";
+  }
+  const double legend_x = width - right + extra;
   for (std::size_t s = 0; s < chart.series.size(); ++s) {
     const auto& series = chart.series[s];
     const char* colour = kPalette[s % std::size(kPalette)];
-    svg << "<polyline fill='none' stroke='" << colour << "' stroke-width='2'"
-        << (series.dashed ? " stroke-dasharray='6,4'" : "") << " points='";
-    for (std::size_t i = 0; i < series.x.size() && i < series.y.size(); ++i) {
-      if (usable(series.x[i], series.y[i])) svg << px(series.x[i]) << ',' << py(series.y[i]) << ' ';
+    const std::size_t n = std::min(series.x.size(), series.y.size());
+    if (!series.markers) {
+      svg << "<polyline fill='none' stroke='" << colour << "' stroke-width='2'"
+          << (series.dashed ? " stroke-dasharray='6,4'" : "") << " points='";
+      for (std::size_t i = 0; i < n; ++i) {
+        if (usable(series.x[i], series.y[i])) {
+          svg << px(series.x[i]) << ',' << py(series.y[i], series.right_axis) << ' ';
+        }
+      }
+      svg << "'/>\n";
     }
-    svg << "'/>\n";
-    for (std::size_t i = 0; i < series.x.size() && i < series.y.size(); ++i) {
+    const char* radius = series.markers ? "3" : "2.5";
+    for (std::size_t i = 0; i < n; ++i) {
       if (usable(series.x[i], series.y[i])) {
-        svg << "<circle cx='" << px(series.x[i]) << "' cy='" << py(series.y[i]) << "' r='2.5' fill='" << colour
-            << "'/>\n";
+        svg << "<circle cx='" << px(series.x[i]) << "' cy='" << py(series.y[i], series.right_axis) << "' r='"
+            << radius << "' fill='" << colour << "'/>\n";
       }
     }
     const double ly = top + 14 + 18 * static_cast<double>(s);
-    svg << "<line x1='" << width - right + 12 << "' y1='" << ly << "' x2='" << width - right + 36
-        << "' y2='" << ly << "' stroke='" << colour << "' stroke-width='2'"
-        << (series.dashed ? " stroke-dasharray='6,4'" : "") << "/><text x='" << width - right + 42 << "' y='"
-        << ly + 4 << "'>" << escape(series.name) << "</text>\n";
+    if (series.markers) {
+      svg << "<circle cx='" << legend_x + 24 << "' cy='" << ly << "' r='3' fill='" << colour << "'/>";
+    } else {
+      svg << "<line x1='" << legend_x + 12 << "' y1='" << ly << "' x2='" << legend_x + 36 << "' y2='" << ly
+          << "' stroke='" << colour << "' stroke-width='2'" << (series.dashed ? " stroke-dasharray='6,4'" : "")
+          << "/>";
+    }
+    svg << "<text x='" << legend_x + 42 << "' y='" << ly + 4 << "'>" << escape(series.name)
+        << (series.right_axis && has_left && right_count > 1 ? " (right)" : "") << "</text>\n";
+  }
+  for (std::size_t k = 0; k < chart.notes.size(); ++k) {
+    const double ny = top + 14 + 18 * static_cast<double>(chart.series.size()) + 8 + 14 * static_cast<double>(k);
+    svg << "<text x='" << legend_x + 12 << "' y='" << ny << "' font-size='11'>" << escape(chart.notes[k])
+        << "</text>\n";
   }
   svg << "</svg>\n";
   save(path, svg.str());

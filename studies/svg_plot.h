@@ -11,16 +11,29 @@
 
 namespace hipfai::studies {
 
+// Points whose x or y is not finite (or not positive on a log axis) are skipped: a line joins the
+// usable neighbours across the gap rather than breaking there.
 struct Series {
   std::string name;
   std::vector<double> x, y;
   bool dashed = false;
+  bool markers = false;     // scatter: a small circle per point (series colour), no connecting line
+  bool right_axis = false;  // scaled against the second y axis on the right (LineChart::y2_label)
 };
 
+// Colours follow the series order (10-colour palette). The left y axis spans the series without
+// `right_axis`; if any series has `right_axis`, a second y axis with its own range (from those series
+// only; starting at 0 like the left one unless log_y) and ticks is drawn on the right, its tick labels
+// and label in that series' colour when exactly one series uses it (otherwise black, and the legend
+// names of its series get " (right)"), and the chart grows wider so the legend stays clear of it.
+// Without right-axis series the output is as before. The legend column fits about 22 characters.
 struct LineChart {
   std::string title, x_label, y_label;
   std::vector<Series> series;
-  bool log_x = false, log_y = false;  // log10 axes (scaling plots); non-positive values skipped
+  bool log_x = false, log_y = false;  // log10 axes (scaling plots; log_y applies to both y axes);
+                                      // non-positive values skipped
+  std::string y2_label;               // label of the right y axis (used only with right-axis series)
+  std::vector<std::string> notes;     // lines of small text under the legend, e.g. "r = 0.93, p = 1e-12"
 };
 
 // Rows are drawn top to bottom, columns left to right; NaN cells are grey and labelled "n/a".

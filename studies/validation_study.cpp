@@ -1,0 +1,445 @@
+#include "studies/validation_study.h"
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "geometry/mesh_io.h"
+#include "studies/hip_source.h"
+#include "studies/motion.h"
+#include "studies/penetration_run.h"
+#include "studies/scene.h"
+
+#ifdef HIPFAI_WITH_FEM
+#include "studies/hip_fe_run.h"
+#endif
+
+#include <spawn.h>
+#include <sys/wait.h>
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iomanip>
+#include <limits>
+#include <mutex>
+#include <sstream>
+#include <thread>
+
+extern char** environ;
+
+namespace hipfai::studies {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+std::string hip_id(double ce, double alpha) {
+  std::ostringstream out;
+  out << "ce" << ce << "_alpha" << alpha;
+  return out.str();
+}
+
+// The hip of thesis Figs. 60-61 (CE 40 / alpha 60).
+constexpr double kFigureCe = 40.0, kFigureAlpha = 60.0;
+
+struct HipRun {
+  double ce = 0, alpha = 0;
+  LoadedHip hip;
+  PenetrationRun penetration;
+  ValidationHipTiming timing;
+  std::vector<std::vector<double>> fe;  // [measure][step], NaN where the FE step failed
+};
+
+// Femur-side tissues move with the femur; the others stay with the pelvis.
+bool moves_with_femur(const std::string& tissue) {
+  return tissue == "femur_bone" || tissue == "femoral_cartilage";
+}
+
+// The tissues with the last step's depth fields, the femur's at the end pose (as the FE's VTU).
+void write_end_pose_vtp(const LoadedHip& hip, const MotionStep& last, const DepthFields& fields,
+                        const std::filesystem::path& dir) {
+  std::map<std::string, geometry::TriMesh> coloured;
+  for (const auto& [tissue, mesh] : hip.tissues) coloured.emplace(tissue, mesh);
+  for (const auto& [key, values] : fields) {
+    const std::string tissue = key.substr(0, key.find('/'));
+    coloured.at(tissue).vertex_fields[key.substr(key.find('/') + 1)] = values;
+  }
+  const Eigen::Matrix3d rotation = hip.frame * last.rotation * hip.frame.transpose();
+  std::filesystem::create_directories(dir);
+  for (auto& [tissue, mesh] : coloured) {
+    if (moves_with_femur(tissue)) {
+      for (auto& v : mesh.vertices) v = hip.hjc_mm + rotation * (v - hip.hjc_mm);
+    }
+    geometry::write_mesh(mesh, dir / (tissue + ".vtp"));
+  }
+}
+
+HipRun run_penetration(double ce, double alpha, const Motion& motion, const ValidationOptions& options,
+                       StageLog& log) {
+  HipRun run;
+  run.ce = ce;
+  run.alpha = alpha;
+  run.timing.ce_deg = ce;
+  run.timing.alpha_deg = alpha;
+  Scene scene;
+  scene.name = hip_id(ce, alpha);
+  scene.parametric = ParametricHip{ce, alpha, options.edge_mm};
+  scene.outputs = {Output::kCurvilinearDepth, Output::kRadialDepth};
+  for (Output output : scene.outputs) {
+    const auto tissues = tissues_for(output);
+    scene.tissues.insert(tissues.begin(), tissues.end());
+  }
+  const int generated_before = log.executed_count(StageKind::kGenerateHip);
+  const auto start = Clock::now();
+  run.hip = acquire_hip(scene, scene.tissues, options.cache_dir, log);
+  run.timing.generate_s = log.executed_count(StageKind::kGenerateHip) > generated_before ? seconds_since(start) : 0.0;
+  PenetrationOptions penetration;
+  penetration.threads = options.threads;
+  penetration.cache_dir = options.cache_dir;
+  const bool figure = ce == kFigureCe && alpha == kFigureAlpha;
+  StepObserver observer;
+  if (figure) {
+    observer = [&](std::size_t step, const DepthFields& fields) {
+      if (step + 1 == motion.steps.size()) {
+        write_end_pose_vtp(run.hip, motion.steps.back(), fields, options.out_dir / "fig61");
+      }
+    };
+  }
+  run.penetration = compute_penetration(run.hip, motion, penetration, log, observer);
+  run.timing.penetration_tables_ms =
+      run.penetration.curvilinear_preprocessing_ms + run.penetration.radial_preprocessing_ms;
+  for (const StepPenetration& step : run.penetration.steps) {
+    run.timing.penetration_query_ms += step.curvilinear_ms + step.radial_ms;
+  }
+  return run;
+}
+
+std::string number(double value) {
+  if (!std::isfinite(value)) return "";
+  std::ostringstream out;
+  out << std::setprecision(10) << value;
+  return out.str();
+}
+
+#ifdef HIPFAI_WITH_FEM
+
+// Body names of the FE model ("femoral cartilage") -> the column names' tissue ("femoral_cartilage").
+const std::vector<std::pair<std::string, std::string>>& fe_bodies() {
+  static const std::vector<std::pair<std::string, std::string>> bodies{
+      {"labrum", "labrum"}, {"femoral cartilage", "femoral_cartilage"},
+      {"acetabular cartilage", "acetabular_cartilage"}};
+  return bodies;
+}
+
+// One FE measure per step from the run's table; NaN for steps that did not converge.
+std::vector<std::vector<double>> fe_measures(const HipFeTable& table, std::size_t steps,
+                                             const std::filesystem::path& file) {
+  if (table.rows != steps) {
+    throw_error(file.string(), ": ", table.rows, " FE steps, the motion has ", steps);
+  }
+  const std::vector<double>& status = table.column("status");
+  const auto body_column = [&](const std::string& kind, const std::string& body) -> std::vector<double> {
+    const std::string name = kind + "_von_mises_mpa " + body;
+    if (table.values.count(name) == 0) return std::vector<double>(steps, 0.0);  // tissue absent
+    return table.column(name);
+  };
+  std::vector<std::vector<double>> out;
+  for (const std::string& measure : validation_fe_measures()) {
+    std::vector<double> values(steps, 0.0);
+    if (measure == "pressure_max_mpa") values = table.column("max_pressure_mpa");
+    else if (measure == "pressure_ball_mpa") values = table.column("ball_peak_pressure_mpa");
+    else if (measure == "pressure_mean_mpa") values = table.column("mean_pressure_mpa");
+    else {
+      // von_mises_<kind>_<tissue|model>_mpa
+      const std::string rest = measure.substr(std::strlen("von_mises_"));
+      const std::string kind_name = rest.substr(0, rest.find('_'));
+      const std::string kind = kind_name == "ball" ? "ball_peak" : kind_name;  // max, p95, ball_peak
+      const std::string where = rest.substr(rest.find('_') + 1, rest.size() - rest.find('_') - 1 - 4);
+      for (const auto& [body, tissue] : fe_bodies()) {
+        if (where != "model" && where != tissue) continue;
+        const std::vector<double> column = body_column(kind, body);
+        for (std::size_t k = 0; k < steps; ++k) values[k] = std::max(values[k], column[k]);
+      }
+    }
+    for (std::size_t k = 0; k < steps; ++k) {
+      if (status[k] != 0.0) values[k] = std::numeric_limits<double>::quiet_NaN();
+    }
+    out.push_back(std::move(values));
+  }
+  return out;
+}
+
+// The environment of an FE worker: one thread per process (two processes share two cores), and
+// nothing of an MPI launcher the parent may have been started under.
+std::vector<std::string> worker_environment() {
+  std::vector<std::string> env;
+  for (char** e = environ; e != nullptr && *e != nullptr; ++e) {
+    const std::string entry(*e);
+    if (entry.rfind("OMPI_", 0) == 0 || entry.rfind("PMIX_", 0) == 0 || entry.rfind("OMP_NUM_THREADS=", 0) == 0 ||
+        entry.rfind("OPENBLAS_NUM_THREADS=", 0) == 0) {
+      continue;
+    }
+    env.push_back(entry);
+  }
+  env.emplace_back("OMP_NUM_THREADS=1");
+  env.emplace_back("OPENBLAS_NUM_THREADS=1");
+  return env;
+}
+
+// Runs `program args...` with stdout and stderr to `log`; returns its exit status (-1: not started
+// or killed by a signal).
+int run_process(const std::filesystem::path& program, const std::vector<std::string>& args,
+                const std::filesystem::path& log) {
+  std::vector<std::string> argv_text{program.string()};
+  argv_text.insert(argv_text.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (std::string& a : argv_text) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  std::vector<std::string> env_text = worker_environment();
+  std::vector<char*> envp;
+  for (std::string& e : env_text) envp.push_back(e.data());
+  envp.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  const std::string log_path = log.string();
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
+  pid_t pid = 0;
+  const int spawned = posix_spawn(&pid, argv_text[0].c_str(), &actions, nullptr, argv.data(), envp.data());
+  posix_spawn_file_actions_destroy(&actions);
+  if (spawned != 0) return -1;
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0) {
+    if (errno != EINTR) return -1;
+  }
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+struct FeJob {
+  std::size_t hip = 0;
+  HipFeRunOptions run;
+  std::filesystem::path entry;
+};
+
+// Solves the FE of one hip into its cache entry (in this process or a worker process); writes the
+// run's wall time beside its table.
+void solve_fe(const FeJob& job, const ValidationOptions& options) {
+  const std::filesystem::path partial = job.entry.string() + ".partial";
+  std::filesystem::remove_all(partial);
+  std::filesystem::create_directories(partial);
+  HipFeRunOptions run = job.run;
+  run.out_file = (partial / "results.h5").string();
+  run.csv_file = (partial / "fe.csv").string();
+  run.vtu_every = static_cast<unsigned int>(options.sub_motions);  // the end pose only
+  run.vtu_prefix = (partial / "fe").string();
+  const auto start = Clock::now();
+  if (options.program.empty()) {
+    run.progress = false;
+    (void)run_hip_fe(run, false);
+  } else {
+    const int status = run_process(options.program, hip_fe_command_arguments(run), partial / "run.log");
+    // Exit status 1 with a complete table: some steps did not converge (kept, with their status).
+    if (status != 0 && !std::filesystem::exists(partial / "fe.csv")) {
+      throw_error("FE of ", job.run.model_dir, " failed (exit status ", status, "); see ",
+                  (partial / "run.log").string());
+    }
+  }
+  write_file_atomically(partial / "timing.txt", "wall_s " + number(seconds_since(start)) + "\n");
+  commit_hip_fe_entry(partial, job.entry);
+}
+
+void run_fe_stage(std::vector<HipRun>& hips, const Motion& motion, const ValidationOptions& options) {
+  std::vector<FeJob> jobs;
+  for (std::size_t h = 0; h < hips.size(); ++h) {
+    FeJob job;
+    job.hip = h;
+    job.run.model_dir = hips[h].hip.dir.string();
+    job.run.steps = options.sub_motions;
+    job.run.level = options.fe_level;
+    if (options.body_weight_n > 0) job.run.body_weight_n = options.body_weight_n;
+    job.entry = hip_fe_cache_entry(options.cache_dir, hip_fe_cache_key(job.run));
+    hips[h].timing.fe_reused = std::filesystem::exists(job.entry / "fe.csv");
+    if (!hips[h].timing.fe_reused) jobs.push_back(std::move(job));
+  }
+  const std::size_t reused = hips.size() - jobs.size();
+  if (options.progress) {
+    std::printf("validate: FE (level %s) on %zu hips, %zu from the cache, %zu to solve in %d process(es)\n",
+                options.fe_level.c_str(), hips.size(), reused, jobs.size(),
+                options.program.empty() ? 1 : std::max(1, options.jobs));
+    std::fflush(stdout);
+  }
+  std::atomic<std::size_t> next{0}, done{0};
+  std::mutex mutex;
+  std::vector<std::string> errors;
+  const auto start = Clock::now();
+  auto worker = [&] {
+    for (std::size_t j = next++; j < jobs.size(); j = next++) {
+      const auto job_start = Clock::now();
+      try {
+        solve_fe(jobs[j], options);
+      } catch (const std::exception& error) {
+        const std::lock_guard<std::mutex> lock(mutex);
+        errors.emplace_back(error.what());
+        continue;
+      }
+      const std::lock_guard<std::mutex> lock(mutex);
+      if (options.progress) {
+        const std::size_t finished = ++done;
+        std::printf("validate: FE [%zu/%zu] %s in %.0f s (%.0f s elapsed)\n", finished, jobs.size(),
+                    hips[jobs[j].hip].hip.id.c_str(), seconds_since(job_start), seconds_since(start));
+        std::fflush(stdout);
+      }
+    }
+  };
+  const int workers = options.program.empty() ? 1 : std::max(1, std::min<int>(options.jobs, static_cast<int>(jobs.size())));
+  std::vector<std::thread> threads;
+  for (int w = 0; w < workers; ++w) threads.emplace_back(worker);
+  for (std::thread& thread : threads) thread.join();
+  if (!errors.empty()) {
+    std::string text;
+    for (const std::string& e : errors) text += (text.empty() ? "" : "; ") + e;
+    throw_error("validate: ", errors.size(), " FE run(s) failed: ", text);
+  }
+  // Read every hip's entry back.
+  for (HipRun& run : hips) {
+    HipFeRunOptions options_of_hip;
+    options_of_hip.model_dir = run.hip.dir.string();
+    options_of_hip.steps = options.sub_motions;
+    options_of_hip.level = options.fe_level;
+    if (options.body_weight_n > 0) options_of_hip.body_weight_n = options.body_weight_n;
+    const std::filesystem::path entry = hip_fe_cache_entry(options.cache_dir, hip_fe_cache_key(options_of_hip));
+    const HipFeTable table = read_hip_fe_csv(entry / "fe.csv");
+    run.fe = fe_measures(table, motion.steps.size(), entry / "fe.csv");
+    for (std::size_t k = 0; k < table.rows; ++k) {
+      run.timing.fe_step_s += table.column("wall_time_s")[k];
+      run.timing.fe_steps_failed += table.column("status")[k] != 0.0;
+    }
+    run.timing.fe_dofs = table.rows > 0 ? table.column("dofs")[0] : 0.0;
+    std::ifstream timing(entry / "timing.txt");
+    std::string word;
+    if (timing >> word >> run.timing.fe_s; !timing) run.timing.fe_s = run.timing.fe_step_s;
+    // The end pose of the figure's hip: the FE fields beside the depths.
+    if (run.ce == kFigureCe && run.alpha == kFigureAlpha) {
+      const std::filesystem::path vtu = entry / ("fe_" + std::to_string(motion.steps.size()) + ".vtu");
+      if (std::filesystem::exists(vtu)) {
+        std::filesystem::create_directories(options.out_dir / "fig61");
+        std::filesystem::copy_file(vtu, options.out_dir / "fig61" / "fe.vtu",
+                                   std::filesystem::copy_options::overwrite_existing);
+      }
+    }
+  }
+}
+
+#endif  // HIPFAI_WITH_FEM
+
+void write_steps_csv(const std::vector<HipRun>& hips, const Motion& motion, const std::filesystem::path& path) {
+  std::ostringstream csv;
+  csv << "ce_deg,alpha_deg,step,angle_deg,max_curvilinear_mm,max_radial_mm";
+  for (const std::string& measure : validation_fe_measures()) csv << ',' << measure;
+  csv << '\n';
+  for (const HipRun& run : hips) {
+    for (std::size_t k = 0; k < motion.steps.size(); ++k) {
+      const StepPenetration& step = run.penetration.steps[k];
+      csv << run.ce << ',' << run.alpha << ',' << k + 1 << ',' << number(motion.steps[k].angle_deg) << ','
+          << number(step.curvilinear_max_mm()) << ',' << number(step.radial_max_mm());
+      for (std::size_t m = 0; m < validation_fe_measures().size(); ++m) {
+        csv << ',' << (m < run.fe.size() ? number(run.fe[m][k]) : std::string());
+      }
+      csv << '\n';
+    }
+  }
+  write_file_atomically(path, csv.str());
+}
+
+void write_timings_csv(const std::vector<HipRun>& hips, const ValidationOptions& options, int steps,
+                       const std::filesystem::path& path) {
+  std::ostringstream csv;
+  csv << "ce_deg,alpha_deg,edge_mm,steps,fe_level,generate_s,penetration_tables_ms,penetration_query_ms,"
+         "fe_s,fe_step_s,fe_reused,fe_steps_failed,fe_dofs\n";
+  for (const HipRun& run : hips) {
+    const ValidationHipTiming& t = run.timing;
+    csv << run.ce << ',' << run.alpha << ',' << options.edge_mm << ',' << steps << ',' << options.fe_level << ','
+        << number(t.generate_s) << ',' << number(t.penetration_tables_ms) << ',' << number(t.penetration_query_ms)
+        << ',' << number(t.fe_s) << ',' << number(t.fe_step_s) << ',' << (t.fe_reused ? 1 : 0) << ','
+        << t.fe_steps_failed << ',' << number(t.fe_dofs) << '\n';
+  }
+  write_file_atomically(path, csv.str());
+}
+
+void check_options(const ValidationOptions& options) {
+  if (options.hips.empty() && (options.ce_deg.empty() || options.alpha_deg.empty())) {
+    throw_error("validate: empty CE or alpha grid");
+  }
+  if (options.sub_motions < 3) throw_error("validate: --steps must be at least 3 (a correlation needs 3 pairs)");
+  if (!(options.edge_mm > 0)) throw_error("validate: --edge-mm must be > 0");
+  if (options.jobs < 1) throw_error("validate: --jobs must be at least 1");
+#ifdef HIPFAI_WITH_FEM
+  (void)fem::parse_hip_fe_level(options.fe_level);
+  if (!options.program.empty() && !std::filesystem::exists(options.program)) {
+    throw_error("validate: FE worker program ", options.program.string(), " not found");
+  }
+#else
+  throw_error("validate: this build has no FE module (configure with HIPFAI_WITH_FEM=ON)");
+#endif
+}
+
+}  // namespace
+
+const std::vector<std::string>& validation_fe_measures() {
+  static const std::vector<std::string> measures{
+      "von_mises_ball_model_mpa",          "von_mises_max_model_mpa",
+      "von_mises_ball_labrum_mpa",         "von_mises_max_labrum_mpa",
+      "von_mises_p95_labrum_mpa",          "von_mises_ball_femoral_cartilage_mpa",
+      "von_mises_max_femoral_cartilage_mpa", "von_mises_p95_femoral_cartilage_mpa",
+      "von_mises_ball_acetabular_cartilage_mpa", "von_mises_max_acetabular_cartilage_mpa",
+      "von_mises_p95_acetabular_cartilage_mpa", "pressure_max_mpa",
+      "pressure_ball_mpa",                 "pressure_mean_mpa"};
+  return measures;
+}
+
+ValidationResult run_validation_study(const ValidationOptions& options) {
+  check_options(options);
+  const auto start = Clock::now();
+  std::filesystem::create_directories(options.out_dir);
+  const Motion motion = standing_to_sitting(options.sub_motions);
+  StageLog log;
+  std::vector<HipRun> hips;
+  std::vector<std::pair<double, double>> grid = options.hips;
+  if (grid.empty()) {
+    for (double ce : options.ce_deg) {
+      for (double alpha : options.alpha_deg) grid.emplace_back(ce, alpha);
+    }
+  }
+  for (const auto& [ce, alpha] : grid) {
+    const auto hip_start = Clock::now();
+    hips.push_back(run_penetration(ce, alpha, motion, options, log));
+    if (options.progress) {
+      std::printf("validate: penetration [%zu/%zu] %s: max curvilinear %.2f mm, radial %.2f mm (%.1f s)\n",
+                  hips.size(), grid.size(), hips.back().hip.id.c_str(), hips.back().penetration.max_curvilinear_mm(),
+                  hips.back().penetration.max_radial_mm(), seconds_since(hip_start));
+      std::fflush(stdout);
+    }
+  }
+#ifdef HIPFAI_WITH_FEM
+  run_fe_stage(hips, motion, options);
+#endif
+  write_steps_csv(hips, motion, options.out_dir / "steps.csv");
+  write_timings_csv(hips, options, static_cast<int>(motion.steps.size()), options.out_dir / "timings.csv");
+  ValidationResult result;
+  for (const HipRun& run : hips) result.hips.push_back(run.timing);
+  result.steps = static_cast<int>(motion.steps.size());
+  result.fe_level = options.fe_level;
+  result.seconds = seconds_since(start);
+  return result;
+}
+
+}  // namespace hipfai::studies

@@ -1,0 +1,73 @@
+// hipfai — the FAI validation study (thesis §4.3.2.3, Tables 8-9): on every hip of the CE x alpha
+// grid and every step of standing-to-sitting, the penetration depths (curvilinear and radial,
+// studies/penetration_run.h) beside the FE ground truth (von Mises per tissue and contact pressure,
+// studies/hip_fe_run.h). It computes and stores the per-step values; the correlations, tables and
+// figures are made from the stored values by studies/validation_report.h.
+//
+// Stages per hip: generate (cached by parameters), penetration (radial tables cached), FE (cached
+// by hip_fe_cache_key). The FE of the hips runs in `jobs` worker processes (`hipfai fem run`, one
+// hip per process: measured faster on two cores than one hip on two MPI ranks, docs/validation.md).
+// A killed run resumes: generated hips and finished FE runs come from the cache, and only the
+// hips without a finished FE entry are solved again.
+//
+// Output folder (docs/results-layout.md):
+//   steps.csv    one row per hip and step: ce_deg, alpha_deg, step, angle_deg, max_curvilinear_mm,
+//                max_radial_mm, then one column per FE measure (names ending in _mpa; empty where
+//                the FE step did not converge)
+//   timings.csv  one row per hip: time of each stage, FE level, DOFs, steps not converged
+//   fig61/       the CE 40 / alpha 60 hip at the end pose for ParaView (when on the grid)
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace hipfai::studies {
+
+struct ValidationOptions {
+  std::filesystem::path out_dir = "out/validate";
+  std::filesystem::path cache_dir = "cache";
+  std::vector<double> ce_deg{0, 10, 20, 30, 40};
+  std::vector<double> alpha_deg{40, 50, 60, 70, 80};
+  // (CE, alpha) of the hips to run instead of the grid, when not empty.
+  std::vector<std::pair<double, double>> hips;
+  double edge_mm = 2.0;       // surface resolution of the penetration method
+  int sub_motions = 30;       // steps of standing-to-sitting (thesis: 30)
+  std::string fe_level = "default";
+  double body_weight_n = 0.0; // <= 0: fem::kDefaultBodyWeightN
+  int jobs = 2;               // FE worker processes at once
+  int threads = 2;            // threads of the penetration method
+  // The hipfai executable the FE workers run; empty: the FE runs in this process, one hip after
+  // the other.
+  std::filesystem::path program;
+  bool progress = true;
+};
+
+// The FE measures of steps.csv, in column order (names end in _mpa); the first is the primary one.
+const std::vector<std::string>& validation_fe_measures();
+
+struct ValidationHipTiming {
+  double ce_deg = 0, alpha_deg = 0;
+  double generate_s = 0;                 // 0 when the hip came from the cache
+  double penetration_tables_ms = 0;      // cylindrical + radial tables (built or loaded)
+  double penetration_query_ms = 0;       // all steps, curvilinear + radial queries
+  double fe_s = 0;                       // the FE run's wall time (as measured when it was solved)
+  double fe_step_s = 0;                  // sum of the FE steps' wall times
+  bool fe_reused = false;                // the FE came from the cache in this run
+  int fe_steps_failed = 0;
+  double fe_dofs = 0;
+};
+
+struct ValidationResult {
+  std::vector<ValidationHipTiming> hips;
+  int steps = 0;
+  std::string fe_level;
+  double seconds = 0;
+};
+
+// Throws hipfai::Error for unusable options (before any work) and when an FE run leaves no
+// results (naming the hip and its log).
+ValidationResult run_validation_study(const ValidationOptions& options);
+
+}  // namespace hipfai::studies
