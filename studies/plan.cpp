@@ -46,6 +46,21 @@ std::vector<Eigen::Vector3d> distinct_axes(const Motion& motion) {
   return axes;
 }
 
+std::string fe_load_description(const Scene& scene, const Motion& motion) {
+  std::size_t with_force = 0;
+  for (const MotionStep& step : motion.steps) with_force += step.force_N ? 1 : 0;
+  std::ostringstream load;
+  if (scene.motion.kind == MotionSpec::Kind::kStandingToSitting) {
+    load << "sitting-down load, body weight " << scene.fe.body_weight_n << " N";
+  } else if (with_force == motion.steps.size() && with_force > 0) {
+    load << "the motion's joint forces";
+  } else {
+    load << (with_force > 0 ? "the motion's joint forces, " : "") << "constant joint force, body weight "
+         << scene.fe.body_weight_n << " N";
+  }
+  return load.str();
+}
+
 Plan plan_scene(const Scene& scene, const Motion& motion) {
   Plan plan;
   const int steps = static_cast<int>(motion.steps.size());
@@ -90,8 +105,11 @@ Plan plan_scene(const Scene& scene, const Motion& motion) {
       add(StageKind::kRangeOfMotion, "femur_bone vs acetabular_bone, axis " + std::to_string(a + 1));
     }
   }
-  if (scene.outputs.count(Output::kVonMises) || scene.outputs.count(Output::kContactPressure)) {
-    add(StageKind::kFiniteElement, "contact FE over the motion", steps);
+  if (needs_fe(scene)) {
+    std::ostringstream label;
+    label << "contact FE over the motion (level " << scene.fe.level << "; " << fe_load_description(scene, motion)
+          << ')';
+    add(StageKind::kFiniteElement, label.str(), steps);
   }
   add(StageKind::kWriteResults, "results.h5, CSV");
   return plan;

@@ -45,4 +45,10 @@ std::vector<Eigen::Vector3d> distinct_axes(const Motion& motion);
 
 Plan plan_scene(const Scene& scene, const Motion& motion);
 
+// The joint force the FE applies to `motion` (the scene's, before any load is attached), in
+// words: "sitting-down load, body weight 700 N" for standing-to-sitting, the constant joint force
+// for other motions, the motion's own forces where its CSV gives them (scene_runner.h,
+// fe_motion_of).
+std::string fe_load_description(const Scene& scene, const Motion& motion);
+
 }  // namespace hipfai::studies

@@ -95,9 +95,20 @@ std::set<std::string> tissues_for(Output output) {
     case Output::kRom: return {"femur_bone", "acetabular_bone"};
     case Output::kVonMises:
     case Output::kContactPressure:
-      return {tissue_names().begin(), tissue_names().end()};
+      // The hip FE model (studies/hip_fe_run.cpp): deformable cartilage and labrum, the femoral
+      // bone as the rigid body the rotation is applied to; the pelvis is a fixed boundary.
+      return {"femur_bone", "femoral_cartilage", "acetabular_cartilage", "labrum"};
   }
   return {};
+}
+
+bool needs_fe(const Scene& scene) {
+  return scene.outputs.count(Output::kVonMises) != 0 || scene.outputs.count(Output::kContactPressure) != 0;
+}
+
+bool needs_penetration(const Scene& scene) {
+  return scene.outputs.count(Output::kCurvilinearDepth) != 0 || scene.outputs.count(Output::kRadialDepth) != 0 ||
+         scene.outputs.count(Output::kRom) != 0;
 }
 
 Scene parse_scene(const std::string& text, const std::filesystem::path& origin) {
@@ -110,7 +121,7 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& origin) 
   }
   if (!root.IsMap()) throw_error(origin.string(), ":1: a scene must be a YAML mapping");
   ctx.only_keys(root, "", {"schema_version", "units", "name", "hip", "tissues", "motion", "outputs",
-                           "options"});
+                           "options", "fe"});
   Scene scene;
   scene.file = origin;
 
@@ -245,6 +256,21 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& origin) 
       } catch (const YAML::Exception&) {
         ctx.fail(options["swap_roles"], "options.swap_roles", "expected true or false");
       }
+    }
+  }
+
+  if (const YAML::Node fe = root["fe"]) {
+    ctx.only_keys(fe, "fe", {"level", "body_weight_n"});
+    if (fe["level"]) {
+      // The names of fem::hip_fe_level_names(), spelled out: scenes are read without the FE module.
+      scene.fe.level = ctx.text(fe["level"], "fe.level");
+      if (scene.fe.level != "coarse" && scene.fe.level != "default" && scene.fe.level != "fine") {
+        ctx.fail(fe["level"], "fe.level", "unknown level '" + scene.fe.level + "' (expected coarse, default or fine)");
+      }
+    }
+    if (fe["body_weight_n"]) {
+      scene.fe.body_weight_n = ctx.number(fe["body_weight_n"], "fe.body_weight_n", 0, 10000);
+      if (scene.fe.body_weight_n <= 0) ctx.fail(fe["body_weight_n"], "fe.body_weight_n", "must be positive");
     }
   }
   return scene;

@@ -14,6 +14,18 @@
 //   outputs: [curvilinear_depth, radial_depth]
 //   options: {mapping: cube, table_size: 20000, swap_roles: true}
 //
+// FE outputs (von_mises, contact_pressure) run the contact FE of fem/ over the motion
+// (studies/hip_fe_run.h, cached under <cache>/fe/). Its settings, all optional, are in the
+// top-level `fe` block (ignored when no output needs the FE):
+//
+//   fe: {level: coarse, body_weight_n: 700}
+//     level          coarse | default | fine (fem::hip_fe_level_names(), docs/fem-levels.md);
+//                    default "default"
+//     body_weight_n  body weight (N), (0, 10000]; default 700. The joint force scales with it:
+//                    standing-to-sitting gets the sitting-down load (studies/motion.h,
+//                    attach_sitting_down_load), other motions the constant joint force
+//                    (fem::constant_joint_force_n) on every step whose CSV row gives no force.
+//
 // Every problem (unknown key, missing file, wrong unit, angle out of range) is reported before any
 // work starts, as "<file>:<line>: <key>: <problem>". Relative paths are relative to the scene file.
 #pragma once
@@ -61,6 +73,12 @@ struct SceneOptions {
   bool swap_roles = true;         // also run each method with mobile and fixed exchanged (§4.3.2.1)
 };
 
+// The `fe` block (see the top of this file).
+struct FeSpec {
+  std::string level = "default";   // coarse | default | fine
+  double body_weight_n = 700.0;     // N; the same default as fem::kDefaultBodyWeightN
+};
+
 struct Scene {
   std::filesystem::path file;           // where it was read from (for messages)
   std::string name;
@@ -70,14 +88,21 @@ struct Scene {
   MotionSpec motion;
   std::set<Output> outputs;
   SceneOptions options;
+  FeSpec fe;
 };
+
+// True when the scene asks for an FE output (von_mises or contact_pressure).
+bool needs_fe(const Scene& scene);
+// True when the scene asks for a penetration output (curvilinear_depth, radial_depth or rom).
+bool needs_penetration(const Scene& scene);
 
 // Parses and validates a scene; throws hipfai::Error "<file>:<line>: ..." on the first problem.
 Scene read_scene(const std::filesystem::path& path);
 // Same from text (for tests); `origin` is used in messages and to resolve relative paths.
 Scene parse_scene(const std::string& text, const std::filesystem::path& origin);
 
-// Tissues an output needs (thesis §4.3.2.1 pairs).
+// Tissues an output needs (thesis §4.3.2.1 pairs; the FE outputs: the tissues of the hip FE
+// model, femur bone, femoral and acetabular cartilage and labrum, not the rigid pelvis).
 std::set<std::string> tissues_for(Output output);
 
 }  // namespace hipfai::studies

@@ -6,7 +6,13 @@
 #include "geometry/mesh_io.h"
 #include "studies/results_file.h"
 
+#ifdef HIPFAI_WITH_FEM
+#include "fem/contact_problem.h"
+#include "studies/hip_fe_run.h"
+#endif
+
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <iomanip>
 #include <sstream>
@@ -21,25 +27,107 @@ contact::RadialMapping mapping_of(const std::string& name) {
   return contact::RadialMapping::kCube;
 }
 
-void write_steps_csv(const std::filesystem::path& path, const Motion& motion, const PenetrationRun& run) {
+// One row per motion step: the pose, the penetration columns when penetration ran (`run` not
+// null), the FE columns when the FE ran.
+void write_steps_csv(const std::filesystem::path& path, const Motion& motion, const PenetrationRun* run,
+                     const SceneFeResult& fe) {
   const std::filesystem::path partial = path.string() + ".partial";
   {
     std::ofstream out(partial);
-    out << "step,flexion_deg,adduction_deg,internal_rotation_deg,angle_deg,max_curvilinear_mm,"
-           "max_radial_mm,curvilinear_vertices,radial_vertices,curvilinear_ms,radial_ms\n";
+    out << "step,flexion_deg,adduction_deg,internal_rotation_deg,angle_deg";
+    if (run) {
+      out << ",max_curvilinear_mm,max_radial_mm,curvilinear_vertices,radial_vertices,curvilinear_ms,radial_ms";
+    }
+    if (fe.ran) {
+      out << ",fe_status";
+      for (const auto& [name, values] : fe.columns) out << ',' << name;
+    }
+    out << '\n';
     out << std::setprecision(10);
-    for (std::size_t k = 0; k < run.steps.size(); ++k) {
+    for (std::size_t k = 0; k < motion.steps.size(); ++k) {
       const auto& pose = motion.steps[k].pose;
-      const auto& s = run.steps[k];
       out << (k + 1) << ',' << pose.flexion_deg << ',' << pose.adduction_deg << ','
-          << pose.internal_rotation_deg << ',' << motion.steps[k].angle_deg << ','
-          << s.curvilinear_max_mm() << ',' << s.radial_max_mm() << ',' << s.curvilinear_vertices << ','
-          << s.radial_vertices << ',' << s.curvilinear_ms << ',' << s.radial_ms << '\n';
+          << pose.internal_rotation_deg << ',' << motion.steps[k].angle_deg;
+      if (run) {
+        const auto& s = run->steps[k];
+        out << ',' << s.curvilinear_max_mm() << ',' << s.radial_max_mm() << ',' << s.curvilinear_vertices << ','
+            << s.radial_vertices << ',' << s.curvilinear_ms << ',' << s.radial_ms;
+      }
+      if (fe.ran) {
+        out << ',' << fe.status[k];
+        for (const auto& [name, values] : fe.columns) out << ',' << values[k];
+      }
+      out << '\n';
     }
     if (!out) throw_error(path.string(), ": write failed");
   }
   std::filesystem::rename(partial, path);
 }
+
+#ifdef HIPFAI_WITH_FEM
+// "femoral cartilage" (an FE body name) -> "femoral_cartilage" (a tissue name).
+std::string snake_case(std::string name) {
+  std::replace(name.begin(), name.end(), ' ', '_');
+  return name;
+}
+
+// Runs (or reuses) the hip FE over the motion and picks the columns the outputs ask for.
+SceneFeResult run_fe(const Scene& scene, const Motion& motion, const LoadedHip& hip,
+                     const SceneRunOptions& options, StageLog& log) {
+  HipFeRunOptions run;
+  run.model_dir = hip.dir.string();
+  run.motion = fe_motion_of(scene, motion);
+  run.level = scene.fe.level;
+  run.body_weight_n = scene.fe.body_weight_n;
+  run.progress = options.progress;
+  run.label = "scene '" + scene.name + "' FE";
+  const CachedHipFe cached = run_hip_fe_cached(run, options.cache_dir);
+  if (cached.reused) {
+    log.hit(StageKind::kFiniteElement);
+  } else {
+    log.ran(StageKind::kFiniteElement);
+  }
+  const HipFeTable& table = cached.table;
+  if (table.rows != motion.steps.size()) {
+    throw_error((cached.entry / "fe.csv").string(), ": ", table.rows, " steps, the motion has ",
+                motion.steps.size());
+  }
+
+  SceneFeResult fe;
+  fe.ran = true;
+  fe.reused = cached.reused;
+  fe.entry = cached.entry;
+  fe.level = scene.fe.level;
+  fe.seconds = cached.seconds;
+  fe.load = fe_load_description(scene, motion);
+  for (const double code : table.column("status")) {
+    const int status = std::isfinite(code) ? static_cast<int>(code) : -1;
+    const bool known = status >= 0 && status <= static_cast<int>(fem::ContactStatus::kNonFinite);
+    fe.status_code.push_back(status);
+    fe.status.push_back(known ? fem::to_string(static_cast<fem::ContactStatus>(status)) : "unknown");
+    fe.not_converged += status != static_cast<int>(fem::ContactStatus::kConverged);
+  }
+  fe.step_seconds = table.column("wall_time_s");
+  if (scene.outputs.count(Output::kVonMises)) {
+    // The deformable bodies the model has, in the table's order ("max_von_mises_mpa <body>").
+    const std::string prefix = "max_von_mises_mpa ";
+    for (const std::string& column : table.columns) {
+      if (column.rfind(prefix, 0) != 0) continue;
+      const std::string body = column.substr(prefix.size());
+      const std::string tissue = snake_case(body);
+      fe.columns.emplace_back("von_mises_max_" + tissue + "_mpa", table.column("max_von_mises_mpa " + body));
+      fe.columns.emplace_back("von_mises_ball_" + tissue + "_mpa", table.column("ball_peak_von_mises_mpa " + body));
+      fe.columns.emplace_back("von_mises_p95_" + tissue + "_mpa", table.column("p95_von_mises_mpa " + body));
+    }
+  }
+  if (scene.outputs.count(Output::kContactPressure)) {
+    fe.columns.emplace_back("pressure_max_mpa", table.column("max_pressure_mpa"));
+    fe.columns.emplace_back("pressure_mean_mpa", table.column("mean_pressure_mpa"));
+    fe.columns.emplace_back("pressure_ball_mpa", table.column("ball_peak_pressure_mpa"));
+  }
+  return fe;
+}
+#endif
 
 }  // namespace
 
@@ -55,11 +143,30 @@ Motion motion_of(const Scene& scene) {
   return {};
 }
 
-SceneRunSummary run_scene(const Scene& scene, const Motion& motion, const SceneRunOptions& options) {
-  if (scene.outputs.count(Output::kVonMises) || scene.outputs.count(Output::kContactPressure)) {
-    throw_error(scene.file.string(), ": outputs von_mises/contact_pressure need the FE study "
-                "(hipfai fem); this runner computes penetration depths and ROM");
+Motion fe_motion_of(const Scene& scene, const Motion& motion) {
+  Motion fe_motion = motion;
+  if (scene.motion.kind == MotionSpec::Kind::kStandingToSitting) {
+    SittingDownLoadOptions load;
+    load.body_weight_n = scene.fe.body_weight_n;
+    attach_sitting_down_load(fe_motion, load);
   }
+  return fe_motion;
+}
+
+const std::vector<double>& SceneFeResult::column(const std::string& name) const {
+  for (const auto& [column_name, values] : columns) {
+    if (column_name == name) return values;
+  }
+  throw_error("scene FE results: no column '", name, "'");
+}
+
+SceneRunSummary run_scene(const Scene& scene, const Motion& motion, const SceneRunOptions& options) {
+#ifndef HIPFAI_WITH_FEM
+  if (needs_fe(scene)) {
+    throw_error(scene.file.string(), ": outputs von_mises/contact_pressure need the FE module, and this "
+                "hipfai was built without it (configure with -DHIPFAI_WITH_FEM=ON)");
+  }
+#endif
   SceneRunSummary summary;
   summary.hip = acquire_hip(scene, scene.tissues, options.cache_dir, summary.log);
 
@@ -99,14 +206,23 @@ SceneRunSummary run_scene(const Scene& scene, const Motion& motion, const SceneR
     }
   };
   if (options.write_files) std::filesystem::create_directories(options.out_dir);
-  summary.run = compute_penetration(hip, motion, penetration, summary.log, observer);
+  // Penetration stages only for penetration outputs: an FE-only scene builds no table.
+  const bool penetration_ran = needs_penetration(scene);
+  if (penetration_ran) summary.run = compute_penetration(hip, motion, penetration, summary.log, observer);
+  if (needs_fe(scene)) {
+#ifdef HIPFAI_WITH_FEM
+    summary.fe = run_fe(scene, motion, hip, options, summary.log);
+#endif
+  }
+  const SceneFeResult& fe = summary.fe;
 
   if (options.write_files) {
     ResultsFile file(options.out_dir / "results.h5");
     file.set_attribute("/", "scene_file", scene.file.string());
     file.set_attribute("/", "scene_name", scene.name);
     file.set_attribute("/", "code_version", std::string(kVersion) + " " + kGitSha);
-    file.set_attribute("/", "units", "length mm, angle deg, time ms");
+    file.set_attribute("/", "units", fe.ran ? "length mm, angle deg, time ms, stress MPa, force N"
+                                            : "length mm, angle deg, time ms");
     file.set_attribute("/", "hip_id", hip.id);
     for (const auto& [tissue, hash] : hip.mesh_hash) file.set_attribute("/", "mesh_hash_" + tissue, hash);
     std::vector<double> poses, angles, curvilinear, radial, curvilinear_ms, radial_ms;
@@ -114,6 +230,7 @@ SceneRunSummary run_scene(const Scene& scene, const Motion& motion, const SceneR
       const auto& pose = motion.steps[k].pose;
       poses.insert(poses.end(), {pose.flexion_deg, pose.adduction_deg, pose.internal_rotation_deg});
       angles.push_back(motion.steps[k].angle_deg);
+      if (!penetration_ran) continue;
       curvilinear.push_back(summary.run.steps[k].curvilinear_max_mm());
       radial.push_back(summary.run.steps[k].radial_max_mm());
       curvilinear_ms.push_back(summary.run.steps[k].curvilinear_ms);
@@ -142,8 +259,30 @@ SceneRunSummary run_scene(const Scene& scene, const Motion& motion, const SceneR
       file.write("/rom/axis", axes, 3, "unit vector, model coordinates");
       file.write("/rom/range_deg", ranges, 2, "deg (anticlockwise, clockwise)");
     }
+    if (fe.ran) {
+      file.create_group("/fe");
+      file.set_attribute("/fe", "level", fe.level);
+      file.set_attribute("/fe", "load", fe.load);
+      file.set_attribute("/fe", "body_weight_n", scene.fe.body_weight_n);
+      file.set_attribute("/fe", "cache_entry", fe.entry.string());
+      file.set_attribute("/fe", "steps_not_converged", static_cast<double>(fe.not_converged));
+      const std::vector<std::int64_t> codes(fe.status_code.begin(), fe.status_code.end());
+      file.write_integers("/fe/status", codes, 1,
+                          "fem::ContactStatus: 0 converged, 1 active set not converged, 2 linear solver "
+                          "failed, 3 no contact, 4 non-finite");
+      file.write_strings("/fe/status_name", fe.status);
+      for (const auto& [name, values] : fe.columns) {
+        const bool ball = name.find("_ball_") != std::string::npos;
+        const bool p95 = name.find("_p95_") != std::string::npos;
+        file.write("/fe/" + name, values, 1,
+                   ball  ? "MPa (averaged over a ball about the peak)"
+                   : p95 ? "MPa (95th percentile over the tissue)"
+                         : "MPa");
+      }
+      file.write("/fe/step_time_s", fe.step_seconds, 1, "s (solve time per step when computed)");
+    }
     file.commit();
-    write_steps_csv(options.out_dir / "steps.csv", motion, summary.run);
+    write_steps_csv(options.out_dir / "steps.csv", motion, penetration_ran ? &summary.run : nullptr, fe);
   }
 
   std::ostringstream text;
@@ -160,6 +299,29 @@ SceneRunSummary run_scene(const Scene& scene, const Motion& motion, const SceneR
   for (std::size_t a = 0; a < summary.run.rom.size(); ++a) {
     text << "  ROM about axis " << (a + 1) << ": anticlockwise " << summary.run.rom[a].anticlockwise_deg
          << " deg, clockwise " << summary.run.rom[a].clockwise_deg << " deg\n";
+  }
+  if (fe.ran) {
+    text << "  FE level " << fe.level << " (" << fe.load << "): " << fe.not_converged << " of "
+         << fe.status.size() << " steps not converged, " << std::setprecision(1) << fe.seconds << " s"
+         << (fe.reused ? " (from the cache " : " (computed, cached in ") << fe.entry.string() << ")\n"
+         << std::setprecision(3);
+    auto peak = [](const std::vector<double>& values) {
+      double p = 0.0;
+      for (double v : values) p = std::isfinite(v) ? std::max(p, v) : p;
+      return p;
+    };
+    const std::string von_mises = "von_mises_max_";
+    bool first = true;
+    for (const auto& [name, values] : fe.columns) {
+      if (name.rfind(von_mises, 0) != 0) continue;
+      text << (first ? "  peak von Mises (MPa): " : ", ")
+           << name.substr(von_mises.size(), name.size() - von_mises.size() - 4) << ' ' << peak(values);
+      first = false;
+    }
+    if (!first) text << '\n';
+    if (scene.outputs.count(Output::kContactPressure)) {
+      text << "  peak contact pressure " << peak(fe.column("pressure_max_mpa")) << " MPa\n";
+    }
   }
   text << "  stages executed:";
   for (const auto& [kind, count] : summary.log.executed) text << ' ' << stage_kind_name(kind) << " x" << count;

@@ -2,6 +2,17 @@
 //
 // Output folder: results.h5 (layout in docs/results-layout.md), steps.csv (one row per motion step)
 // and, when asked, VTP files of the tested tissues with their per-vertex depth fields.
+//
+// Stages run on demand: the penetration methods only for penetration outputs, the contact FE
+// (studies/hip_fe_run.h, cached under <cache>/fe/) only for von_mises / contact_pressure, after
+// the penetration stages. FE columns of steps.csv (the same names under /fe/ in results.h5):
+//   fe_status                                    converged | active set not converged | ...
+//   von_mises_max_<tissue>_mpa                   von_mises: maximum over the tissue's elements,
+//   von_mises_ball_<tissue>_mpa                    averaged over a ball about the peak,
+//   von_mises_p95_<tissue>_mpa                     95th percentile; tissue: femoral_cartilage,
+//                                                  acetabular_cartilage, labrum
+//   pressure_max_mpa, pressure_mean_mpa,         contact_pressure: maximum, mean over the contact
+//   pressure_ball_mpa                              area, averaged over a ball about the peak
 #pragma once
 
 #include "studies/hip_source.h"
@@ -11,6 +22,7 @@
 
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace hipfai::studies {
@@ -21,10 +33,30 @@ struct SceneRunOptions {
   int threads = 2;
   std::vector<int> vtp_steps;   // 1-based steps to write as VTP (0 = the last step)
   bool write_files = true;
+  bool progress = true;         // FE progress: summary lines on stdout, a bar on stderr
+};
+
+// The FE part of a run, without FE types (the runner builds without the FE module too).
+struct SceneFeResult {
+  bool ran = false;                   // the scene asked for FE outputs
+  bool reused = false;                // answered from the cache entry, nothing solved
+  std::filesystem::path entry;        // <cache>/fe/<key>
+  std::string level;
+  std::string load;                   // the joint force applied, in words
+  double seconds = 0.0;               // wall time of the FE stage in this run
+  std::vector<std::string> status;    // per step: "converged", ...
+  std::vector<int> status_code;       // per step: fem::ContactStatus
+  std::size_t not_converged = 0;
+  // steps.csv column name (see above) -> one value per step, in column order.
+  std::vector<std::pair<std::string, std::vector<double>>> columns;
+  std::vector<double> step_seconds;   // per step solve time (s), as computed (also when reused)
+
+  const std::vector<double>& column(const std::string& name) const;  // throws when missing
 };
 
 struct SceneRunSummary {
-  PenetrationRun run;
+  PenetrationRun run;           // empty when the scene has no penetration output
+  SceneFeResult fe;             // ran == false when the scene has no FE output
   StageLog log;
   LoadedHip hip;                // tissues as loaded (neutral pose)
   std::string text;             // a short human-readable summary
@@ -34,5 +66,10 @@ SceneRunSummary run_scene(const Scene& scene, const Motion& motion, const SceneR
 
 // The motion a scene names.
 Motion motion_of(const Scene& scene);
+
+// The motion the FE solves: standing-to-sitting with the sitting-down load of the scene's body
+// weight (studies/motion.h); other motions unchanged (the FE gives steps without a force the
+// constant joint force of that body weight).
+Motion fe_motion_of(const Scene& scene, const Motion& motion);
 
 }  // namespace hipfai::studies

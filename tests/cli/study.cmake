@@ -9,3 +9,8 @@ hipfai_cli_test(NAME study_sensitivity_one_parameter EXIT 0
   COMMAND study sensitivity --parameters cam_height_mm --sub-motions 6 --out @TMP@/sensitivity)
 hipfai_cli_test(NAME study_sensitivity_unknown_parameter EXIT nonzero STDERR "no variants of parameter 'neck_girth'"
   COMMAND study sensitivity --parameters neck_girth --out @TMP@/sensitivity)
+# The validation study and its report: bad options and a folder without results are one-line errors.
+hipfai_cli_test(NAME study_validate_bad_level EXIT nonzero STDERR "fe-level" COMMAND study validate --fe-level medium)
+hipfai_cli_test(NAME study_validate_too_few_steps EXIT nonzero STDERR "steps" COMMAND study validate --steps 2)
+hipfai_cli_test(NAME report_correlation_no_results EXIT nonzero STDERR "steps.csv: cannot open"
+  COMMAND report correlation @TMP@)

@@ -42,11 +42,47 @@ TEST(Plan, CsvMotionWithSeveralAxesGetsOneTablePerAxis) {
   EXPECT_EQ(plan.count(StageKind::kRangeOfMotion), 2);
 }
 
+// The FE stage label of a plan ("" when it has none).
+std::string fe_label(const Plan& plan) {
+  for (const Stage& stage : plan.stages) {
+    if (stage.kind == StageKind::kFiniteElement) return stage.label;
+  }
+  return "";
+}
+
 TEST(Plan, FeOnlyWhenAsked) {
-  const Plan plan = plan_scene(scene_with({Output::kVonMises}), standing_to_sitting(5));
+  Scene scene = scene_with({Output::kVonMises});
+  scene.fe.level = "coarse";
+  const Plan plan = plan_scene(scene, standing_to_sitting(5));
   EXPECT_EQ(plan.count(StageKind::kFiniteElement), 1);
-  EXPECT_EQ(plan.count(StageKind::kLoadTissue), 5);
+  // The FE tissues: no acetabular bone.
+  EXPECT_EQ(plan.count(StageKind::kLoadTissue), 4);
   EXPECT_EQ(plan.count(StageKind::kRadialTable) + plan.count(StageKind::kCylindricalTable), 0);
+  EXPECT_EQ(plan.count(StageKind::kRadialQuery) + plan.count(StageKind::kCylindricalQuery), 0);
+  EXPECT_EQ(plan.count(StageKind::kRangeOfMotion), 0);
+  EXPECT_EQ(fe_label(plan), "contact FE over the motion (level coarse; sitting-down load, body weight 700 N)");
+  EXPECT_EQ(plan.stages.back().kind, StageKind::kWriteResults);
+  EXPECT_NE(plan.describe().find("finite-element: contact FE over the motion (level coarse"), std::string::npos);
+}
+
+TEST(Plan, FeAfterThePenetrationStagesWithItsLoad) {
+  Scene scene = scene_with({Output::kRadialDepth, Output::kContactPressure});
+  scene.motion.kind = MotionSpec::Kind::kMedical;
+  scene.fe.body_weight_n = 800;
+  const Plan plan = plan_scene(scene, medical_rotation("flexion", 60, 4));
+  ASSERT_EQ(plan.count(StageKind::kFiniteElement), 1);
+  EXPECT_EQ(plan.stages[plan.stages.size() - 2].kind, StageKind::kFiniteElement);
+  EXPECT_EQ(plan.stages[plan.stages.size() - 2].repeat, 4);
+  EXPECT_EQ(plan.count(StageKind::kRadialTable), 2);
+  EXPECT_EQ(fe_label(plan), "contact FE over the motion (level default; constant joint force, body weight 800 N)");
+}
+
+TEST(Plan, PenetrationOnlyScenesHaveNoFeStage) {
+  for (Output output : {Output::kCurvilinearDepth, Output::kRadialDepth, Output::kRom}) {
+    const Plan plan = plan_scene(scene_with({output}), standing_to_sitting(5));
+    EXPECT_EQ(plan.count(StageKind::kFiniteElement), 0) << output_name(output);
+    EXPECT_EQ(fe_label(plan), "") << output_name(output);
+  }
 }
 
 }  // namespace

@@ -2,6 +2,10 @@
 
 #include "core/error.h"
 
+#ifdef HIPFAI_WITH_FEM
+#include "fem/hip_fe_model.h"
+#endif
+
 #include <gtest/gtest.h>
 
 #include <string>
@@ -89,6 +93,57 @@ TEST(Scene, UnknownOutputAndBadYaml) {
   EXPECT_NE(error_of(text).find("unknown output 'stress'"), std::string::npos);
   EXPECT_NE(error_of("schema_version: [1\n").find("YAML syntax error"), std::string::npos);
 }
+
+TEST(Scene, FeBlockIsReadAndFeOutputsNeedTheFeTissuesOnly) {
+  std::string text = replaced(kGood, "[radial_depth]", "[von_mises, contact_pressure]");
+  text += "fe: {level: coarse, body_weight_n: 800}\n";
+  const Scene scene = parse_scene(text, "scene.yaml");
+  EXPECT_EQ(scene.fe.level, "coarse");
+  EXPECT_DOUBLE_EQ(scene.fe.body_weight_n, 800.0);
+  EXPECT_TRUE(needs_fe(scene));
+  EXPECT_FALSE(needs_penetration(scene));
+  // The hip FE model's tissues; the pelvis is a fixed boundary, not a mesh the FE reads.
+  EXPECT_EQ(scene.tissues,
+            (std::set<std::string>{"femur_bone", "femoral_cartilage", "acetabular_cartilage", "labrum"}));
+}
+
+TEST(Scene, FeBlockDefaults) {
+  const Scene scene = parse_scene(kGood, "scene.yaml");
+  EXPECT_EQ(scene.fe.level, "default");
+  EXPECT_DOUBLE_EQ(scene.fe.body_weight_n, 700.0);
+  EXPECT_FALSE(needs_fe(scene));
+  EXPECT_TRUE(needs_penetration(scene));
+#ifdef HIPFAI_WITH_FEM
+  EXPECT_DOUBLE_EQ(scene.fe.body_weight_n, fem::kDefaultBodyWeightN);
+#endif
+}
+
+TEST(Scene, FeBlockErrorsNameKeyAndLine) {
+  // kGood has 7 lines: the fe block is line 8.
+  std::string message = error_of(kGood + "fe: {level: medium}\n");
+  EXPECT_NE(message.find("scene.yaml:8: fe.level: unknown level 'medium'"), std::string::npos) << message;
+  message = error_of(kGood + "fe: {body_weight_n: -5}\n");
+  EXPECT_NE(message.find("scene.yaml:8: fe.body_weight_n: -5 is outside"), std::string::npos) << message;
+  message = error_of(kGood + "fe: {body_weight_n: 0}\n");
+  EXPECT_NE(message.find("scene.yaml:8: fe.body_weight_n: must be positive"), std::string::npos) << message;
+  message = error_of(kGood + "fe: {body_weight_n: heavy}\n");
+  EXPECT_NE(message.find("scene.yaml:8: fe.body_weight_n: expected a number"), std::string::npos) << message;
+  message = error_of(kGood + "fe: {level: coarse, mesh: fine}\n");
+  EXPECT_NE(message.find("scene.yaml:8: fe.mesh: unknown key"), std::string::npos) << message;
+  message = error_of(kGood + "fe: coarse\n");
+  EXPECT_NE(message.find("scene.yaml:8: fe: expected a mapping"), std::string::npos) << message;
+}
+
+#ifdef HIPFAI_WITH_FEM
+// The scene reader spells the level names out (it builds without the FE module): they must be
+// the FE module's, every one of them.
+TEST(Scene, FeLevelsAreTheFeModulesLevels) {
+  for (const std::string& level : fem::hip_fe_level_names()) {
+    const Scene scene = parse_scene(kGood + "fe: {level: " + level + "}\n", "scene.yaml");
+    EXPECT_EQ(scene.fe.level, level);
+  }
+}
+#endif
 
 }  // namespace
 }  // namespace hipfai::studies

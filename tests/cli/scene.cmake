@@ -1,0 +1,41 @@
+# Scenes with FE outputs: `hipfai run --plan` shows the FE stage with its level, the fe block is
+# validated before any work, and a small FE scene runs end to end.
+set(scene_tmp ${CMAKE_BINARY_DIR}/cli-tmp/scene_fe)
+file(MAKE_DIRECTORY ${scene_tmp})
+
+add_test(NAME cli.run_plan_fe_stage
+         COMMAND sh -c "out=$(\"$1\" run \"$2\" --plan) || exit 1; echo \"$out\"; \
+echo \"$out\" | grep -q 'finite-element: contact FE over the motion (level coarse; sitting-down load, body weight 700 N)  (x4 steps)' \
+|| { echo 'no FE stage in the plan' >&2; exit 1; }"
+                 sh $<TARGET_FILE:hipfai> ${CMAKE_SOURCE_DIR}/meshes/scenes/fe_pincer.yaml)
+set_tests_properties(cli.run_plan_fe_stage PROPERTIES LABELS "cli;fast" TIMEOUT 60)
+
+# A penetration-only scene plans no FE.
+add_test(NAME cli.run_plan_no_fe_stage
+         COMMAND sh -c "out=$(\"$1\" run \"$2\" --plan) || exit 1; echo \"$out\"; \
+! echo \"$out\" | grep -q 'finite-element'"
+                 sh $<TARGET_FILE:hipfai> ${CMAKE_SOURCE_DIR}/meshes/scenes/cam_radial_only.yaml)
+set_tests_properties(cli.run_plan_no_fe_stage PROPERTIES LABELS "cli;fast" TIMEOUT 60)
+
+file(WRITE ${scene_tmp}/bad_fe_level.yaml
+  "schema_version: 1\nunits: {length: mm, angle: deg}\nhip:\n  parametric: {ce_deg: 40, alpha_deg: 40}\n"
+  "motion: {builtin: standing_to_sitting, sub_motions: 2}\noutputs: [von_mises]\nfe: {level: medium}\n")
+hipfai_cli_test(NAME run_fe_bad_level EXIT nonzero STDERR "bad_fe_level.yaml:7: fe.level: unknown level 'medium'"
+  COMMAND run ${scene_tmp}/bad_fe_level.yaml --plan)
+
+if(TARGET hipfai_fem)
+  # FE outputs only, standing to sitting in 2 steps at the coarse level on a 3 mm hip (~10 s):
+  # steps.csv gets the FE columns, no penetration column.
+  file(WRITE ${scene_tmp}/fe_only.yaml
+    "schema_version: 1\nunits: {length: mm, angle: deg}\nname: fe-only\nhip:\n"
+    "  parametric: {ce_deg: 40, alpha_deg: 40, edge_mm: 3.0}\n"
+    "motion: {builtin: standing_to_sitting, sub_motions: 2}\noutputs: [von_mises, contact_pressure]\n"
+    "fe: {level: coarse}\n")
+  add_test(NAME cli.run_fe_scene
+           COMMAND sh -c "rm -rf \"$2/out\" \"$2/cache\" && out=$(\"$1\" run \"$2/fe_only.yaml\" --out \"$2/out\" --cache \"$2/cache\" 2>/dev/null) \
+|| exit 1; echo \"$out\"; echo \"$out\" | grep -q 'FE level coarse' || { echo 'no FE summary' >&2; exit 1; }; \
+head -1 \"$2/out/steps.csv\" | grep -q 'fe_status,von_mises_max_femoral_cartilage_mpa,' || { echo 'no FE columns' >&2; exit 1; }; \
+! head -1 \"$2/out/steps.csv\" | grep -q 'max_radial_mm'"
+                   sh $<TARGET_FILE:hipfai> ${scene_tmp})
+  set_tests_properties(cli.run_fe_scene PROPERTIES LABELS "cli;fem;slow" TIMEOUT 300)
+endif()
