@@ -12,10 +12,13 @@
 #include "studies/hip_fe_run.h"
 #endif
 
-#include <spawn.h>
-#include <sys/wait.h>
 #include <fcntl.h>
+#include <sys/prctl.h>
+#include <sys/wait.h>
 #include <unistd.h>
+
+#include <cerrno>
+#include <csignal>
 
 #include <algorithm>
 #include <atomic>
@@ -196,7 +199,8 @@ std::vector<std::string> worker_environment() {
 }
 
 // Runs `program args...` with stdout and stderr to `log`; returns its exit status (-1: not started
-// or killed by a signal).
+// or killed by a signal). The child is killed when this process dies (PR_SET_PDEATHSIG), so a
+// killed study leaves no worker writing into the cache behind it.
 int run_process(const std::filesystem::path& program, const std::vector<std::string>& args,
                 const std::filesystem::path& log) {
   std::vector<std::string> argv_text{program.string()};
@@ -208,17 +212,23 @@ int run_process(const std::filesystem::path& program, const std::vector<std::str
   std::vector<char*> envp;
   for (std::string& e : env_text) envp.push_back(e.data());
   envp.push_back(nullptr);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  const std::string log_path = log.string();
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
-  pid_t pid = 0;
-  const int spawned = posix_spawn(&pid, argv_text[0].c_str(), &actions, nullptr, argv.data(), envp.data());
-  posix_spawn_file_actions_destroy(&actions);
-  if (spawned != 0) return -1;
+  const int log_fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (log_fd < 0) return -1;
+  const pid_t parent = ::getpid();
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    // Child: only async-signal-safe calls until exec.
+    ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (::getppid() != parent) ::_exit(127);  // the parent died before prctl took effect
+    ::dup2(log_fd, STDOUT_FILENO);
+    ::dup2(log_fd, STDERR_FILENO);
+    ::execve(argv[0], argv.data(), envp.data());
+    ::_exit(127);
+  }
+  ::close(log_fd);
+  if (pid < 0) return -1;
   int status = 0;
-  while (waitpid(pid, &status, 0) < 0) {
+  while (::waitpid(pid, &status, 0) < 0) {
     if (errno != EINTR) return -1;
   }
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
