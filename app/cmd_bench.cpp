@@ -17,7 +17,7 @@ struct BenchArgs {
   bool quick = false;
   std::string out = "bench-collision";
   int threads = 2;
-  std::string lhdl_dir = "/work/shared/data/real-hips/LHDL_CT";
+  std::string lhdl_dir = "meshes/real-hips/LHDL_CT";  // relative to the working directory
 };
 
 void run(const BenchArgs& args) {
@@ -45,7 +45,7 @@ const CommandRegistrar registrar("bench", [](CLI::App& parent) {
   collision->add_option("--out", args->out, "Output directory (CSV, report.md, SVG)");
   collision->add_option("--threads", args->threads, "Report figures for 1..N threads")->check(CLI::Range(1, 2));
   collision->add_option("--real-bones", args->lhdl_dir,
-                        "Folder of the real CT bones (hip.json, femur and pelvis); skipped in --quick")
+                        "Folder of the real CT bones (hip.json, femur and pelvis; default: the project's meshes/real-hips/LHDL_CT from the source root); skipped in --quick or when absent")
       ->check(CLI::ExistingDirectory);
   collision->callback([args] { run(*args); });
   auto probe = std::make_shared<bench::RadialProbeOptions>();

@@ -4,7 +4,7 @@
 //                    about the HJC (cylindrical segmenting). Four resolutions: a coarse hip
 //                    (~2 k vertices in total) and 1, 2, 3 midpoint subdivisions (x4 each, as the
 //                    thesis' Table 1 ladder 773 -> 3 086 -> 12 338 -> 49 346 is), up to ~120 k.
-//   striking_real_ct the real CT femur vs pelvis of /work/shared/data/real-hips/LHDL_CT at the HJC
+//   striking_real_ct the real CT femur vs pelvis of meshes/real-hips/LHDL_CT at the HJC
 //                    of hip.json (83 k vertices), one resolution.
 //   sphere_cube      octasphere (mobile, levels 2..8: 66 .. 262 146 vertices) rotating about its
 //                    centre, vs a box (fixed) capping the upper ~17 % of its area (bottom face at

@@ -1,4 +1,4 @@
-set(LHDL "@SHARED@/data/real-hips/LHDL_CT")
+set(LHDL "@SOURCE@/meshes/real-hips/LHDL_CT")
 hipfai_cli_test(NAME collide_cylindrical_real_bones EXIT 0
   COMMAND collide --fixed ${LHDL}/pelvis_no_sacrum.ply --mobile ${LHDL}/femur_r.ply
           --center-mm 143.80,243.46,-432.58 --axis 1,0,0 --angle-deg 30 --method cylindrical

@@ -1,5 +1,5 @@
 # hipfai mesh-info: the real CT femur reads and reports; bad files fail with one line naming them.
-set(real_femur @SHARED@/data/real-hips/LHDL_CT/femur_r.ply)
+set(real_femur @SOURCE@/meshes/real-hips/LHDL_CT/femur_r.ply)
 hipfai_cli_test(NAME mesh_info_real_femur EXIT 0 COMMAND mesh-info ${real_femur})
 hipfai_cli_test(NAME mesh_info_real_femur_json EXIT 0 COMMAND mesh-info --json ${real_femur})
 hipfai_cli_test(NAME mesh_info_missing_file EXIT nonzero STDERR "^hipfai: error: .*absent\\.stl"

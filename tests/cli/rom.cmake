@@ -1,5 +1,5 @@
 # hipfai rom: exact range of motion of the real CT femur against the pelvis about the HJC.
-set(LHDL "@SHARED@/data/real-hips/LHDL_CT")
+set(LHDL "@SOURCE@/meshes/real-hips/LHDL_CT")
 set(HJC "143.80,243.46,-432.58")
 hipfai_cli_test(NAME rom_real_bones EXIT 0
   COMMAND rom --fixed ${LHDL}/pelvis_no_sacrum.ply --mobile ${LHDL}/femur_r.ply

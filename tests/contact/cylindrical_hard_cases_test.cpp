@@ -276,7 +276,7 @@ TEST(CylindricalHardCases, CoordinatesFarFromTheOrigin) {
 }
 
 TEST(CylindricalHardCases, RealFemurAgainstPelvis) {
-  const std::string folder = std::string(HIPFAI_SHARED_DIR) + "/data/real-hips/LHDL_CT/";
+  const std::string folder = std::string(HIPFAI_SOURCE_DIR) + "/meshes/real-hips/LHDL_CT/";
   const TriMesh pelvis = geometry::read_mesh(folder + "pelvis_no_sacrum.ply");
   const TriMesh femur = geometry::read_mesh(folder + "femur_r.ply");
   const Vec3 hjc(143.80, 243.46, -432.58);  // hip.json hjc_mm

@@ -302,7 +302,7 @@ TriMesh subsample(const TriMesh& mesh, std::size_t every, const std::set<std::in
 }
 
 TEST(RangeFinder, RealFemurAgainstPelvisMatchesOracleOnSubsamples) {
-  const std::string folder = std::string(HIPFAI_SHARED_DIR) + "/data/real-hips/LHDL_CT/";
+  const std::string folder = std::string(HIPFAI_SOURCE_DIR) + "/meshes/real-hips/LHDL_CT/";
   const TriMesh pelvis = geometry::read_mesh(folder + "pelvis_no_sacrum.ply");
   const TriMesh femur = geometry::read_mesh(folder + "femur_r.ply");
   const Vec3 hjc(143.80, 243.46, -432.58), axis(0, 0, 1);

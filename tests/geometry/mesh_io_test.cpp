@@ -233,7 +233,7 @@ TEST_F(MeshIoTest, BinaryBigEndianPly) {
 // Counts from the data set's description (thesis scenarios use these bones); the first vertex
 // is decoded here straight from the bytes after the header, independently of the reader.
 TEST_F(MeshIoTest, ReadsRealCtBones) {
-  const fs::path dir = fs::path(HIPFAI_SHARED_DIR) / "data/real-hips/LHDL_CT";
+  const fs::path dir = fs::path(HIPFAI_SOURCE_DIR) / "meshes/real-hips/LHDL_CT";
   const TriMesh femur = read_mesh(dir / "femur_r.ply");
   EXPECT_EQ(femur.num_vertices(), 35213u);
   EXPECT_EQ(femur.num_triangles(), 70422u);
