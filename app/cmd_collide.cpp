@@ -3,6 +3,7 @@
 #include "app/command_registry.h"
 #include "contact/cylindrical_segmenting.h"
 #include "contact/radial_segmenting.h"
+#include "contact/start_pose.h"
 #include "geometry/hip_frame.h"
 #include "geometry/mesh_io.h"
 
@@ -20,6 +21,7 @@ struct CollideArgs {
   long long table_size = 0;
   bool swap = false, fixed_inside_mobile = false;
   int threads = 0;
+  double touching_mm = contact::kStartPoseTouchingMm;
 };
 
 contact::RadialMapping parse_mapping(const std::string& name) {
@@ -38,6 +40,18 @@ void run(const CollideArgs& args) {
   axis.normalize();
   if (args.method == "cylindrical" && args.axis.empty()) {
     throw_error("--axis: required by the cylindrical method");
+  }
+  // Depths at a pose stay well defined when the bodies already intersect at angle 0, but they then
+  // include that overlap, which is rarely meant: say so (warning, not an error).
+  contact::StartPoseOptions start_options;
+  start_options.touching_mm = args.touching_mm;
+  start_options.centre = centre;
+  start_options.num_threads = args.threads == 1 ? 1 : 2;
+  const contact::StartPoseOverlap start = contact::check_start_pose(fixed, mobile, start_options);
+  if (start.status == contact::QueryStatus::kInvalidInput) throw_error(start.message);
+  if (start.overlaps()) {
+    std::cerr << "hipfai: warning: the bodies already intersect in the start pose (angle 0): " << start.summary()
+              << "; the depths include this overlap\n";
   }
   // Pose the mobile mesh: A degrees about the axis through the centre, right-hand rule.
   geometry::rotate_about_axis(mobile, centre, axis, args.angle_deg * geometry::kDegToRad);
@@ -114,6 +128,9 @@ const CommandRegistrar registrar("collide", [](CLI::App& parent) {
   command->add_flag("--swap", args->swap, "Exchange roles: fixed-mesh vertices against mobile triangles");
   command->add_flag("--fixed-inside-mobile", args->fixed_inside_mobile,
                     "Radial: the fixed mesh lies inside the mobile one (default: mobile inside fixed)");
+  command->add_option("--touching-mm", args->touching_mm,
+                      "Start-pose check: vertices and edges at most this deep in the other body only touch")
+      ->check(CLI::Range(0.0, 1e3));
   command->add_option("--threads", args->threads, "Threads (0 = all)")->check(CLI::Range(0, 256));
   command->add_option("--out", args->out, "CSV of pairs: vertex, triangle, depth_mm[, angle_deg]");
   command->add_option("--vtp", args->vtp, "VTP of the tested mesh with a per-vertex depth_mm field");

@@ -5,6 +5,7 @@
 #include "app/cli_util.h"
 #include "app/command_registry.h"
 #include "contact/range_finder.h"
+#include "contact/start_pose.h"
 #include "core/error.h"
 #include "geometry/mesh_io.h"
 
@@ -31,6 +32,8 @@ struct RomArgs {
   double resolution_mm = 0.0;
   bool no_fixed_vertices = false;
   bool no_edge_edge = false;
+  bool allow_start_overlap = false;
+  double touching_mm = contact::kStartPoseTouchingMm;
   std::string csv;
 };
 
@@ -101,6 +104,29 @@ void write_csv(const std::string& path, const std::vector<contact::AxisRangeOfMo
   });
 }
 
+// The range finder assumes the start pose is free (range_finder.h): on bodies that already
+// intersect it would report the rotation to the first crossing of any vertex, a small positive
+// range that means nothing. Refuse, or with --allow-start-overlap warn and go on.
+void refuse_start_overlap(const geometry::TriMesh& fixed, const geometry::TriMesh& mobile,
+                          const Eigen::Vector3d& centre, const RomArgs& args) {
+  contact::StartPoseOptions options;
+  options.touching_mm = args.touching_mm;
+  options.centre = centre;
+  options.num_threads = args.threads == 1 ? 1 : 2;
+  const contact::StartPoseOverlap overlap = contact::check_start_pose(fixed, mobile, options);
+  if (overlap.status == contact::QueryStatus::kInvalidInput) throw_error("rom: ", overlap.message);
+  if (!overlap.overlaps()) return;
+  if (!args.allow_start_overlap) {
+    throw_error("the bodies already intersect in the start pose: ", overlap.summary(),
+                "; a range of motion from this pose is meaningless (use --allow-start-overlap to report the "
+                "range to the first crossing anyway)");
+  }
+  std::fprintf(stderr,
+               "hipfai: warning: the bodies already intersect in the start pose: %s; the ranges below run "
+               "from this intersecting pose to the first new contact\n",
+               overlap.summary().c_str());
+}
+
 void run(const RomArgs& args) {
   const Eigen::Vector3d centre = to_vec3(args.centre, "--center-mm");
   const bool fan = !args.fan_plane_normal.empty();
@@ -119,6 +145,7 @@ void run(const RomArgs& args) {
   }
   const geometry::TriMesh fixed = geometry::read_mesh(args.fixed);
   const geometry::TriMesh mobile = geometry::read_mesh(args.mobile);
+  refuse_start_overlap(fixed, mobile, centre, args);
 
   contact::RangeOfMotionOptions options;
   options.include_fixed_vertices = !args.no_fixed_vertices;
@@ -189,6 +216,12 @@ const CommandRegistrar registrar("rom", [](CLI::App& parent) {
                     "Only mobile vertices against fixed triangles (skip the swapped pass)");
   command->add_flag("--no-edge-edge", args->no_edge_edge,
                     "Vertex contacts only (the thesis' finder; skip the exact edge-edge pass)");
+  command->add_flag("--allow-start-overlap", args->allow_start_overlap,
+                    "Bodies intersecting in the start pose: warn and report the ranges to the first "
+                    "crossing instead of failing");
+  command->add_option("--touching-mm", args->touching_mm,
+                      "Start-pose check: vertices and edges at most this deep in the other body only touch")
+      ->check(CLI::Range(0.0, 1e3));
   command->add_option("--threads", args->threads, "Threads (0 = all)")->check(CLI::Range(0, 256));
   command->add_option("--csv", args->csv,
                       "CSV table: one row per axis; per direction the contact kind and its vertex + "

@@ -158,6 +158,20 @@ PenetrationRun compute_penetration(const LoadedHip& hip, const Motion& motion,
         std::max(longest * longest / (2.0 * hip.articular_radius_mm), literature::kSphericityToleranceMm);
   }
   const double tolerance = run.contact_tolerance_mm;
+  if (hip.tissues.count("femur_bone") && hip.tissues.count("labrum")) {
+    contact::StartPoseOptions start;
+    start.touching_mm = tolerance;
+    start.centre = centre;
+    start.num_threads = options.threads;
+    run.neutral_overlap = contact::check_start_pose(hip.tissues.at("labrum"), hip.tissues.at("femur_bone"), start);
+    if (run.neutral_overlap.status == contact::QueryStatus::kInvalidInput) {
+      throw_error(hip.id, ": ", run.neutral_overlap.message);
+    }
+    if (run.neutral_overlap.overlaps()) {
+      throw_error(hip.id, ": femur_bone (mobile) and labrum (fixed) already intersect in the neutral pose: ",
+                  run.neutral_overlap.summary(), " (tolerance ", tolerance, " mm); every depth of the motion would include it");
+    }
+  }
   PairFilter radial_filter;
   radial_filter.min_depth_mm = tolerance;
   auto field = [&](DepthFields& fields, const std::string& key, std::size_t n) -> std::vector<double>& {

@@ -25,6 +25,7 @@
 
 #include "contact/radial_mapping.h"
 #include "contact/range_finder.h"
+#include "contact/start_pose.h"
 #include "studies/hip_source.h"
 #include "studies/motion.h"
 
@@ -73,6 +74,11 @@ struct PenetrationRun {
   double curvilinear_preprocessing_ms = 0.0;  // tables + pose caches
   double radial_preprocessing_ms = 0.0;       // tables (built or loaded)
   double contact_tolerance_mm = 0.0;          // as applied
+  // Femur bone against labrum in the model's own (neutral) pose, touching below the contact
+  // tolerance: the pair that must be apart before any motion (cartilage layers touch bone and each
+  // other by construction, and the articular surfaces touch within the tolerance, so they are
+  // not checked). Left empty (status kOk, no counts) when either tissue is not loaded.
+  contact::StartPoseOverlap neutral_overlap;
 
   double max_curvilinear_mm() const;
   double max_radial_mm() const;
@@ -81,6 +87,9 @@ struct PenetrationRun {
 // Called after each step with the step index (0-based) and that step's per-vertex fields.
 using StepObserver = std::function<void(std::size_t step, const DepthFields& fields)>;
 
+// Throws hipfai::Error "<hip id>: femur_bone and labrum already intersect in the neutral pose: ..."
+// when they overlap beyond the contact tolerance before any motion (issue 19): every depth of
+// the motion would include that overlap.
 PenetrationRun compute_penetration(const LoadedHip& hip, const Motion& motion,
                                    const PenetrationOptions& options, StageLog& log,
                                    const StepObserver& observer = {});

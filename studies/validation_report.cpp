@@ -167,13 +167,16 @@ void write_fig60(const ValidationData& data, const ValidationHipSeries& hip, con
   chart.series.push_back({"curvilinear depth", hip.angle_deg, hip.curvilinear_mm, false});
   chart.series.push_back({"radial depth", hip.angle_deg, hip.radial_mm, true});
   if (primary < hip.fe.size()) {
-    Series vm{"von Mises (right axis)", hip.angle_deg, hip.fe[primary], true};
+    Series vm{"von Mises (right axis)", hip.angle_deg, hip.fe[primary], false};
     vm.right_axis = true;
     chart.series.push_back(vm);
   }
   for (const std::string& depth : kDepths) {
     const ValidationCorrelation* row = find(rows, hip.ce_deg, hip.alpha_deg, depth, kPrimary);
-    chart.notes.push_back(depth + ": " + our_cell(row));
+    chart.notes.push_back(row != nullptr && row->status == "ok"
+                              ? depth + ": r " + fixed(row->summary.pearson.r, 2) + " (p " +
+                                    scientific(row->summary.pearson.p_value) + ")"
+                              : depth + ": " + our_cell(row));
   }
   write_svg(chart, path);
 }
@@ -204,7 +207,7 @@ void write_scatter(const ValidationData& data, const std::string& depth, const s
 void write_rmap(const std::vector<ValidationCorrelation>& rows, const std::vector<double>& ces,
                 const std::vector<double>& alphas, const std::string& depth, const std::filesystem::path& path) {
   HeatMap map;
-  map.title = "Pearson r, " + depth + " depth vs von Mises (ball-averaged model peak)";
+  map.title = "r, " + depth + " depth vs von Mises";
   map.row_label = "CE (deg)";
   map.column_label = "alpha (deg)";
   map.unit = "r";
@@ -470,7 +473,7 @@ CorrelationReportResult write_correlation_report(const std::filesystem::path& di
 
   // Summary.
   md << "## Summary (primary measure)\n\n";
-  md << "| depth | hips with r | mean r | SD | range | thesis mean | thesis SD | thesis range |\n";
+  md << "| depth | hips with r | mean r | SD (sample) | range | thesis mean | thesis SD | thesis range |\n";
   md << "|---|---|---|---|---|---|---|---|\n";
   std::vector<double> all;
   for (const std::string& depth : kDepths) {
