@@ -104,3 +104,55 @@ inline constexpr double kSitDownAssumedEndForcePercentBW = 50.0;
 inline constexpr double kSitDownAssumedFrontalAngleDeg = 15.0;
 inline constexpr double kSitDownAssumedSagittalAngleDeg = 0.0;
 }  // namespace hipfai::literature
+
+// ==== Contact-pressure estimator (thesis §4.5; appended block, see stats/pressure_estimator.h) ==
+namespace hipfai::literature {
+// f = 1944 features "from femur bone, cartilage and acetabulum soft tissues" (§4.5.3.4). The
+// thesis gives neither the grid nor the tissue split; our choice (studies/pressure_features.h):
+// 4 tissues (femur bone, femoral cartilage, acetabular cartilage, labrum) x 18 polar x 27 azimuth.
+inline constexpr int kEstimatorFeatureCount = 1944;
+inline constexpr int kEstimatorGridPolarSteps = 18;
+inline constexpr int kEstimatorGridAzimuthSteps = 27;
+// e = 10 effective features kept after PCA (§4.5.3.4); e' = 1..10 evaluated.
+inline constexpr int kEstimatorEffectiveFeatures = 10;
+// Eq. 22: the 4 training sets with the smallest DIST1 are shortlisted ("4 was chosen by trial").
+inline constexpr int kEstimatorNearestSets = 4;
+// §4.5.4: leave-one-out mean error at e' = 10, case 1 (first half of the motion): 5.14 % over all
+// 25 hips (sd 9.1 %), 1.62 % (sd 0.79 %) over the non-bordering ones.
+inline constexpr double kEstimatorThesisMeanErrorPercent = 5.14;
+inline constexpr double kEstimatorThesisInteriorErrorPercent = 1.62;
+}  // namespace hipfai::literature
+
+// ==== Hip joint centre (thesis §4.4; appended block, see geometry/hjc.h, studies/hjc_study.h) ====
+namespace hipfai::literature {
+// Functional HJC (dconst, dref): simulated circumduction with an elevation of 20 deg (thesis
+// §4.4.2.2.2 after Gilles 2007 and Kang, Sadri, Moccozet & Magnenat-Thalmann 2003, "Hip joint
+// modeling for the control of the joint center and the range of motions", 5th IFAC Symposium on
+// Modelling and Control in Biomedical Systems, 20-24).
+inline constexpr double kCircumductionElevationDeg = 20.0;
+// Mean accuracy of the MRI bone segmentation of the thesis' subjects: 1.5 mm (thesis §4.4.2.1.2,
+// after Gilles 2007). The HJC cohort's surface noise goes up to it (0.5, 1.0, 1.5 mm RMS).
+inline constexpr double kSegmentationAccuracyMm = 1.5;
+// Normal hip range of motion, American Academy of Orthopaedic Surgeons, "Joint Motion: Method of
+// Measuring and Recording" (1965): the amplitudes of the HJC study's six medical rotations. (The
+// thesis took its amplitudes from the cadaveric study of Genoud et al. 2000, whose values it does
+// not print; these clinical norms stand in for them.)
+inline constexpr double kAaosFlexionDeg = 120.0;
+inline constexpr double kAaosExtensionDeg = 30.0;
+inline constexpr double kAaosAbductionDeg = 45.0;
+inline constexpr double kAaosAdductionDeg = 30.0;
+inline constexpr double kAaosInternalRotationDeg = 45.0;
+inline constexpr double kAaosExternalRotationDeg = 45.0;
+// Hip rotation measured supine in 120 adults: external 38.5 deg, internal 29.6 deg (Kouyoumdjian,
+// Coulomb, Sanchez & Asencio 2012, Orthop Traumatol Surg Res 98:17-23).
+inline constexpr double kSupineExternalRotationDeg = 38.5;
+inline constexpr double kSupineInternalRotationDeg = 29.6;
+// Thesis §4.4.5, differences of the maximum penetration depths to those about the dref centre,
+// mean over 10 MRI subjects and six rotations: radial about 30 % on average; femoralheadsphere and
+// doublesphere below 19 % (radial) and 0.42 mm (curvilinear); dconst about 55 % and 1.87 mm.
+inline constexpr double kThesisHjcRadialDiffPercent = 30.0;
+inline constexpr double kThesisHjcSphereRadialDiffPercent = 19.0;
+inline constexpr double kThesisHjcSphereCurvilinearDiffMm = 0.42;
+inline constexpr double kThesisHjcDconstRadialDiffPercent = 55.0;
+inline constexpr double kThesisHjcDconstCurvilinearDiffMm = 1.87;
+}  // namespace hipfai::literature

@@ -1,0 +1,183 @@
+// hipfai estimator: the contact-pressure estimator of thesis §4.5 (train, predict, validate).
+#include "app/command_registry.h"
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "core/literature.h"
+#include "studies/estimator_study.h"
+
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+namespace hipfai::app {
+namespace {
+
+struct TrainArgs {
+  std::vector<std::string> fe;
+  std::string hips, base, measure = "pressure_max_mpa";
+  int polar_steps = literature::kEstimatorGridPolarSteps, azimuth_steps = literature::kEstimatorGridAzimuthSteps;
+  int components = literature::kEstimatorEffectiveFeatures, nearest = literature::kEstimatorNearestSets;
+  double scale_floor_mm = literature::kSphericityToleranceMm;
+  std::vector<std::string> tissues;
+};
+
+void add_train_options(CLI::App* app, TrainArgs& args, bool fe_required) {
+  auto* fe = app->add_option("--fe", args.fe,
+                             "FE results: a `hipfai study validate` output folder (steps.csv) or a steps.csv; "
+                             "repeat for several sweeps of the same motion");
+  if (fe_required) fe->required();
+  app->add_option("--hips", args.hips, "Folder of hip model folders (model.json), matched to the FE rows by CE/alpha");
+  app->add_option("--measure", args.measure, "FE quantity to estimate (a steps.csv column ending in _mpa)")
+      ->capture_default_str();
+  app->add_option("--polar-steps", args.polar_steps, "Feature grid: polar steps (thesis f = 1944 = 4 x 18 x 27)")
+      ->capture_default_str()->check(CLI::Range(1, 360));
+  app->add_option("--azimuth-steps", args.azimuth_steps, "Feature grid: azimuth steps")->capture_default_str()
+      ->check(CLI::Range(1, 720));
+  app->add_option("--tissues", args.tissues, "Tissues sampled (default femur_bone,femoral_cartilage,"
+                                             "acetabular_cartilage,labrum)")->delimiter(',');
+  app->add_option("--components", args.components, "PCA components kept, e (thesis: 10)")->capture_default_str()
+      ->check(CLI::Range(1, 1000));
+  app->add_option("--nearest", args.nearest, "Eq. 22 DIST1 shortlist (thesis: 4)")->capture_default_str()
+      ->check(CLI::Range(1, 1000));
+  app->add_option("--scale-floor-mm", args.scale_floor_mm,
+                  "Normalisation: features vary less than this are divided by it, not by their deviation")
+      ->capture_default_str()->check(CLI::Range(0.0, 100.0));
+}
+
+studies::EstimatorTrainOptions train_options(const CLI::App* app, const TrainArgs& args) {
+  studies::EstimatorTrainOptions options;
+  for (const auto& fe : args.fe) options.fe.emplace_back(fe);
+  options.hips = args.hips;
+  options.base_model = args.base;
+  options.measure = args.measure;
+  options.grid.polar_steps = args.polar_steps;
+  options.grid.azimuth_steps = args.azimuth_steps;
+  if (!args.tissues.empty()) options.grid.tissues = args.tissues;
+  options.grid_given = app->count("--polar-steps") + app->count("--azimuth-steps") + app->count("--tissues") > 0;
+  options.settings.pca.components = args.components;
+  options.settings.pca.scale_floor = args.scale_floor_mm;
+  options.settings.nearest = args.nearest;
+  options.settings.knn_k = args.nearest;
+  return options;
+}
+
+const CommandRegistrar registrar("estimator", [](CLI::App& parent) {
+  auto* estimator = parent.add_subcommand(
+      "estimator", "Contact-pressure estimator of thesis §4.5 (PCA nearest neighbour): train, predict, validate");
+  estimator->require_subcommand(1);
+
+  auto* train = estimator->add_subcommand("train", "Train a model file from FE results and their hips");
+  auto train_args = std::make_shared<TrainArgs>();
+  auto train_out = std::make_shared<std::string>();
+  add_train_options(train, *train_args, false);
+  train->add_option("--base", train_args->base,
+                    "Retrain: start from this model's training hips (same grid, motion and measure) and add --fe")
+      ->check(CLI::ExistingFile);
+  train->add_option("--out", *train_out, "Model file (HDF5)")->required();
+  train->callback([=] {
+    const auto start = std::chrono::steady_clock::now();
+    std::vector<std::string> notes;
+    const auto model = studies::train_estimator_model(train_options(train, *train_args), &notes);
+    studies::write_estimator_model(model, *train_out);
+    for (const auto& note : notes) std::cout << "note: " << note << '\n';
+    double features_ms = 0;
+    int extracted = 0;
+    for (const auto& hip : model.hips) {
+      if (hip.feature_ms > 0) {
+        features_ms += hip.feature_ms;
+        ++extracted;
+      }
+    }
+    std::cout << std::fixed << std::setprecision(1) << "trained on " << model.hips.size() << " hips x "
+              << model.angle_deg.size() << " steps (" << model.measure << "), " << model.grid.num_features()
+              << " features (" << model.grid.describe() << "), e = " << model.estimator.pca.num_components()
+              << " components (" << std::setprecision(1)
+              << 100.0 * model.estimator.pca.variances.sum() / model.estimator.pca.total_variance
+              << " % of the variance); features " << (extracted ? features_ms / extracted : 0.0)
+              << " ms per hip; total "
+              << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() << " s; model: "
+              << *train_out << '\n';
+  });
+
+  auto* predict = estimator->add_subcommand("predict", "Estimate the FE quantity of a hip at every step of the motion");
+  auto model_path = std::make_shared<std::string>();
+  auto hip_dir = std::make_shared<std::string>();
+  auto csv = std::make_shared<std::string>();
+  auto method = std::make_shared<std::string>("pca_nn");
+  auto e_prime = std::make_shared<int>(0);
+  predict->add_option("--model", *model_path, "Model file from `estimator train`")->required();
+  predict->add_option("--hip", *hip_dir, "Hip model folder (model.json)")->required();
+  predict->add_option("--csv", *csv, "Write step, estimate, low, high, bordering to this file");
+  predict->add_option("--method", *method, "pca_nn (thesis), knn or ridge")->capture_default_str()
+      ->check(CLI::IsMember({"pca_nn", "knn", "ridge"}));
+  predict->add_option("--e-prime", *e_prime, "Components used, e' (default: all the model keeps)")
+      ->check(CLI::Range(1, 1000));
+  predict->callback([=] {
+    const auto model = studies::read_estimator_model(*model_path);
+    const int used = *e_prime > 0 ? *e_prime : model.estimator.pca.num_components();
+    const auto prediction = studies::predict_hip(model, *hip_dir, stats::parse_estimator_method(*method), used);
+    const auto& result = prediction.result;
+    std::ostringstream table;
+    table << std::setprecision(10) << "step,estimate,low,high,bordering\n";
+    for (std::size_t j = 0; j < result.steps.size(); ++j) {
+      const auto& s = result.steps[j];
+      table << j + 1 << ',' << s.estimate << ',' << s.low << ',' << s.high << ',' << (result.bordering ? 1 : 0) << '\n';
+    }
+    if (!csv->empty()) write_file_atomically(*csv, table.str());
+    std::cout << std::fixed << std::setprecision(3) << *method << " e'=" << used << " estimate of " << model.measure
+              << " for " << *hip_dir << " (MPa):\n step  angle_deg  estimate     low    high\n";
+    for (std::size_t j = 0; j < result.steps.size(); ++j) {
+      const auto& s = result.steps[j];
+      std::cout << std::setw(5) << j + 1 << std::setw(11) << model.angle_deg[j] << std::setw(10) << s.estimate
+                << std::setw(8) << s.low << std::setw(8) << s.high << '\n';
+    }
+    std::cout << (result.bordering ? "BORDERING" : "interior") << ": Mahalanobis distance " << result.mahalanobis
+              << " (training max " << model.estimator.max_training_mahalanobis << "), outside the training range on "
+              << result.outside_components << " of " << model.estimator.significant_components
+              << " significant components" << (result.bordering ? " - the estimate extrapolates" : "") << '\n'
+              << "time: load " << prediction.load_ms << " ms, features " << prediction.feature_ms
+              << " ms, prediction " << prediction.predict_ms << " ms\n";
+  });
+
+  auto* validate = estimator->add_subcommand(
+      "validate", "Leave-one-out over all hips, e' = 1..10, cases 1-2 (thesis Tables 12-13, Figs. 72-74) with "
+                  "baselines; writes loo.csv, estimates.csv, report.md, model.h5");
+  auto validate_args = std::make_shared<TrainArgs>();
+  auto validate_out = std::make_shared<std::string>("out/estimator");
+  auto quick = std::make_shared<bool>(false);
+  auto cache = std::make_shared<std::string>("cache");
+  add_train_options(validate, *validate_args, false);
+  validate->add_option("--out", *validate_out, "Output folder")->capture_default_str();
+  validate->add_flag("--quick", *quick,
+                     "From nothing: 5 hips at 3 mm edges, 6 steps, FE coarse (study validate), then validate");
+  validate->add_option("--cache", *cache, "Cache of --quick's hips and FE runs")->capture_default_str();
+  validate->callback([=] {
+    studies::EstimatorValidateOptions options;
+    options.train = train_options(validate, *validate_args);
+    options.out_dir = *validate_out;
+    if (*quick) {
+      options.quick_cache = *cache;
+      options.quick_program = std::filesystem::read_symlink("/proc/self/exe");
+    } else if (options.train.fe.empty() || options.train.hips.empty()) {
+      throw_error("estimator validate: --fe and --hips are required (or --quick)");
+    }
+    const auto summary = studies::validate_estimator(options);
+    std::cout << std::fixed << std::setprecision(2);
+    for (int c = 0; c < 2; ++c) {
+      std::cout << "case " << c + 1 << " (" << summary.hips[c] << " hips, " << summary.bordering[c]
+                << " flagged bordering), e'=" << options.max_e_prime << " mean |error| %:";
+      for (int m = 0; m < 3; ++m) {
+        std::cout << ' ' << stats::to_string(stats::kEstimatorMethods[m]) << ' ' << summary.mean_error[c][m]
+                  << " (interior " << summary.interior_error[c][m] << ')';
+      }
+      std::cout << '\n';
+    }
+    std::cout << "thesis: case 1 5.14 (interior 1.62); report: " << summary.report.string() << '\n';
+  });
+});
+
+}  // namespace
+}  // namespace hipfai::app

@@ -1,0 +1,133 @@
+#include "stats/pressure_estimator.h"
+
+#include "core/error.h"
+#include "stats/ridge_regression.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace hipfai::stats {
+
+const char* to_string(EstimatorMethod method) {
+  switch (method) {
+    case EstimatorMethod::kPcaNn: return "pca_nn";
+    case EstimatorMethod::kKnn: return "knn";
+    case EstimatorMethod::kRidge: return "ridge";
+  }
+  return "?";
+}
+
+EstimatorMethod parse_estimator_method(const std::string& name) {
+  for (const EstimatorMethod method : kEstimatorMethods) {
+    if (name == to_string(method)) return method;
+  }
+  throw_error("unknown estimator method '", name, "' (pca_nn, knn, ridge)");
+}
+
+namespace {
+
+double significant_mahalanobis(const TrainedEstimator& model, const Eigen::VectorXd& scores) {
+  double sum = 0.0;
+  for (int k = 0; k < model.significant_components; ++k) {
+    if (model.pca.variances(k) > 0.0) sum += scores(k) * scores(k) / model.pca.variances(k);
+  }
+  return std::sqrt(sum);
+}
+
+}  // namespace
+
+void derive_estimator(TrainedEstimator& model) {
+  model.scores = pca_scores(model.pca, model.features);
+  model.correlations = score_value_correlations(model.scores, model.values);
+  model.significant_components = 0;
+  while (model.significant_components < model.pca.num_components() &&
+         model.pca.variances(model.significant_components) >=
+             model.settings.bordering_min_variance_share * model.pca.total_variance &&
+         model.pca.variances(model.significant_components) > 0.0) {
+    ++model.significant_components;
+  }
+  const int n = model.significant_components;
+  model.score_min = model.scores.leftCols(n).colwise().minCoeff().transpose();
+  model.score_max = model.scores.leftCols(n).colwise().maxCoeff().transpose();
+  model.max_training_mahalanobis = 0.0;
+  for (Eigen::Index i = 0; i < model.scores.rows(); ++i) {
+    model.max_training_mahalanobis =
+        std::max(model.max_training_mahalanobis, significant_mahalanobis(model, model.scores.row(i).transpose()));
+  }
+}
+
+TrainedEstimator train_estimator(const Eigen::MatrixXd& features, const Eigen::MatrixXd& values,
+                                 const EstimatorSettings& settings) {
+  if (features.rows() != values.rows()) {
+    throw_error("estimator: ", features.rows(), " feature rows but ", values.rows(), " value rows");
+  }
+  if (features.rows() < 3) throw_error("estimator: ", features.rows(), " training hips; need at least 3");
+  TrainedEstimator model;
+  model.settings = settings;
+  model.features = features;
+  model.values = values;
+  model.pca = fit_pca(features, settings.pca);
+  derive_estimator(model);
+  return model;
+}
+
+EstimateResult estimate(const TrainedEstimator& model, const Eigen::VectorXd& target_features,
+                        EstimatorMethod method, int e_prime) {
+  if (e_prime < 1) throw_error("estimator: e' = ", e_prime, "; need at least 1");
+  const Eigen::VectorXd target = pca_scores(model.pca, target_features.transpose()).row(0).transpose();
+  EstimateResult result;
+  result.mahalanobis = significant_mahalanobis(model, target);
+  for (int k = 0; k < model.significant_components; ++k) {
+    if (target(k) < model.score_min(k) || target(k) > model.score_max(k)) ++result.outside_components;
+  }
+  result.bordering = result.outside_components > 0 || result.mahalanobis > model.max_training_mahalanobis;
+  switch (method) {
+    case EstimatorMethod::kPcaNn: {
+      PcaNnOptions options;
+      options.e_prime = e_prime;
+      options.nearest = model.settings.nearest;
+      for (const PcaNnStep& step : pca_nn_estimate(model.scores, model.values, model.correlations, target, options)) {
+        result.steps.push_back({step.estimate, step.low, step.high, step.defined});
+      }
+      break;
+    }
+    case EstimatorMethod::kKnn:
+      result.steps = knn_estimate(model.scores, model.values, target, e_prime, model.settings.knn_k);
+      break;
+    case EstimatorMethod::kRidge:
+      result.steps = ridge_estimate(model.scores, model.pca.variances.cwiseSqrt(), model.values, target, e_prime);
+      break;
+  }
+  return result;
+}
+
+std::vector<LeaveOneOutRow> leave_one_out(const Eigen::MatrixXd& features, const Eigen::MatrixXd& values,
+                                          const EstimatorSettings& settings, int max_e_prime,
+                                          const std::vector<int>& held_out) {
+  const auto hips = static_cast<int>(features.rows());
+  std::vector<int> targets = held_out;
+  if (targets.empty()) {
+    for (int i = 0; i < hips; ++i) targets.push_back(i);
+  }
+  std::vector<LeaveOneOutRow> rows;
+  for (const int target : targets) {
+    if (target < 0 || target >= hips) throw_error("leave-one-out: hip ", target, " out of range");
+    Eigen::MatrixXd train_features(hips - 1, features.cols());
+    Eigen::MatrixXd train_values(hips - 1, values.cols());
+    for (int i = 0, r = 0; i < hips; ++i) {
+      if (i == target) continue;
+      train_features.row(r) = features.row(i);
+      train_values.row(r) = values.row(i);
+      ++r;
+    }
+    const TrainedEstimator model = train_estimator(train_features, train_values, settings);
+    for (const EstimatorMethod method : kEstimatorMethods) {
+      for (int e_prime = 1; e_prime <= max_e_prime; ++e_prime) {
+        rows.push_back({target, method, e_prime, estimate(model, features.row(target).transpose(), method, e_prime)});
+      }
+    }
+  }
+  return rows;
+}
+
+}  // namespace hipfai::stats

@@ -1,0 +1,88 @@
+// hipfai — a trained contact-pressure estimator (thesis §4.5): the PCA of the training hips'
+// features, their scores and FE values, and the three ways to estimate a target from them
+// (the thesis' PCA nearest-neighbour method and two baselines on the same scores), with the
+// bordering flag. Numbers only: features come from studies/pressure_features.h.
+#pragma once
+
+#include "core/literature.h"
+#include "stats/knn_regression.h"
+#include "stats/pca.h"
+#include "stats/pca_nn_estimator.h"
+
+#include <Eigen/Core>
+
+#include <string>
+#include <vector>
+
+namespace hipfai::stats {
+
+enum class EstimatorMethod { kPcaNn, kKnn, kRidge };
+
+// "pca_nn", "knn", "ridge" (the `method` column of the output files).
+const char* to_string(EstimatorMethod method);
+// Inverse of to_string; throws hipfai::Error naming the accepted values.
+EstimatorMethod parse_estimator_method(const std::string& name);
+inline constexpr EstimatorMethod kEstimatorMethods[] = {EstimatorMethod::kPcaNn, EstimatorMethod::kKnn,
+                                                        EstimatorMethod::kRidge};
+
+struct EstimatorSettings {
+  PcaOptions pca;   // e = pca.components (thesis: 10)
+  int nearest = literature::kEstimatorNearestSets;  // Eq. 22 shortlist (thesis: 4)
+  int knn_k = literature::kEstimatorNearestSets;    // kNN baseline's k: the thesis' shortlist size, like for like
+  // Bordering check: only components carrying at least this share of the total variance count
+  // (the others hold mesh jitter, in which every hip is "extreme" somewhere).
+  double bordering_min_variance_share = 0.02;
+};
+
+struct TrainedEstimator {
+  EstimatorSettings settings;
+  Pca pca;
+  Eigen::MatrixXd features;      // m x f training features (kept for retraining and provenance)
+  Eigen::MatrixXd scores;        // m x e
+  Eigen::MatrixXd values;        // m x p FE values, NaN = missing
+  Eigen::MatrixXd correlations;  // e x p, Eq. 20
+  // Bordering reference over the significant components (variance share >= the setting):
+  int significant_components = 0;            // the first n components (variances decrease)
+  Eigen::VectorXd score_min, score_max;      // training range of each significant component
+  double max_training_mahalanobis = 0.0;     // largest training distance over those components
+};
+
+// Throws hipfai::Error on shape mismatches (rows differ), fewer than 3 hips, or non-finite features.
+TrainedEstimator train_estimator(const Eigen::MatrixXd& features, const Eigen::MatrixXd& values,
+                                 const EstimatorSettings& settings);
+
+// Rebuilds the derived members (scores, correlations, distances) of a model read back from a file:
+// the same arithmetic as train_estimator, so a reloaded model predicts bit-identically.
+void derive_estimator(TrainedEstimator& model);
+
+struct EstimateResult {
+  std::vector<RegressionStep> steps;  // one per step of the training values
+  // BORDERING (the thesis' word, §4.5.4, for targets without enough training hips around them):
+  // on some significant component the target's score lies outside the training range, or its
+  // Mahalanobis distance over the significant components exceeds every training hip's. Either
+  // puts it outside the training set's hull in PCA space.
+  double mahalanobis = 0.0;
+  int outside_components = 0;         // significant components whose training range it leaves
+  bool bordering = false;
+};
+
+// e' components: pca_nn ranks them by |CC| (Eq. 21); knn and ridge take the first e' by variance.
+// Throws hipfai::Error on a feature count different from the training's or e' < 1.
+EstimateResult estimate(const TrainedEstimator& model, const Eigen::VectorXd& target_features,
+                        EstimatorMethod method, int e_prime);
+
+struct LeaveOneOutRow {
+  int hip = 0;  // row of the held-out hip
+  EstimatorMethod method = EstimatorMethod::kPcaNn;
+  int e_prime = 1;
+  EstimateResult result;
+};
+
+// Leave-one-out (thesis §4.5.3.4): each hip of `held_out` (empty: every row) is estimated by a
+// model trained on all the other rows (PCA refitted without it), for every method and
+// e' = 1..max_e_prime. `values` may hold NaN (missing steps). Rows ordered hip, method, e'.
+std::vector<LeaveOneOutRow> leave_one_out(const Eigen::MatrixXd& features, const Eigen::MatrixXd& values,
+                                          const EstimatorSettings& settings, int max_e_prime,
+                                          const std::vector<int>& held_out = {});
+
+}  // namespace hipfai::stats

@@ -1,0 +1,478 @@
+#include "studies/estimator_study.h"
+
+#include "core/csv.h"
+#include "core/error.h"
+#include "core/progress.h"
+#include "core/version.h"
+#include "geometry/hip_model.h"
+#include "studies/results_file.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <limits>
+#include <map>
+#include <set>
+#include <sstream>
+
+namespace hipfai::studies {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr const char* kModelFormat = "hipfai-pressure-estimator";
+constexpr int kModelVersion = 1;
+
+double elapsed_ms(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+double parse_number(const std::string& cell) {
+  if (cell.empty()) return kNaN;
+  try {
+    std::size_t used = 0;
+    const double value = std::stod(cell, &used);
+    return used == cell.size() ? value : kNaN;
+  } catch (const std::exception&) {
+    return kNaN;
+  }
+}
+
+std::string hip_name(double ce, double alpha) {
+  std::ostringstream out;
+  out << "ce" << ce << "_alpha" << alpha;
+  return out.str();
+}
+
+std::string exact(double value) {
+  std::ostringstream out;
+  out << std::setprecision(17) << value;
+  return out.str();
+}
+
+// Edge length per hip from a validation folder's timings.csv (absent file: empty map).
+std::map<std::pair<double, double>, double> read_edges(const std::filesystem::path& timings) {
+  std::map<std::pair<double, double>, double> edges;
+  std::ifstream in(timings);
+  if (!in) return edges;
+  std::string line;
+  std::getline(in, line);
+  const auto header = split_csv_line(line);
+  const auto column = [&](const std::string& name) {
+    const auto it = std::find(header.begin(), header.end(), name);
+    return it == header.end() ? -1 : static_cast<int>(it - header.begin());
+  };
+  const int ce = column("ce_deg"), alpha = column("alpha_deg"), edge = column("edge_mm");
+  if (ce < 0 || alpha < 0 || edge < 0) return edges;
+  while (std::getline(in, line)) {
+    const auto cells = split_csv_line(line);
+    if (static_cast<int>(cells.size()) <= std::max({ce, alpha, edge})) continue;
+    edges[{parse_number(cells[static_cast<std::size_t>(ce)]), parse_number(cells[static_cast<std::size_t>(alpha)])}] =
+        parse_number(cells[static_cast<std::size_t>(edge)]);
+  }
+  return edges;
+}
+
+struct HipFolder {
+  std::filesystem::path dir;
+  geometry::HipModel model;
+  double load_ms = 0;
+};
+
+std::vector<HipFolder> load_hip_folders(const std::filesystem::path& hips, const FeatureGrid& grid, bool progress) {
+  if (!std::filesystem::is_directory(hips)) throw_error(hips.string(), ": no such folder of hips");
+  std::vector<std::filesystem::path> dirs;
+  if (std::filesystem::exists(hips / "model.json")) {
+    dirs.push_back(hips);
+  } else {
+    for (const auto& entry : std::filesystem::directory_iterator(hips)) {
+      if (!entry.is_directory() || entry.path().extension() == ".partial") continue;
+      if (std::filesystem::exists(entry.path() / "model.json")) dirs.push_back(entry.path());
+    }
+  }
+  std::sort(dirs.begin(), dirs.end());
+  if (dirs.empty()) throw_error(hips.string(), ": no hip folder (with model.json) in it");
+  const std::set<std::string> tissues(grid.tissues.begin(), grid.tissues.end());
+  std::vector<HipFolder> folders;
+  ProgressBar bar("loading hips", dirs.size(), progress);
+  for (const auto& dir : dirs) {
+    const auto start = std::chrono::steady_clock::now();
+    HipFolder folder{dir, geometry::load_hip_model(dir, tissues), 0};
+    folder.load_ms = elapsed_ms(start);
+    folders.push_back(std::move(folder));
+    bar.advance();
+  }
+  return folders;
+}
+
+bool same(double a, double b) { return std::abs(a - b) <= 1e-9 * std::max(1.0, std::abs(a)); }
+
+void check_same_motion(const std::vector<double>& a, const std::vector<double>& b, const std::string& what) {
+  bool equal = a.size() == b.size();
+  for (std::size_t k = 0; equal && k < a.size(); ++k) equal = std::abs(a[k] - b[k]) <= 1e-6;
+  if (!equal) {
+    throw_error(what, ": motion differs (", a.size(), " steps to ", a.empty() ? 0.0 : a.back(), " deg vs ", b.size(),
+                " steps to ", b.empty() ? 0.0 : b.back(), " deg); an estimator is trained on one motion");
+  }
+}
+
+}  // namespace
+
+FeSweep read_fe_sweep(const std::filesystem::path& fe, const std::string& measure) {
+  const std::filesystem::path file = std::filesystem::is_directory(fe) ? fe / "steps.csv" : fe;
+  std::ifstream in(file);
+  if (!in) throw_error(file.string(), ": cannot read the FE table (expected a `hipfai study validate` folder)");
+  std::string line;
+  if (!std::getline(in, line)) throw_error(file.string(), ": empty");
+  const auto header = split_csv_line(line);
+  const auto column = [&](const std::string& name) {
+    const auto it = std::find(header.begin(), header.end(), name);
+    if (it == header.end()) throw_error(file.string(), ": no column ", name);
+    return static_cast<std::size_t>(it - header.begin());
+  };
+  const std::size_t ce = column("ce_deg"), alpha = column("alpha_deg"), step = column("step"),
+                    angle = column("angle_deg"), value = column(measure);
+  if (measure.size() < 4 || measure.substr(measure.size() - 4) != "_mpa") {
+    throw_error(file.string(), ": ", measure, " is not an FE measure (names end in _mpa)");
+  }
+  FeSweep sweep;
+  sweep.measure = measure;
+  std::map<std::pair<double, double>, std::map<int, std::pair<double, double>>> rows;  // hip -> step -> (angle, value)
+  int line_number = 1;
+  while (std::getline(in, line)) {
+    ++line_number;
+    if (line.empty()) continue;
+    const auto cells = split_csv_line(line);
+    if (cells.size() != header.size()) {
+      throw_error(file.string(), ":", line_number, ": ", cells.size(), " cells, the header has ", header.size());
+    }
+    const double c = parse_number(cells[ce]), a = parse_number(cells[alpha]), s = parse_number(cells[step]),
+                 g = parse_number(cells[angle]);
+    if (!std::isfinite(c) || !std::isfinite(a) || !std::isfinite(s) || !std::isfinite(g) || s < 1 ||
+        s != std::floor(s)) {
+      throw_error(file.string(), ":", line_number, ": bad ce_deg, alpha_deg, step or angle_deg");
+    }
+    rows[{c, a}][static_cast<int>(s)] = {g, parse_number(cells[value])};
+  }
+  if (rows.empty()) throw_error(file.string(), ": no rows");
+  int steps = 0;
+  for (const auto& [hip, by_step] : rows) steps = std::max(steps, by_step.rbegin()->first);
+  sweep.angle_deg.assign(static_cast<std::size_t>(steps), kNaN);
+  const auto edges = read_edges(file.parent_path() / "timings.csv");
+  for (const auto& [hip, by_step] : rows) {
+    FeSweepHip entry{hip.first, hip.second, kNaN, std::vector<double>(static_cast<std::size_t>(steps), kNaN)};
+    if (const auto it = edges.find(hip); it != edges.end()) entry.edge_mm = it->second;
+    for (const auto& [s, angle_value] : by_step) {
+      double& known = sweep.angle_deg[static_cast<std::size_t>(s - 1)];
+      if (std::isnan(known)) known = angle_value.first;
+      if (std::abs(known - angle_value.first) > 1e-6) {
+        throw_error(file.string(), ": hip ", hip_name(hip.first, hip.second), " step ", s, " is at ",
+                    angle_value.first, " deg, another hip's at ", known, " deg: one motion per table");
+      }
+      entry.values[static_cast<std::size_t>(s - 1)] = angle_value.second;
+    }
+    sweep.hips.push_back(std::move(entry));
+  }
+  for (std::size_t k = 0; k < sweep.angle_deg.size(); ++k) {
+    if (std::isnan(sweep.angle_deg[k])) throw_error(file.string(), ": no hip has step ", k + 1);
+  }
+  return sweep;
+}
+
+EstimatorModel train_estimator_model(const EstimatorTrainOptions& options, std::vector<std::string>* notes) {
+  if (options.fe.empty() && options.base_model.empty()) throw_error("train: no FE results (--fe) given");
+  EstimatorModel model;
+  model.grid = options.grid;
+  model.measure = options.measure;
+  stats::EstimatorSettings settings = options.settings;
+  if (!options.base_model.empty()) {
+    EstimatorModel base = read_estimator_model(options.base_model);
+    if (options.grid_given && base.grid.describe() != options.grid.describe()) {
+      throw_error(options.base_model.string(), ": trained on feature grid '", base.grid.describe(),
+                  "', not the requested '", options.grid.describe(), "'; features on different grids cannot be mixed");
+    }
+    if (base.measure != options.measure) {
+      throw_error(options.base_model.string(), ": trained on ", base.measure, ", not ", options.measure);
+    }
+    model.grid = base.grid;
+    model.angle_deg = base.angle_deg;
+    model.hips = std::move(base.hips);
+  }
+  std::vector<FeSweep> sweeps;
+  for (const auto& fe : options.fe) {
+    sweeps.push_back(read_fe_sweep(fe, options.measure));
+    if (model.angle_deg.empty()) model.angle_deg = sweeps.back().angle_deg;
+    check_same_motion(model.angle_deg, sweeps.back().angle_deg,
+                      fe.string() + (options.base_model.empty() ? "" : " vs " + options.base_model.string()));
+  }
+  if (!sweeps.empty()) {
+    if (options.hips.empty()) throw_error("train: --hips (the hip folders of the FE results) is required");
+    const std::vector<HipFolder> folders = load_hip_folders(options.hips, model.grid, options.progress);
+    std::size_t total = 0;
+    for (const auto& sweep : sweeps) total += sweep.hips.size();
+    ProgressBar bar("hip features", total, options.progress);
+    for (const auto& sweep : sweeps) {
+      for (const FeSweepHip& fe_hip : sweep.hips) {
+        std::vector<const HipFolder*> matches;
+        for (const HipFolder& folder : folders) {
+          const auto& p = folder.model.parameters;
+          if (same(p.ce_deg, fe_hip.ce_deg) && same(p.alpha_deg, fe_hip.alpha_deg) &&
+              (std::isnan(fe_hip.edge_mm) || same(p.edge_mm, fe_hip.edge_mm))) {
+            matches.push_back(&folder);
+          }
+        }
+        const std::string name = hip_name(fe_hip.ce_deg, fe_hip.alpha_deg);
+        if (matches.empty()) {
+          throw_error(options.hips.string(), ": no hip folder with CE ", fe_hip.ce_deg, ", alpha ", fe_hip.alpha_deg,
+                      std::isnan(fe_hip.edge_mm) ? std::string() : ", edge " + exact(fe_hip.edge_mm) + " mm",
+                      " (the FE results have it)");
+        }
+        // Copies of one hip (a cache holding the same generated hip under two keys) are one hip.
+        const std::string first_hash = hip_content_hash(matches.front()->model, model.grid);
+        bool copies = true;
+        for (std::size_t k = 1; k < matches.size() && copies; ++k) {
+          copies = hip_content_hash(matches[k]->model, model.grid) == first_hash;
+        }
+        if (!copies) {
+          throw_error(options.hips.string(), ": ", matches.size(), " hip folders match ", name, " (",
+                      matches[0]->dir.filename().string(), ", ", matches[1]->dir.filename().string(),
+                      ") with different meshes; give a folder with one hip per CE/alpha, or the FE folder's "
+                      "timings.csv with edge_mm");
+        }
+        const HipFolder& folder = *matches.front();
+        TrainingHip hip;
+        hip.name = name;
+        hip.ce_deg = fe_hip.ce_deg;
+        hip.alpha_deg = fe_hip.alpha_deg;
+        hip.edge_mm = folder.model.parameters.edge_mm;
+        hip.dir = folder.dir;
+        hip.load_ms = folder.load_ms;
+        hip.hash = first_hash;
+        const HipFeatures features = extract_hip_features(folder.model, model.grid);
+        hip.features = features.values;
+        hip.feature_ms = features.extraction_ms;
+        hip.misses = features.misses;
+        hip.values = fe_hip.values;
+        // The same hip again (another FE level, a re-run): the newer FE values replace the older.
+        const auto existing = std::find_if(model.hips.begin(), model.hips.end(),
+                                           [&](const TrainingHip& h) { return h.hash == hip.hash; });
+        if (existing != model.hips.end()) {
+          if (notes) notes->push_back(name + ": FE values replaced by those of " + sweep.measure + " in the new results");
+          *existing = std::move(hip);
+        } else {
+          model.hips.push_back(std::move(hip));
+        }
+        bar.advance();
+      }
+    }
+  }
+  const auto rows = static_cast<Eigen::Index>(model.hips.size());
+  if (rows < 3) throw_error("train: ", rows, " hips with FE results; the estimator needs at least 3");
+  Eigen::MatrixXd features(rows, model.grid.num_features());
+  Eigen::MatrixXd values(rows, static_cast<Eigen::Index>(model.angle_deg.size()));
+  for (Eigen::Index i = 0; i < rows; ++i) {
+    const TrainingHip& hip = model.hips[static_cast<std::size_t>(i)];
+    features.row(i) = hip.features.transpose();
+    for (Eigen::Index j = 0; j < values.cols(); ++j) values(i, j) = hip.values[static_cast<std::size_t>(j)];
+  }
+  model.estimator = stats::train_estimator(features, values, settings);
+  model.code_version = std::string(kVersion) + " " + kGitSha;
+  return model;
+}
+
+void write_estimator_model(const EstimatorModel& model, const std::filesystem::path& path) {
+  const stats::TrainedEstimator& e = model.estimator;
+  const auto f = static_cast<std::size_t>(e.features.cols());
+  const auto row_major = [](const Eigen::MatrixXd& matrix) {
+    std::vector<double> out(static_cast<std::size_t>(matrix.size()));
+    for (Eigen::Index r = 0; r < matrix.rows(); ++r) {
+      for (Eigen::Index c = 0; c < matrix.cols(); ++c) out[static_cast<std::size_t>(r * matrix.cols() + c)] = matrix(r, c);
+    }
+    return out;
+  };
+  const auto vec = [](const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); };
+  ResultsFile file(path);
+  file.set_attribute("/", "format", kModelFormat);
+  file.set_attribute("/", "format_version", std::to_string(kModelVersion));
+  file.set_attribute("/", "code_version", model.code_version);
+  file.set_attribute("/", "units", "mm (features), deg (angles), MPa (FE values)");
+  file.set_attribute("/", "fe_measure", model.measure);
+  file.set_attribute("/", "feature_grid", model.grid.describe());
+  file.set_attribute("/", "method", "thesis §4.5 PCA nearest-neighbour (Eq. 17-23); baselines knn, ridge");
+  std::string names, hashes;
+  for (const auto& hip : model.hips) {
+    names += (names.empty() ? "" : ";") + hip.name;
+    hashes += (hashes.empty() ? "" : ";") + hip.hash;
+  }
+  file.set_attribute("/", "training_hips", names);
+  file.set_attribute("/", "training_hip_hashes", hashes);
+  file.set_attribute("/", "settings",
+                     "components=" + std::to_string(e.settings.pca.components) + ";scale_floor=" +
+                         exact(e.settings.pca.scale_floor) + ";nearest=" + std::to_string(e.settings.nearest) +
+                         ";knn_k=" + std::to_string(e.settings.knn_k) +
+                         ";bordering_min_variance_share=" + exact(e.settings.bordering_min_variance_share));
+  file.write("/motion/angle_deg", model.angle_deg, 1, "deg");
+  file.write("/normalisation/mean", vec(e.pca.mean), 1, "mm");
+  file.write("/normalisation/scale", vec(e.pca.scale), 1, "mm");
+  file.write("/pca/basis", row_major(e.pca.basis), static_cast<std::size_t>(e.pca.basis.cols()), "1");
+  file.write("/pca/variances", vec(e.pca.variances), 1, "1");
+  file.write("/pca/total_variance", {e.pca.total_variance}, 1, "1");
+  file.write("/training/features", row_major(e.features), f, "mm");
+  file.write("/training/values", row_major(e.values), static_cast<std::size_t>(e.values.cols()), "MPa");
+  std::vector<double> ce, alpha, edge;
+  for (const auto& hip : model.hips) {
+    ce.push_back(hip.ce_deg);
+    alpha.push_back(hip.alpha_deg);
+    edge.push_back(hip.edge_mm);
+  }
+  file.write("/training/ce_deg", ce, 1, "deg");
+  file.write("/training/alpha_deg", alpha, 1, "deg");
+  file.write("/training/edge_mm", edge, 1, "mm");
+  file.commit();
+}
+
+namespace {
+
+std::map<std::string, std::string> parse_settings(const std::string& text) {
+  std::map<std::string, std::string> out;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ';')) {
+    const auto eq = item.find('=');
+    if (eq != std::string::npos) out[item.substr(0, eq)] = item.substr(eq + 1);
+  }
+  return out;
+}
+
+std::vector<std::string> split(const std::string& text, char separator) {
+  std::vector<std::string> out;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, separator)) out.push_back(item);
+  return out;
+}
+
+}  // namespace
+
+EstimatorModel read_estimator_model(const std::filesystem::path& path) {
+  if (!std::filesystem::is_regular_file(path)) throw_error(path.string(), ": no such model file");
+  EstimatorModel model;
+  std::string format;
+  try {
+    format = read_string_attribute(path, "/", "format");
+  } catch (const Error&) {
+    throw_error(path.string(), ": not a hipfai estimator model (not HDF5, or no format attribute)");
+  }
+  if (format != kModelFormat) throw_error(path.string(), ": not a hipfai estimator model (format '", format, "')");
+  try {
+    if (read_string_attribute(path, "/", "format_version") != std::to_string(kModelVersion)) {
+      throw_error("format_version is not ", kModelVersion, " (written by another hipfai version?)");
+    }
+    const auto read_matrix = [&](const std::string& name, Eigen::Index rows_expected, Eigen::Index cols_expected) {
+      std::size_t rows = 0, cols = 0;
+      const std::vector<double> values = read_dataset(path, name, &rows, &cols);
+      if ((rows_expected >= 0 && static_cast<Eigen::Index>(rows) != rows_expected) ||
+          (cols_expected >= 0 && static_cast<Eigen::Index>(cols) != cols_expected)) {
+        throw_error(path.string(), ": ", name, " is ", rows, " x ", cols, ", inconsistent with the rest of the model");
+      }
+      Eigen::MatrixXd matrix(static_cast<Eigen::Index>(rows), static_cast<Eigen::Index>(cols));
+      for (std::size_t r = 0; r < rows; ++r) {
+        for (std::size_t c = 0; c < cols; ++c) {
+          matrix(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c)) = values[r * cols + c];
+        }
+      }
+      return matrix;
+    };
+    model.code_version = read_string_attribute(path, "/", "code_version");
+    model.measure = read_string_attribute(path, "/", "fe_measure");
+    model.grid = parse_feature_grid(read_string_attribute(path, "/", "feature_grid"));
+    const auto settings = parse_settings(read_string_attribute(path, "/", "settings"));
+    stats::EstimatorSettings& s = model.estimator.settings;
+    s.pca.components = std::stoi(settings.at("components"));
+    s.pca.scale_floor = std::stod(settings.at("scale_floor"));
+    s.nearest = std::stoi(settings.at("nearest"));
+    s.knn_k = std::stoi(settings.at("knn_k"));
+    s.bordering_min_variance_share = std::stod(settings.at("bordering_min_variance_share"));
+    const Eigen::Index f = model.grid.num_features();
+    const Eigen::MatrixXd angles = read_matrix("/motion/angle_deg", -1, 1);
+    model.angle_deg.assign(angles.data(), angles.data() + angles.size());
+    const auto p = static_cast<Eigen::Index>(model.angle_deg.size());
+    stats::TrainedEstimator& e = model.estimator;
+    e.pca.mean = read_matrix("/normalisation/mean", f, 1).col(0);
+    e.pca.scale = read_matrix("/normalisation/scale", f, 1).col(0);
+    e.pca.basis = read_matrix("/pca/basis", f, -1);
+    e.pca.variances = read_matrix("/pca/variances", e.pca.basis.cols(), 1).col(0);
+    e.pca.total_variance = read_matrix("/pca/total_variance", 1, 1)(0, 0);
+    e.features = read_matrix("/training/features", -1, f);
+    const Eigen::Index m = e.features.rows();
+    e.values = read_matrix("/training/values", m, p);
+    const Eigen::MatrixXd ce = read_matrix("/training/ce_deg", m, 1);
+    const Eigen::MatrixXd alpha = read_matrix("/training/alpha_deg", m, 1);
+    const Eigen::MatrixXd edge = read_matrix("/training/edge_mm", m, 1);
+    const auto names = split(read_string_attribute(path, "/", "training_hips"), ';');
+    const auto hashes = split(read_string_attribute(path, "/", "training_hip_hashes"), ';');
+    if (static_cast<Eigen::Index>(names.size()) != m || static_cast<Eigen::Index>(hashes.size()) != m) {
+      throw_error(path.string(), ": ", names.size(), " hip names and ", hashes.size(), " hashes for ", m, " hips");
+    }
+    if (!e.pca.mean.allFinite() || !e.pca.scale.allFinite() || !e.pca.basis.allFinite() || !e.features.allFinite()) {
+      throw_error(path.string(), ": non-finite numbers in the PCA or features");
+    }
+    for (Eigen::Index i = 0; i < m; ++i) {
+      TrainingHip hip;
+      hip.name = names[static_cast<std::size_t>(i)];
+      hip.hash = hashes[static_cast<std::size_t>(i)];
+      hip.ce_deg = ce(i, 0);
+      hip.alpha_deg = alpha(i, 0);
+      hip.edge_mm = edge(i, 0);
+      hip.features = e.features.row(i).transpose();
+      hip.values.assign(static_cast<std::size_t>(p), kNaN);
+      for (Eigen::Index j = 0; j < p; ++j) hip.values[static_cast<std::size_t>(j)] = e.values(i, j);
+      model.hips.push_back(std::move(hip));
+    }
+    stats::derive_estimator(e);
+  } catch (const Error& error) {
+    std::string message = error.what();
+    if (message.rfind(path.string() + ": ", 0) == 0) message = message.substr(path.string().size() + 2);
+    throw_error(path.string(), ": corrupt estimator model (", message, ")");
+  } catch (const std::exception& error) {
+    throw_error(path.string(), ": corrupt estimator model (", error.what(), ")");
+  }
+  return model;
+}
+
+HipPrediction predict_hip(const EstimatorModel& model, const std::filesystem::path& hip_dir,
+                          stats::EstimatorMethod method, int e_prime) {
+  if (!std::filesystem::exists(hip_dir / "model.json")) {
+    if (std::filesystem::exists(hip_dir / "hip.json")) {
+      throw_error(hip_dir.string(), ": a segmented hip (hip.json) without model.json: bones only, in the scan's "
+                  "frame without anatomical axes; the model samples ", model.grid.describe(),
+                  " in the hip frame, so the soft tissues and the frame it needs are missing (refused, not guessed)");
+    }
+    throw_error(hip_dir.string(), ": no model.json (a hip model folder, e.g. from `hipfai generate`)");
+  }
+  HipPrediction prediction;
+  auto start = std::chrono::steady_clock::now();
+  const std::set<std::string> tissues(model.grid.tissues.begin(), model.grid.tissues.end());
+  // All tissues are read (the file says which exist), so a missing one is named below.
+  const geometry::HipModel hip = geometry::load_hip_model(hip_dir);
+  std::string missing;
+  for (const auto& name : model.grid.tissues) {
+    if (!hip.tissues.count(name)) missing += (missing.empty() ? "" : ", ") + name;
+  }
+  if (!missing.empty()) {
+    throw_error(hip_dir.string(), ": no ", missing, "; the model's features (", model.grid.describe(),
+                ") need every one of them (refused, not filled in)");
+  }
+  prediction.load_ms = elapsed_ms(start);
+  const HipFeatures features = extract_hip_features(hip, model.grid);
+  prediction.feature_ms = features.extraction_ms;
+  prediction.misses = features.misses;
+  start = std::chrono::steady_clock::now();
+  prediction.result = stats::estimate(model.estimator, features.values, method, e_prime);
+  prediction.predict_ms = elapsed_ms(start);
+  return prediction;
+}
+
+}  // namespace hipfai::studies

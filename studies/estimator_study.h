@@ -1,0 +1,124 @@
+// hipfai — the contact-pressure estimator of thesis §4.5 as a pipeline: FE results and hip folders
+// in, a model file out (train), a hip in and per-step estimates out (predict), and the
+// leave-one-out validation of Tables 12-13 and Figs. 72-74 with baselines (validate; report in
+// studies/estimator_report.cpp). The maths are in stats/ (pca, pca_nn_estimator, knn_regression,
+// ridge_regression, pressure_estimator); the features in studies/pressure_features.h.
+//
+// INPUTS ACCEPTED
+//   --fe   a `hipfai study validate` output folder (its steps.csv: one row per hip and step,
+//          FE measures in columns ending in _mpa, empty where a step failed; its timings.csv, if
+//          present, gives each hip's edge length), or a steps.csv file itself. Every hip must
+//          have the same steps at the same angles (one motion). scripts/fem-sweep folders are not
+//          read (run `hipfai study validate` instead; it caches the same FE runs).
+//   --hips a folder of hip model folders (each with model.json, e.g. `hipfai generate --grid`
+//          or the validation cache's hip-ce*_alpha*-<hash> folders; *.partial is skipped), or a
+//          single hip folder. A row of the FE table is matched to the folder whose model.json
+//          records the same CE and alpha (and the same edge_mm when timings.csv gives one);
+//          none or several matches is an error naming them.
+#pragma once
+
+#include "core/literature.h"
+#include "stats/pressure_estimator.h"
+#include "studies/pressure_features.h"
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace hipfai::studies {
+
+// One hip's FE values over the motion (NaN where the step failed or is absent).
+struct FeSweepHip {
+  double ce_deg = 0, alpha_deg = 0;
+  double edge_mm = 0;  // NaN when the sweep does not say
+  std::vector<double> values;
+};
+
+struct FeSweep {
+  std::string measure;               // e.g. pressure_max_mpa
+  std::vector<double> angle_deg;     // per step
+  std::vector<FeSweepHip> hips;
+};
+
+// Throws hipfai::Error naming the file on a missing file or column, a malformed row, or hips
+// whose steps or angles differ.
+FeSweep read_fe_sweep(const std::filesystem::path& fe, const std::string& measure);
+
+struct TrainingHip {
+  std::string name;                  // "ce20_alpha40"
+  double ce_deg = 0, alpha_deg = 0, edge_mm = 0;
+  std::string hash;                  // hip_content_hash
+  std::filesystem::path dir;
+  Eigen::VectorXd features;
+  std::vector<double> values;
+  double load_ms = 0, feature_ms = 0;
+  int misses = 0;
+};
+
+struct EstimatorTrainOptions {
+  std::vector<std::filesystem::path> fe;   // one or more sweeps (same motion)
+  std::filesystem::path hips;
+  std::filesystem::path base_model;        // retraining: start from this model's training hips
+  std::string measure = "pressure_max_mpa";
+  FeatureGrid grid;
+  bool grid_given = false;                 // the user chose the grid (compared with base_model's)
+  // Normalisation floor = the project's sphericity tolerance (literature::kSphericityToleranceMm):
+  // features varying less than that across hips are treated as mesh noise, not z-scored up.
+  stats::EstimatorSettings settings{
+      .pca = {.components = literature::kEstimatorEffectiveFeatures, .scale_floor = literature::kSphericityToleranceMm}};
+  bool progress = true;
+};
+
+// Everything a model file holds.
+struct EstimatorModel {
+  FeatureGrid grid;
+  std::string measure;
+  std::vector<double> angle_deg;           // the motion's steps
+  std::vector<TrainingHip> hips;           // features and values (dir, times empty when read back)
+  stats::TrainedEstimator estimator;
+  std::string code_version;                // of the program that trained it
+};
+
+// Matches, extracts features and trains. Throws hipfai::Error (one line) on any mismatch.
+EstimatorModel train_estimator_model(const EstimatorTrainOptions& options, std::vector<std::string>* notes = nullptr);
+
+// HDF5 model file (docs/estimator.md has the layout), written atomically.
+void write_estimator_model(const EstimatorModel& model, const std::filesystem::path& path);
+// Throws a one-line hipfai::Error for a missing, corrupt or foreign file, or a newer format.
+EstimatorModel read_estimator_model(const std::filesystem::path& path);
+
+struct HipPrediction {
+  stats::EstimateResult result;
+  double load_ms = 0, feature_ms = 0, predict_ms = 0;
+  int misses = 0;
+};
+
+// Loads the hip folder (refusing, with what is missing, a folder the model's features cannot be
+// taken from), extracts its features on the model's grid and estimates every step.
+HipPrediction predict_hip(const EstimatorModel& model, const std::filesystem::path& hip_dir,
+                          stats::EstimatorMethod method, int e_prime);
+
+struct EstimatorValidateOptions {
+  EstimatorTrainOptions train;
+  std::filesystem::path out_dir = "out/estimator";
+  int max_e_prime = 10;
+  // --quick: when quick_program is set, the FE results are first made by
+  // studies::run_validation_study (5 hips, 3 mm, 6 steps, FE coarse) into <out_dir>/fe with its
+  // hips in quick_cache, and train.fe / train.hips point there.
+  std::filesystem::path quick_program;
+  std::filesystem::path quick_cache = "cache";
+};
+
+struct EstimatorValidateSummary {
+  // Mean over eligible hips of the per-hip mean |error| % at e' = max, per case (0: first half,
+  // 1: whole motion) and method (index of stats::kEstimatorMethods).
+  double mean_error[2][3] = {};
+  double interior_error[2][3] = {};        // hips off the CE/alpha grid's border (thesis §4.5.4)
+  int hips[2] = {};
+  int bordering[2] = {};                   // flagged hips
+  std::filesystem::path report;
+};
+
+EstimatorValidateSummary validate_estimator(const EstimatorValidateOptions& options);
+
+}  // namespace hipfai::studies
