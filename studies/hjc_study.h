@@ -1,0 +1,81 @@
+// hipfai — the HJC sensitivity study (thesis §4.4.3-4.4.4, Figs. 67-71, Eq. 12-15), with the
+// truth the thesis did not have.
+//
+// Subjects: generated hips (CE, alpha) whose true centre is known. Each subject's HJC is estimated
+// by the five methods (geometry/hjc.h) on its articular surfaces "as segmented": perturbed by
+// smooth surface noise (1.0 mm RMS), head asphericity (0.5 mm) and an uneven joint space
+// (0.5 mm), the magnitudes of studies/hjc_cohort.h, one random draw per subject; the depths are
+// then computed on the clean tissues rotated about each estimate, about the true centre, and about
+// the true centre displaced by 1, 2 and 5 mm along +-X, +-Y, +-Z of the hip frame (the effect of a
+// known centre error).
+// Rotations: the six medical rotations of the hip frame (studies/motion.h) from neutral to the AAOS
+// normal range (core/literature.h), in 1 deg steps. Per step: maximum curvilinear depth (femur
+// bone vs labrum, both roles) and maximum radial depth (femoral cartilage vs acetabular cartilage
+// + labrum, both roles), studies/penetration_run.h.
+// Comparison (thesis Eq. 12-15): per subject and method, |depth_i - depth_dref| over every step of
+// the six rotations — curvilinear in mm, radial in % of the dref depth (steps where dref's radial
+// depth is 0 are left out: the percentage is undefined there); mean and SD per subject (Figs.
+// 68-69); per rotation, the mean over its steps, then mean/min/max over subjects (Figs. 70-71).
+// The same against the true centre.
+//
+// Bones-only mode (femur + pelvis given, e.g. the real CT): no soft tissue, so no depths. The five
+// centres, their spread, their fit residuals, and the exact bone-to-bone range of motion
+// (contact/range_finder.h) about each centre and each of the six medical directions. The CT has no
+// anatomical frame: an approximate hip frame is built from the bones (Z: the femur's principal axis
+// towards the head, X: from the pelvis centroid towards the head, made orthogonal to Z; Y = Z x X),
+// stated in the report.
+#pragma once
+
+#include <Eigen/Core>
+
+#include <array>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace hipfai::studies {
+
+struct HjcStudyOptions {
+  std::filesystem::path out_dir = "out/hjc";
+  std::filesystem::path femur, pelvis;  // bones-only mode when both are set
+  std::vector<std::pair<double, double>> subjects{{20.0, 40.0}, {10.0, 60.0}, {30.0, 70.0}, {40.0, 80.0}, {0.0, 50.0}};
+  double edge_mm = 3.0;
+  double step_deg = 1.0;
+  std::vector<double> centre_offsets_mm{1.0, 2.0, 5.0};
+  int threads = 2;
+  bool progress = true;
+};
+
+// Maximum depth per step of one rotation about one centre.
+struct HjcRotationDepths {
+  std::vector<double> angle_deg, curvilinear_mm, radial_mm;
+};
+
+struct HjcSubjectResult {
+  std::string id;
+  Eigen::Vector3d true_centre_mm = Eigen::Vector3d::Zero();
+  std::map<std::string, Eigen::Vector3d> centres_mm;     // method or "truth" or "offset +X 2mm"
+  // centre label -> rotation name -> depths
+  std::map<std::string, std::map<std::string, HjcRotationDepths>> depths;
+};
+
+struct HjcRomRow {
+  std::string method, rotation;
+  double rom_deg = 0.0;
+};
+
+struct HjcStudyResult {
+  std::vector<HjcSubjectResult> subjects;
+  std::vector<HjcRomRow> rom;                     // bones-only mode
+  std::filesystem::path report_path;
+  double seconds = 0.0;
+};
+
+// The six rotations in the thesis' Eq. 12 order (FL, EX, IR, ER, AD, AB) and their amplitudes.
+const std::vector<std::pair<std::string, double>>& hjc_study_rotations();
+
+HjcStudyResult run_hjc_study(const HjcStudyOptions& options);
+
+}  // namespace hipfai::studies
