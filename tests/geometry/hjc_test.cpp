@@ -134,7 +134,7 @@ TEST(HjcFunctional, SignedDistanceToAPatch) {
 // Generated hip (CE 20, alpha 40, 3 mm): the articular surfaces are spheres of radius 25 about
 // the HJC (the truth). Regions found automatically on them give it back to the fit's precision
 // on a 3 mm mesh (vertices exact on the sphere: 0.05 mm allowed for the region's discretisation).
-TEST(HjcRegions, FoundOnAGeneratedHip) {
+TEST(HjcRegionsOnGeneratedHip, HeadAndLunateAreFound) {
   const HipModel& model = test_support::study_hip(20.0, 40.0, test_support::kStudyTestEdgeMm);
   const TriMesh& cartilage = model.tissue("femoral_cartilage");
   const TriMesh& socket = model.tissue("acetabular_cartilage");
