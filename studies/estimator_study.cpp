@@ -5,6 +5,7 @@
 #include "core/progress.h"
 #include "core/version.h"
 #include "geometry/hip_model.h"
+#include "studies/hip_source.h"
 #include "studies/results_file.h"
 
 #include <algorithm>
@@ -40,11 +41,7 @@ double parse_number(const std::string& cell) {
   }
 }
 
-std::string hip_name(double ce, double alpha) {
-  std::ostringstream out;
-  out << "ce" << ce << "_alpha" << alpha;
-  return out.str();
-}
+std::string hip_name(double ce, double alpha) { return parametric_hip_id(ce, alpha); }
 
 std::string exact(double value) {
   std::ostringstream out;

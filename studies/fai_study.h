@@ -10,10 +10,20 @@
 //   resolution.csv    the study at several surface resolutions: maxima and run times
 //   report.md         tables and the figures (SVG) below
 //   fig60_*.svg, fig62_*.svg, fig63_*.svg, hip_*.svg, *.vtp
+//
+// The study is two steps: compute_fai_study() computes a FaiStudyResult (writing nothing but the
+// per-step VTP files asked for, which are streamed as the motion runs), and
+// write_fai_study_outputs() writes the files above from it. run_fai_study() does both.
 #pragma once
 
+#include "studies/hip_source.h"
+#include "studies/motion.h"
+#include "studies/penetration_run.h"
+
 #include <filesystem>
+#include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace hipfai::studies {
@@ -59,12 +69,40 @@ struct FaiModelSummary {
   std::string pathology;
 };
 
-struct FaiStudyResult {
-  std::vector<FaiModelSummary> models;
-  double total_seconds = 0;
-  std::string report_path;
+// One model of the grid: its summary, its per-step penetration and the hip it ran on.
+struct FaiModelRun {
+  FaiModelSummary summary;
+  PenetrationRun run;
+  LoadedHip hip;
 };
 
+// The archetypes of thesis Table 10 at several surface resolutions (accuracy vs time).
+struct FaiResolutionRow {
+  double edge_mm = 0;
+  double seconds = 0;
+  double penetration_ms_per_step = 0;
+  std::map<std::string, std::pair<double, double>> maxima;  // archetype -> (curvilinear, radial) mm
+  std::size_t femur_vertices = 0;
+};
+
+struct FaiStudyResult {
+  std::vector<FaiModelSummary> models;       // grid order (CE outer, alpha inner)
+  std::map<std::string, FaiModelRun> runs;   // parametric_hip_id -> run
+  Motion motion;
+  std::vector<FaiResolutionRow> resolution;  // coarsest first; the main edge among them
+  double total_seconds = 0;                  // computing (not writing)
+  std::string report_path;                   // set by write_fai_study_outputs
+};
+
+// Name -> (CE, alpha) of the archetypes of thesis Table 10: normal, pincer, cam, combined
+// cam-pincer, dysplasia, combined dysplasia-impingement.
+const std::vector<std::pair<std::string, std::pair<double, double>>>& fai_archetypes();
+
+// The model at these angles, or nullptr.
+const FaiModelSummary* find_fai_model(const std::vector<FaiModelSummary>& models, double ce_deg, double alpha_deg);
+
+FaiStudyResult compute_fai_study(const FaiStudyOptions& options);
+void write_fai_study_outputs(FaiStudyResult& result, const FaiStudyOptions& options);
 FaiStudyResult run_fai_study(const FaiStudyOptions& options);
 
 }  // namespace hipfai::studies

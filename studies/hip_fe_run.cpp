@@ -8,7 +8,8 @@
 #include "core/hash.h"
 #include "core/literature.h"
 #include "core/progress.h"
-#include "core/version.h"
+#include "core/stopwatch.h"
+#include "core/source_hashes.h"
 #include "fem/fem_results.h"
 #include "fem/motion_solver.h"
 #include "geometry/hip_model.h"
@@ -102,7 +103,7 @@ HipFeRunSummary run_hip_fe(const HipFeRunOptions& options, bool throw_on_failure
   for (const fem::ContactPair& pair : problem.contact_pairs) {
     summary.pair_surfaces.push_back(geometry::to_string(static_cast<geometry::SurfaceTag>(pair.slave_boundary_id)));
   }
-  summary.mesh_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  summary.mesh_seconds = seconds_since(start);
 
   std::unique_ptr<fem::FemResultsWriter> writer;
   if (rank == 0) {
@@ -136,13 +137,13 @@ HipFeRunSummary run_hip_fe(const HipFeRunOptions& options, bool throw_on_failure
     summary.failed += result.status != fem::ContactStatus::kConverged;
     peak_pressure = std::max(peak_pressure, result.max_pressure_mpa);
   }
-  summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  summary.seconds = seconds_since(start);
   if (rank == 0 && !options.csv_file.empty()) write_hip_fe_csv(options.csv_file, summary);
   if (rank == 0 && options.progress) {
     std::printf("%s: %zu steps, %zu not converged, %lu dofs, peak pressure %.4g MPa, %.1f s; results in %s\n",
                 options.label.c_str(), summary.results.size(), summary.failed,
                 summary.results.empty() ? 0ul : summary.results.front().n_dofs, peak_pressure, summary.seconds,
-                options.out_file.c_str());
+                (options.results_location.empty() ? options.out_file : options.results_location).c_str());
   }
   if (summary.failed > 0 && throw_on_failure) {
     throw_error(options.label, ": ", summary.failed, " step(s) did not converge (see ", options.out_file, ")");
@@ -234,7 +235,7 @@ HipFeTable read_hip_fe_csv(const std::filesystem::path& file) {
 std::string hip_fe_cache_key(const HipFeRunOptions& options) {
   Hasher hasher;
   hasher.add(std::string_view("hip-fe-v1"));
-  hasher.add(std::string_view(kGitSha));
+  hasher.add(std::string_view(kFeSourceHash));
   // The volume mesh is a function of the tissue meshes and the level's options.
   const geometry::HipModel model = geometry::load_hip_model(options.model_dir, fe_tissues());
   for (const std::string& tissue : fe_tissues()) {
@@ -284,11 +285,12 @@ CachedHipFe run_hip_fe_cached(HipFeRunOptions options, const std::filesystem::pa
     std::filesystem::create_directories(partial);
     options.out_file = (partial / "results.h5").string();
     options.csv_file = (partial / "fe.csv").string();
+    options.results_location = (cached.entry / "results.h5").string();
     (void)run_hip_fe(options, false);
     commit_hip_fe_entry(partial, cached.entry);
     cached.table = read_hip_fe_csv(cached.entry / "fe.csv");
   }
-  cached.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  cached.seconds = seconds_since(start);
   return cached;
 }
 

@@ -11,7 +11,8 @@
 //
 // Cache: an FE run is keyed by hip_fe_cache_key() — the content of the tissue meshes the volume
 // mesh is built from, the level and its mesh options, the materials, every step's rotation and
-// joint force, the peak-average radius, the solver and the code revision — and stored under
+// joint force, the peak-average radius, the solver and a content hash of the sources behind
+// FE results (kFeSourceHash: core/, geometry/, fem/, this driver; a commit elsewhere keeps the cache) — and stored under
 // <cache>/fe/<key>/ (fe.csv, results.h5, run.log). An entry exists only when complete: it is
 // computed in <key>.partial/ and renamed when the motion has finished.
 #pragma once
@@ -51,6 +52,9 @@ struct HipFeRunOptions {
   bool verbose = false;   // active-set iterations on stdout
   bool progress = true;   // progress bar on stderr (rank 0)
   std::string label = "fem run";  // prefix of the progress and summary lines
+  // Where the results will be once the caller has moved them into place (a cache entry computed
+  // in a staging folder): named in the summary line instead of out_file. Empty: out_file.
+  std::string results_location;
 };
 
 struct HipFeRunSummary {

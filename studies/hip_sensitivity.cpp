@@ -3,6 +3,7 @@
 #include "contact/range_finder.h"
 #include "core/error.h"
 #include "core/progress.h"
+#include "core/stopwatch.h"
 #include "geometry/hip_generator.h"
 #include "geometry/hip_measure.h"
 #include "studies/hip_source.h"
@@ -195,7 +196,7 @@ SensitivityResult run_hip_sensitivity(const SensitivityOptions& options) {
       progress.advance();
     }
   }
-  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.seconds = seconds_since(start);
   return result;
 }
 

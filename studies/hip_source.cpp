@@ -2,7 +2,7 @@
 
 #include "core/error.h"
 #include "core/hash.h"
-#include "core/version.h"
+#include "core/source_hashes.h"
 #include "geometry/hip_generator.h"
 #include "geometry/hip_model.h"
 
@@ -21,13 +21,13 @@ geometry::HipParameters parameters_of(const ParametricHip& hip) {
   return parameters;
 }
 
-std::string id_of(const ParametricHip& hip) {
+}  // namespace
+
+std::string parametric_hip_id(double ce_deg, double alpha_deg) {
   std::ostringstream id;
-  id << "ce" << hip.ce_deg << "_alpha" << hip.alpha_deg;
+  id << "ce" << ce_deg << "_alpha" << alpha_deg;
   return id.str();
 }
-
-}  // namespace
 
 LoadedHip loaded_hip_from_model(const geometry::HipModel& model, const std::string& id,
                                 const std::set<std::string>& tissues) {
@@ -50,15 +50,15 @@ LoadedHip loaded_hip_from_model(const geometry::HipModel& model, const std::stri
 
 std::filesystem::path generated_hip_dir(const ParametricHip& hip, const std::filesystem::path& cache_dir) {
   Hasher key;
-  key.add(geometry::hip_parameters_to_json(parameters_of(hip))).add(kGitSha);
-  return cache_dir / ("hip-" + id_of(hip) + "-" + key.hex());
+  key.add(geometry::hip_parameters_to_json(parameters_of(hip))).add(kHipSourceHash);
+  return cache_dir / ("hip-" + parametric_hip_id(hip.ce_deg, hip.alpha_deg) + "-" + key.hex());
 }
 
 LoadedHip acquire_hip(const Scene& scene, const std::set<std::string>& tissues,
                       const std::filesystem::path& cache_dir, StageLog& log) {
   LoadedHip hip;
   if (scene.parametric) {
-    hip.id = id_of(*scene.parametric);
+    hip.id = parametric_hip_id(scene.parametric->ce_deg, scene.parametric->alpha_deg);
     hip.dir = generated_hip_dir(*scene.parametric, cache_dir);
     if (std::filesystem::exists(hip.dir / "model.json")) {
       log.hit(StageKind::kGenerateHip);

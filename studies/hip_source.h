@@ -48,8 +48,12 @@ struct LoadedHip {
 LoadedHip loaded_hip_from_model(const geometry::HipModel& model, const std::string& id,
                                 const std::set<std::string>& tissues = {});
 
+// The name of a parametric hip in outputs and figures: "ce20_alpha40" (angles in degrees, printed
+// as the shortest decimal, so 22.5 stays "22.5").
+std::string parametric_hip_id(double ce_deg, double alpha_deg);
+
 // Folder of the cached generated hip for these parameters under `cache_dir` (key: parameters and
-// code revision).
+// a content hash of core/ and geometry/, kHipSourceHash).
 std::filesystem::path generated_hip_dir(const ParametricHip& hip, const std::filesystem::path& cache_dir);
 
 // Generates the hip into the cache if it is not there (stage kGenerateHip, or a cache hit), then

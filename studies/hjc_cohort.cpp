@@ -4,6 +4,7 @@
 #include "core/error.h"
 #include "core/literature.h"
 #include "core/progress.h"
+#include "core/stopwatch.h"
 #include "core/version.h"
 #include "geometry/hip_generator.h"
 #include "geometry/hjc.h"
@@ -389,8 +390,16 @@ HjcCohortResult run_hjc_cohort(const HjcCohortOptions& options) {
                      "error_mm,error_x_mm,error_y_mm,error_z_mm,fit_rms_mm,fit_max_mm,residual_motion_rms_mm,replicate");
     h5.commit();
   }
-  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.seconds = seconds_since(start);
   return result;
+}
+
+HjcCohortOptions quick_hjc_cohort_options(HjcCohortOptions base) {
+  base.ce_deg = {20.0};
+  base.replicates = 2;
+  base.include_fine = false;
+  base.edge_mm = 3.0;
+  return base;
 }
 
 }  // namespace hipfai::studies

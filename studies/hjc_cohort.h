@@ -56,6 +56,10 @@ struct HjcCohortOptions {
   bool progress = true;
 };
 
+// Test-sized cohort: one hip (CE 20) at 3 mm, 2 replicates, no fine mesh; out_dir and progress
+// kept from `base`.
+HjcCohortOptions quick_hjc_cohort_options(HjcCohortOptions base);
+
 struct HjcCohortRow {
   std::string hip, surface, perturbation, method;
   int replicate = 0;

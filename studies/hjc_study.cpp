@@ -5,6 +5,7 @@
 #include "core/error.h"
 #include "core/literature.h"
 #include "core/progress.h"
+#include "core/stopwatch.h"
 #include "core/version.h"
 #include "geometry/hip_generator.h"
 #include "geometry/hjc.h"
@@ -276,7 +277,7 @@ HjcStudyResult run_hjc_study(const HjcStudyOptions& options) {
   if (!options.femur.empty() || !options.pelvis.empty()) {
     if (options.femur.empty() || options.pelvis.empty()) throw_error("study hjc: bones-only mode needs both a femur and a pelvis");
     HjcStudyResult r = run_bones(options);
-    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    r.seconds = seconds_since(start);
     return r;
   }
   if (options.subjects.empty()) throw_error("study hjc: no subjects");
@@ -569,8 +570,16 @@ HjcStudyResult run_hjc_study(const HjcStudyOptions& options) {
     }
     h5.commit();
   }
-  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.seconds = seconds_since(start);
   return result;
+}
+
+HjcStudyOptions quick_hjc_study_options(HjcStudyOptions base) {
+  base.subjects = {{20.0, 40.0}, {30.0, 70.0}};
+  base.edge_mm = 3.0;
+  base.step_deg = 5.0;
+  base.centre_offsets_mm = {2.0};
+  return base;
 }
 
 }  // namespace hipfai::studies

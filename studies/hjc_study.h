@@ -48,6 +48,10 @@ struct HjcStudyOptions {
   bool progress = true;
 };
 
+// Test-sized study: two generated subjects (CE 20 / alpha 40, CE 30 / alpha 70) at 3 mm, 5 deg
+// steps, one centre offset (2 mm); the other fields kept from `base`.
+HjcStudyOptions quick_hjc_study_options(HjcStudyOptions base);
+
 // Maximum depth per step of one rotation about one centre.
 struct HjcRotationDepths {
   std::vector<double> angle_deg, curvilinear_mm, radial_mm;

@@ -5,6 +5,7 @@
 #include "core/error.h"
 #include "studies/fai_reference.h"
 #include "studies/fai_study.h"
+#include "studies/hip_source.h"
 #include "studies/svg_plot.h"
 
 #include <algorithm>
@@ -62,11 +63,7 @@ std::string scientific(double value) {
   return out.str();
 }
 
-std::string id_of(double ce, double alpha) {
-  std::ostringstream out;
-  out << "ce" << ce << "_alpha" << alpha;
-  return out.str();
-}
+std::string id_of(double ce, double alpha) { return parametric_hip_id(ce, alpha); }
 
 struct Moments {
   double mean = kNaN, sd = kNaN, min = kNaN, max = kNaN;

@@ -2,6 +2,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/stopwatch.h"
 #include "geometry/mesh_io.h"
 #include "studies/hip_source.h"
 #include "studies/motion.h"
@@ -39,17 +40,7 @@ namespace hipfai::studies {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
-std::string hip_id(double ce, double alpha) {
-  std::ostringstream out;
-  out << "ce" << ce << "_alpha" << alpha;
-  return out.str();
-}
+using Clock = SteadyClock;
 
 // The hip of thesis Figs. 60-61 (CE 40 / alpha 60).
 constexpr double kFigureCe = 40.0, kFigureAlpha = 60.0;
@@ -94,7 +85,7 @@ HipRun run_penetration(double ce, double alpha, const Motion& motion, const Vali
   run.timing.ce_deg = ce;
   run.timing.alpha_deg = alpha;
   Scene scene;
-  scene.name = hip_id(ce, alpha);
+  scene.name = parametric_hip_id(ce, alpha);
   scene.parametric = ParametricHip{ce, alpha, options.edge_mm};
   scene.outputs = {Output::kCurvilinearDepth, Output::kRadialDepth};
   for (Output output : scene.outputs) {
@@ -268,7 +259,9 @@ void solve_fe(const FeJob& job, const ValidationOptions& options) {
 }
 
 void run_fe_stage(std::vector<HipRun>& hips, const Motion& motion, const ValidationOptions& options) {
+  // The cache key hashes the hip's meshes: computed once per hip, kept with its entry.
   std::vector<FeJob> jobs;
+  std::vector<std::filesystem::path> entries;
   for (std::size_t h = 0; h < hips.size(); ++h) {
     FeJob job;
     job.hip = h;
@@ -277,6 +270,7 @@ void run_fe_stage(std::vector<HipRun>& hips, const Motion& motion, const Validat
     job.run.level = options.fe_level;
     if (options.body_weight_n > 0) job.run.body_weight_n = options.body_weight_n;
     job.entry = hip_fe_cache_entry(options.cache_dir, hip_fe_cache_key(job.run));
+    entries.push_back(job.entry);
     hips[h].timing.fe_reused = std::filesystem::exists(job.entry / "fe.csv");
     if (!hips[h].timing.fe_reused) jobs.push_back(std::move(job));
   }
@@ -320,13 +314,9 @@ void run_fe_stage(std::vector<HipRun>& hips, const Motion& motion, const Validat
     throw_error("validate: ", errors.size(), " FE run(s) failed: ", text);
   }
   // Read every hip's entry back.
-  for (HipRun& run : hips) {
-    HipFeRunOptions options_of_hip;
-    options_of_hip.model_dir = run.hip.dir.string();
-    options_of_hip.steps = options.sub_motions;
-    options_of_hip.level = options.fe_level;
-    if (options.body_weight_n > 0) options_of_hip.body_weight_n = options.body_weight_n;
-    const std::filesystem::path entry = hip_fe_cache_entry(options.cache_dir, hip_fe_cache_key(options_of_hip));
+  for (std::size_t h = 0; h < hips.size(); ++h) {
+    HipRun& run = hips[h];
+    const std::filesystem::path& entry = entries[h];
     const HipFeTable table = read_hip_fe_csv(entry / "fe.csv");
     run.fe = fe_measures(table, motion.steps.size(), entry / "fe.csv");
     for (std::size_t k = 0; k < table.rows; ++k) {
