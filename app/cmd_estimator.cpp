@@ -173,7 +173,8 @@ const CommandRegistrar registrar("estimator", [](CLI::App& parent) {
         std::cout << ' ' << stats::to_string(stats::kEstimatorMethods[m]) << ' ' << summary.mean_error[c][m]
                   << " (interior " << summary.interior_error[c][m] << ')';
       }
-      std::cout << '\n';
+      std::cout << "; pca_nn_cv (e' chosen without the target) " << summary.chosen_e_prime_error[c] << " (interior "
+                << summary.chosen_e_prime_interior_error[c] << ")\n";
     }
     std::cout << "thesis: case 1 5.14 (interior 1.62); report: " << summary.report.string() << '\n';
   });

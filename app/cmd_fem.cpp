@@ -18,11 +18,10 @@
 #include "fem/hip_fe_model.h"
 #include "fem/motion_solver.h"
 #include "fem/verification_cases.h"
-#include "geometry/hip_model.h"
 #include "geometry/hip_volume_mesh.h"
+#include "studies/fem_levels_study.h"
 #include "studies/hip_fe_run.h"
 #include "studies/motion.h"
-#include "studies/svg_plot.h"
 
 #include <mpi.h>
 
@@ -38,7 +37,6 @@
 #include <iostream>
 #include <memory>
 #include <string>
-#include <thread>
 #include <vector>
 
 namespace hipfai::app {
@@ -180,289 +178,6 @@ using FemRunSummary = studies::HipFeRunSummary;
 FemRunSummary run_fem_hip(const FemRunOptions& options, bool throw_on_failure = true) {
   return studies::run_hip_fe(options, throw_on_failure);
 }
-// hipfai fem levels: the same model and motion at each mesh level; what accuracy costs in time.
-struct FemLevelsOptions {
-  FemRunOptions run;  // model, motion, steps, body weight, solver
-  std::vector<std::string> levels = {"coarse", "default", "fine"};
-  std::string out_dir;
-};
-
-struct LevelRow {
-  std::string level;
-  FemRunSummary summary;
-  double peak_pressure = 0.0, wall_per_step = 0.0;
-  std::vector<double> peak_vm, peak_p95;  // per body, max over the steps
-  // Ball-averaged peaks (fem/peak_measures.h), max over the steps; where the pressure peaks sit
-  // (at the step of each maximum).
-  double ball_peak_pressure = 0.0;
-  std::vector<double> ball_peak_vm;  // per body
-  dealii::Point<3> max_pressure_position, ball_peak_pressure_position;
-  std::string max_pressure_surface = "none", ball_peak_pressure_surface = "none";
-  // Integral quantities at the last step (the peak load of standing-to-sitting).
-  double last_mean_pressure = 0.0, last_area = 0.0, last_translation = 0.0;
-};
-
-double relative_difference_percent(double value, double reference) {
-  return reference != 0.0 ? 100.0 * (value - reference) / reference : 0.0;
-}
-
-void run_fem_levels(const FemLevelsOptions& options) {
-  fem::ensure_mpi_initialized();
-  int rank = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  // Levels in the order of refinement; the finest one is the reference.
-  std::vector<std::string> levels;
-  for (const std::string& name : fem::hip_fe_level_names()) {
-    if (std::find(options.levels.begin(), options.levels.end(), name) != options.levels.end()) levels.push_back(name);
-  }
-  // A model directory that cannot be read fails here, before the output directory exists.
-  (void)geometry::load_hip_model(options.run.model_dir,
-                                 {"femur_bone", "femoral_cartilage", "acetabular_cartilage", "labrum"});
-  std::filesystem::create_directories(options.out_dir);
-  std::vector<LevelRow> rows;
-  for (const std::string& level : levels) {
-    FemRunOptions run = options.run;
-    run.level = level;
-    run.out_file = (std::filesystem::path(options.out_dir) / (level + ".h5")).string();
-    run.csv_file = (std::filesystem::path(options.out_dir) / (level + ".csv")).string();
-    LevelRow row;
-    row.level = level;
-    row.summary = run_fem_hip(run, false);
-    const auto& results = row.summary.results;
-    const std::size_t bodies = row.summary.bodies.size();
-    row.peak_vm.assign(bodies, 0.0);
-    row.peak_p95.assign(bodies, 0.0);
-    row.ball_peak_vm.assign(bodies, 0.0);
-    double step_seconds = 0.0;
-    const auto surface = [&row](int pair) {
-      return pair >= 0 && pair < static_cast<int>(row.summary.pair_surfaces.size()) ? row.summary.pair_surfaces[pair]
-                                                                                    : std::string("none");
-    };
-    for (const fem::ContactResult& r : results) {
-      if (r.max_pressure_mpa > row.peak_pressure) {
-        row.max_pressure_position = r.max_pressure_position_mm;
-        row.max_pressure_surface = surface(r.max_pressure_pair);
-      }
-      if (r.ball_peak_pressure_mpa > row.ball_peak_pressure) {
-        row.ball_peak_pressure = r.ball_peak_pressure_mpa;
-        row.ball_peak_pressure_position = r.ball_peak_pressure_position_mm;
-        row.ball_peak_pressure_surface = surface(r.ball_peak_pressure_pair);
-      }
-      for (std::size_t b = 0; b < bodies && b < r.ball_peak_von_mises_mpa.size(); ++b) {
-        row.ball_peak_vm[b] = std::max(row.ball_peak_vm[b], r.ball_peak_von_mises_mpa[b]);
-      }
-      row.peak_pressure = std::max(row.peak_pressure, r.max_pressure_mpa);
-      for (std::size_t b = 0; b < bodies && b < r.max_von_mises_mpa.size(); ++b) {
-        row.peak_vm[b] = std::max(row.peak_vm[b], r.max_von_mises_mpa[b]);
-        row.peak_p95[b] = std::max(row.peak_p95[b], r.p95_von_mises_mpa[b]);
-      }
-      step_seconds += r.wall_time_s;
-    }
-    row.wall_per_step = results.empty() ? 0.0 : step_seconds / static_cast<double>(results.size());
-    if (!results.empty()) {
-      const fem::ContactResult& last = results.back();
-      row.last_mean_pressure = last.mean_pressure_mpa;
-      row.last_area = last.contact_area_mm2;
-      row.last_translation =
-          last.rigid_translation_mm.empty() ? 0.0 : last.rigid_translation_mm[fem::kFemurBody].norm();
-    }
-    rows.push_back(std::move(row));
-  }
-  if (rank != 0 || rows.empty()) return;
-  const LevelRow& finest = rows.back();
-  const std::vector<std::string>& bodies = finest.summary.bodies;
-
-  const std::filesystem::path dir(options.out_dir);
-  {
-    const std::filesystem::path csv_path = dir / "levels.csv", partial = dir / "levels.csv.partial";
-    std::ofstream csv(partial);
-    csv << "level,hexahedra,dofs,steps,not_converged,wall_s,wall_per_step_s,peak_pressure_mpa,"
-           "peak_pressure_diff_percent";
-    for (const std::string& body : bodies) csv << ",peak_von_mises_mpa " << body << ",diff_percent";
-    for (const std::string& body : bodies) csv << ",peak_p95_von_mises_mpa " << body << ",diff_percent";
-    csv << ",last_mean_pressure_mpa,diff_percent,last_contact_area_mm2,diff_percent,last_translation_mm,diff_percent";
-    csv << ",peak_radius_mm,ball_peak_pressure_mpa,diff_percent";
-    for (const std::string& body : bodies) csv << ",ball_peak_von_mises_mpa " << body << ",diff_percent";
-    csv << ",max_pressure_x_mm,max_pressure_y_mm,max_pressure_z_mm,max_pressure_surface"
-           ",ball_peak_pressure_x_mm,ball_peak_pressure_y_mm,ball_peak_pressure_z_mm,ball_peak_pressure_surface\n";
-    csv.precision(10);
-    for (const LevelRow& row : rows) {
-      csv << row.level << ',' << row.summary.hexes << ','
-          << (row.summary.results.empty() ? 0ul : row.summary.results.front().n_dofs) << ','
-          << row.summary.results.size() << ',' << row.summary.failed << ',' << row.summary.seconds << ','
-          << row.wall_per_step << ',' << row.peak_pressure << ','
-          << relative_difference_percent(row.peak_pressure, finest.peak_pressure);
-      for (std::size_t b = 0; b < bodies.size(); ++b) {
-        csv << ',' << row.peak_vm[b] << ',' << relative_difference_percent(row.peak_vm[b], finest.peak_vm[b]);
-      }
-      for (std::size_t b = 0; b < bodies.size(); ++b) {
-        csv << ',' << row.peak_p95[b] << ',' << relative_difference_percent(row.peak_p95[b], finest.peak_p95[b]);
-      }
-      csv << ',' << row.last_mean_pressure << ','
-          << relative_difference_percent(row.last_mean_pressure, finest.last_mean_pressure) << ',' << row.last_area
-          << ',' << relative_difference_percent(row.last_area, finest.last_area) << ',' << row.last_translation << ','
-          << relative_difference_percent(row.last_translation, finest.last_translation);
-      csv << ',' << options.run.peak_radius_mm << ',' << row.ball_peak_pressure << ','
-          << relative_difference_percent(row.ball_peak_pressure, finest.ball_peak_pressure);
-      for (std::size_t b = 0; b < bodies.size(); ++b) {
-        csv << ',' << row.ball_peak_vm[b] << ','
-            << relative_difference_percent(row.ball_peak_vm[b], finest.ball_peak_vm[b]);
-      }
-      for (unsigned int d = 0; d < 3; ++d) csv << ',' << row.max_pressure_position[d];
-      csv << ',' << row.max_pressure_surface;
-      for (unsigned int d = 0; d < 3; ++d) csv << ',' << row.ball_peak_pressure_position[d];
-      csv << ',' << row.ball_peak_pressure_surface << '\n';
-    }
-    if (!csv) throw_error(partial.string(), ": write failed");
-    csv.close();
-    std::filesystem::rename(partial, csv_path);
-  }
-
-  // Plots: difference from the finest level, and wall time per step, against the DOFs.
-  studies::LineChart accuracy;
-  accuracy.title = "Peak values: difference from the finest level";
-  accuracy.x_label = "degrees of freedom";
-  accuracy.y_label = "difference from " + finest.level + " (%)";
-  accuracy.log_x = true;
-  auto dofs_of = [](const LevelRow& row) {
-    return row.summary.results.empty() ? 0.0 : static_cast<double>(row.summary.results.front().n_dofs);
-  };
-  {
-    studies::Series pressure{"peak contact pressure", {}, {}, false};
-    for (const LevelRow& row : rows) {
-      pressure.x.push_back(dofs_of(row));
-      pressure.y.push_back(relative_difference_percent(row.peak_pressure, finest.peak_pressure));
-    }
-    accuracy.series.push_back(pressure);
-    studies::Series ball_pressure{"ball-averaged peak pressure", {}, {}, true};
-    for (const LevelRow& row : rows) {
-      ball_pressure.x.push_back(dofs_of(row));
-      ball_pressure.y.push_back(relative_difference_percent(row.ball_peak_pressure, finest.ball_peak_pressure));
-    }
-    accuracy.series.push_back(ball_pressure);
-    for (std::size_t b = 0; b < bodies.size(); ++b) {
-      studies::Series vm{"max von Mises, " + bodies[b], {}, {}, false};
-      studies::Series p95{"p95 von Mises, " + bodies[b], {}, {}, true};
-      for (const LevelRow& row : rows) {
-        vm.x.push_back(dofs_of(row));
-        vm.y.push_back(relative_difference_percent(row.peak_vm[b], finest.peak_vm[b]));
-        p95.x.push_back(dofs_of(row));
-        p95.y.push_back(relative_difference_percent(row.peak_p95[b], finest.peak_p95[b]));
-      }
-      studies::Series ball{"ball-averaged von Mises, " + bodies[b], {}, {}, true};
-      for (const LevelRow& row : rows) {
-        ball.x.push_back(dofs_of(row));
-        ball.y.push_back(relative_difference_percent(row.ball_peak_vm[b], finest.ball_peak_vm[b]));
-      }
-      accuracy.series.push_back(vm);
-      accuracy.series.push_back(p95);
-      accuracy.series.push_back(ball);
-    }
-  }
-  studies::write_svg(accuracy, dir / "levels_accuracy.svg");
-  studies::LineChart cost;
-  cost.title = "Wall time per step (this machine)";
-  cost.x_label = "degrees of freedom";
-  cost.y_label = "seconds per step";
-  cost.log_x = cost.log_y = true;
-  studies::Series time{"wall time per step", {}, {}, false};
-  for (const LevelRow& row : rows) {
-    time.x.push_back(dofs_of(row));
-    time.y.push_back(row.wall_per_step);
-  }
-  cost.series.push_back(time);
-  studies::write_svg(cost, dir / "levels_time.svg");
-
-  // Markdown report.
-  const std::filesystem::path md_path = dir / "levels.md", md_partial = dir / "levels.md.partial";
-  std::ofstream md(md_partial);
-  char line[512];
-  // One " value | diff from the finest |" pair of cells per body.
-  const auto body_cells = [&md](const std::vector<double>& values, const std::vector<double>& reference) {
-    char cells[64];
-    for (std::size_t b = 0; b < values.size(); ++b) {
-      std::snprintf(cells, sizeof cells, " %.4f | %+.1f %% |", values[b], relative_difference_percent(values[b], reference[b]));
-      md << cells;
-    }
-  };
-  md << "# Hip FE model: mesh levels, accuracy and cost\n\n";
-  md << "Model `" << options.run.model_dir << "`, "
-     << (options.run.motion_file.empty() ? "standing-to-sitting in " + std::to_string(options.run.steps) + " steps"
-                                         : "motion `" + options.run.motion_file + "`")
-     << ", " << finest.summary.results.size() << " step(s) per level"
-     << (options.run.labrum_refinement > 1
-             ? ", labrum meshed " + std::to_string(options.run.labrum_refinement) + " times finer than each level"
-             : std::string())
-     << ". Peak = maximum over the steps. "
-     << "Differences are relative to the finest level run (" << finest.level << "). Times are wall "
-     << "times on this machine (" << std::thread::hardware_concurrency() << " hardware threads).\n\n";
-  md << "| level | hexahedra | DOFs | not converged | wall per step (s) | wall per model (s) | peak pressure (MPa) | diff |";
-  for (const std::string& body : bodies) md << " max VM " << body << " (MPa) | diff |";
-  md << "\n|---|---:|---:|---:|---:|---:|---:|---:|";
-  for (std::size_t b = 0; b < bodies.size(); ++b) md << "---:|---:|";
-  md << '\n';
-  for (const LevelRow& row : rows) {
-    std::snprintf(line, sizeof line, "| %s | %zu | %.0f | %zu | %.2f | %.1f | %.4f | %+.1f %% |", row.level.c_str(),
-                  row.summary.hexes, dofs_of(row), row.summary.failed, row.wall_per_step, row.summary.seconds,
-                  row.peak_pressure, relative_difference_percent(row.peak_pressure, finest.peak_pressure));
-    md << line;
-    body_cells(row.peak_vm, finest.peak_vm);
-    md << '\n';
-  }
-  md << "\n95th percentile of von Mises over each tissue's Gauss points (peak over the steps):\n\n| level |";
-  for (const std::string& body : bodies) md << " p95 VM " << body << " (MPa) | diff |";
-  md << "\n|---|";
-  for (std::size_t b = 0; b < bodies.size(); ++b) md << "---:|---:|";
-  md << '\n';
-  for (const LevelRow& row : rows) {
-    md << "| " << row.level << " |";
-    body_cells(row.peak_p95, finest.peak_p95);
-    md << '\n';
-  }
-  md << "\nIntegral quantities at the last step (mean pressure = normal force / contact area):\n\n"
-     << "| level | mean pressure (MPa) | diff | contact area (mm^2) | diff | femur translation (mm) | diff |\n"
-     << "|---|---:|---:|---:|---:|---:|---:|\n";
-  for (const LevelRow& row : rows) {
-    std::snprintf(line, sizeof line, "| %s | %.4f | %+.1f %% | %.0f | %+.1f %% | %.4f | %+.1f %% |\n", row.level.c_str(),
-                  row.last_mean_pressure, relative_difference_percent(row.last_mean_pressure, finest.last_mean_pressure),
-                  row.last_area, relative_difference_percent(row.last_area, finest.last_area), row.last_translation,
-                  relative_difference_percent(row.last_translation, finest.last_translation));
-    md << line;
-  }
-  std::snprintf(line, sizeof line, "%g", options.run.peak_radius_mm);
-  md << "\nBall-averaged peaks: the largest mean over a ball of radius " << line
-     << " mm (fem/peak_measures.h; von Mises JxW-weighted over each tissue's Gauss points, pressure "
-        "area-weighted over the active contact nodes), peak over the steps:\n\n| level | ball peak pressure (MPa) | diff |";
-  for (const std::string& body : bodies) md << " ball VM " << body << " (MPa) | diff |";
-  md << "\n|---|---:|---:|";
-  for (std::size_t b = 0; b < bodies.size(); ++b) md << "---:|---:|";
-  md << '\n';
-  for (const LevelRow& row : rows) {
-    std::snprintf(line, sizeof line, "| %s | %.4f | %+.1f %% |", row.level.c_str(), row.ball_peak_pressure,
-                  relative_difference_percent(row.ball_peak_pressure, finest.ball_peak_pressure));
-    md << line;
-    body_cells(row.ball_peak_vm, finest.ball_peak_vm);
-    md << '\n';
-  }
-  md << "\nWhere the pressure peaks sit (hip frame, mm, at the step of the peak; the slave surface of the node):\n\n"
-     << "| level | max nodal pressure at | surface | ball peak centre | surface |\n|---|---|---|---|---|\n";
-  for (const LevelRow& row : rows) {
-    std::snprintf(line, sizeof line, "| %s | (%.2f, %.2f, %.2f) | %s | (%.2f, %.2f, %.2f) | %s |\n", row.level.c_str(),
-                  row.max_pressure_position[0], row.max_pressure_position[1], row.max_pressure_position[2],
-                  row.max_pressure_surface.c_str(), row.ball_peak_pressure_position[0],
-                  row.ball_peak_pressure_position[1], row.ball_peak_pressure_position[2],
-                  row.ball_peak_pressure_surface.c_str());
-    md << line;
-  }
-  md << "\n![difference from the finest level](levels_accuracy.svg)\n\n![wall time per step](levels_time.svg)\n\n"
-     << "Per level: `<level>.h5` (every step, docs/results-layout.md) and `<level>.csv`.\n";
-  if (!md) throw_error(md_partial.string(), ": write failed");
-  md.close();
-  std::filesystem::rename(md_partial, md_path);
-  std::printf("fem levels: %s, %s, %s\n", (dir / "levels.md").c_str(), (dir / "levels.csv").c_str(),
-              (dir / "levels_accuracy.svg").c_str());
-}
-
 // A length in mm that must be finite and > 0 (CLI::PositiveNumber lets "inf" through).
 const CLI::Validator kFiniteLengthMm(
     [](std::string& input) -> std::string {
@@ -544,7 +259,7 @@ const CommandRegistrar registrar{"fem", [](CLI::App& parent) {
   run->add_flag("--verbose", run_options->verbose, "Print active-set iterations");
   run->callback([run_options] { run_fem_hip(*run_options); });
 
-  auto levels_options = std::make_shared<FemLevelsOptions>();
+  auto levels_options = std::make_shared<studies::FemLevelsOptions>();
   auto* levels = fem_command->add_subcommand(
       "levels", "The hip FE model at each mesh level: accuracy vs the finest level and time (table + plots)");
   levels->add_option("--model", levels_options->run.model_dir, "Hip model directory (model.json)")
@@ -574,7 +289,8 @@ const CommandRegistrar registrar{"fem", [](CLI::App& parent) {
       ->required();
   levels->callback([levels_options] {
     if (levels_options->levels.size() < 2) throw_error("fem levels: --levels needs at least two levels");
-    run_fem_levels(*levels_options);
+    const studies::FemLevelsResult result = studies::compute_fem_levels(*levels_options);
+    studies::write_fem_levels_report(result, *levels_options);
   });
 }};
 

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace hipfai::stats {
 
@@ -103,7 +104,11 @@ EstimateResult estimate(const TrainedEstimator& model, const Eigen::VectorXd& ta
 
 std::vector<LeaveOneOutRow> leave_one_out(const Eigen::MatrixXd& features, const Eigen::MatrixXd& values,
                                           const EstimatorSettings& settings, int max_e_prime,
-                                          const std::vector<int>& held_out) {
+                                          const std::vector<int>& held_out,
+                                          const std::vector<EstimatorMethod>& methods_in) {
+  const std::vector<EstimatorMethod> methods =
+      methods_in.empty() ? std::vector<EstimatorMethod>(std::begin(kEstimatorMethods), std::end(kEstimatorMethods))
+                         : methods_in;
   const auto hips = static_cast<int>(features.rows());
   std::vector<int> targets = held_out;
   if (targets.empty()) {
@@ -121,13 +126,49 @@ std::vector<LeaveOneOutRow> leave_one_out(const Eigen::MatrixXd& features, const
       ++r;
     }
     const TrainedEstimator model = train_estimator(train_features, train_values, settings);
-    for (const EstimatorMethod method : kEstimatorMethods) {
+    for (const EstimatorMethod method : methods) {
       for (int e_prime = 1; e_prime <= max_e_prime; ++e_prime) {
         rows.push_back({target, method, e_prime, estimate(model, features.row(target).transpose(), method, e_prime)});
       }
     }
   }
   return rows;
+}
+
+double mean_abs_error_percent(const EstimateResult& result, const Eigen::VectorXd& values) {
+  if (result.steps.size() < static_cast<std::size_t>(values.size()) || values.size() == 0) {
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+  double sum = 0.0;
+  for (Eigen::Index j = 0; j < values.size(); ++j) {
+    if (!(std::isfinite(values[j]) && values[j] > 0.0)) return std::numeric_limits<double>::quiet_NaN();
+    sum += std::abs(result.steps[static_cast<std::size_t>(j)].estimate - values[j]) / values[j];
+  }
+  return 100.0 * sum / static_cast<double>(values.size());
+}
+
+EPrimeSelection select_e_prime(const Eigen::MatrixXd& features, const Eigen::MatrixXd& values,
+                               const EstimatorSettings& settings, EstimatorMethod method, int max_e_prime) {
+  if (max_e_prime < 1) throw_error("e' selection: max e' must be at least 1");
+  std::vector<int> complete;
+  for (Eigen::Index i = 0; i < values.rows(); ++i) {
+    bool ok = values.cols() > 0;
+    for (Eigen::Index j = 0; j < values.cols(); ++j) ok = ok && std::isfinite(values(i, j)) && values(i, j) > 0.0;
+    if (ok) complete.push_back(static_cast<int>(i));
+  }
+  EPrimeSelection selection;
+  selection.e_prime = max_e_prime;
+  if (complete.size() < 4) return selection;
+  selection.hips = static_cast<int>(complete.size());
+  std::vector<double> sum(static_cast<std::size_t>(max_e_prime), 0.0);
+  for (const LeaveOneOutRow& row : leave_one_out(features, values, settings, max_e_prime, complete, {method})) {
+    sum[static_cast<std::size_t>(row.e_prime - 1)] += mean_abs_error_percent(row.result, values.row(row.hip).transpose());
+  }
+  for (const double total : sum) selection.mean_error_percent.push_back(total / static_cast<double>(complete.size()));
+  // The first smallest: a tie goes to the smaller e' (fewer components, the simpler model).
+  const auto best = std::min_element(selection.mean_error_percent.begin(), selection.mean_error_percent.end());
+  selection.e_prime = static_cast<int>(best - selection.mean_error_percent.begin()) + 1;
+  return selection;
 }
 
 }  // namespace hipfai::stats

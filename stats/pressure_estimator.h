@@ -79,10 +79,29 @@ struct LeaveOneOutRow {
 };
 
 // Leave-one-out (thesis §4.5.3.4): each hip of `held_out` (empty: every row) is estimated by a
-// model trained on all the other rows (PCA refitted without it), for every method and
-// e' = 1..max_e_prime. `values` may hold NaN (missing steps). Rows ordered hip, method, e'.
+// model trained on all the other rows (PCA refitted without it), for every method of `methods`
+// (empty: all three) and e' = 1..max_e_prime. `values` may hold NaN (missing steps). Rows
+// ordered hip, method, e'.
 std::vector<LeaveOneOutRow> leave_one_out(const Eigen::MatrixXd& features, const Eigen::MatrixXd& values,
                                           const EstimatorSettings& settings, int max_e_prime,
-                                          const std::vector<int>& held_out = {});
+                                          const std::vector<int>& held_out = {},
+                                          const std::vector<EstimatorMethod>& methods = {});
+
+// Mean relative error (%) of one leave-one-out estimate: mean over the steps of
+// |estimate - value| / value; NaN when a value is missing or not positive.
+double mean_abs_error_percent(const EstimateResult& result, const Eigen::VectorXd& values);
+
+// e' chosen from training hips alone (the thesis fixes e' = 10 after looking at its results,
+// Figs. 73-74; this chooses without the target): leave-one-out inside the given hips, for
+// e' = 1..max_e_prime, keeps the e' with the smallest mean error over the hips whose values are
+// all positive (ties: the smaller e'). With fewer than 4 such hips (3 to train one model) there is
+// nothing to choose from: max_e_prime, with empty errors.
+struct EPrimeSelection {
+  int e_prime = 1;
+  std::vector<double> mean_error_percent;  // [e' - 1], over the hips used
+  int hips = 0;                            // hips the choice was made on
+};
+EPrimeSelection select_e_prime(const Eigen::MatrixXd& features, const Eigen::MatrixXd& values,
+                               const EstimatorSettings& settings, EstimatorMethod method, int max_e_prime);
 
 }  // namespace hipfai::stats

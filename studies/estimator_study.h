@@ -116,6 +116,9 @@ struct EstimatorValidateSummary {
   double interior_error[2][3] = {};        // hips off the CE/alpha grid's border (thesis §4.5.4)
   int hips[2] = {};
   int bordering[2] = {};                   // flagged hips
+  // pca_nn with e' chosen on the training hips of each held-out hip (stats::select_e_prime).
+  double chosen_e_prime_error[2] = {};
+  double chosen_e_prime_interior_error[2] = {};
   std::filesystem::path report;
 };
 

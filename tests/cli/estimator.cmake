@@ -12,3 +12,25 @@ hipfai_cli_test(NAME estimator_validate_no_inputs EXIT nonzero STDERR "--fe and 
   COMMAND estimator validate --out @TMP@/out)
 hipfai_cli_test(NAME estimator_predict_bad_method EXIT nonzero STDERR "method"
   COMMAND estimator predict --model @TMP@/none.h5 --hip @TMP@ --method svm)
+
+# --quick from nothing (its own cache): 5 generated hips, their FE (coarse, 6 steps), leave-one-out;
+# the files other tools read have their columns; a prediction with the run's model has its
+# columns; a second run from the cache writes the same leave-one-out table.
+if(HIPFAI_WITH_FEM)
+  set(estimator_tmp ${CMAKE_BINARY_DIR}/cli-tmp/estimator_validate_quick)
+  file(MAKE_DIRECTORY ${estimator_tmp})
+  add_test(NAME cli.estimator_validate_quick
+           COMMAND sh -c "set -e; rm -rf \"$2/a\" \"$2/b\" \"$2/cache\"; \
+\"$1\" estimator validate --quick --out \"$2/a\" --cache \"$2/cache\" > \"$2/a.log\" 2>&1 || { tail -5 \"$2/a.log\"; exit 1; }; \
+head -1 \"$2/a/loo.csv\" | grep -qx 'hip,case,e_prime,method,mean_abs_error_percent,bordering' || { echo 'loo.csv columns' >&2; exit 1; }; \
+head -1 \"$2/a/estimates.csv\" | grep -qx 'hip,case,e_prime,method,step,estimate,fe,error_percent' || { echo 'estimates.csv columns' >&2; exit 1; }; \
+for m in pca_nn knn ridge; do grep -q \",$m,\" \"$2/a/loo.csv\" || { echo \"no $m rows\" >&2; exit 1; }; done; \
+hip=$(ls -d \"$2\"/cache/hip-ce20_alpha60-* | grep -v partial | head -1); \
+\"$1\" estimator predict --model \"$2/a/model.h5\" --hip \"$hip\" --csv \"$2/predict.csv\" > /dev/null; \
+head -1 \"$2/predict.csv\" | grep -qx 'step,estimate,low,high,bordering' || { echo 'predict.csv columns' >&2; exit 1; }; \
+test $(wc -l < \"$2/predict.csv\") -eq 7 || { echo 'predict.csv: 6 steps expected' >&2; exit 1; }; \
+\"$1\" estimator validate --quick --out \"$2/b\" --cache \"$2/cache\" > \"$2/b.log\" 2>&1; \
+cmp \"$2/a/loo.csv\" \"$2/b/loo.csv\" || { echo 'a rerun from the cache changed loo.csv' >&2; exit 1; }"
+                   sh $<TARGET_FILE:hipfai> ${estimator_tmp})
+  set_tests_properties(cli.estimator_validate_quick PROPERTIES LABELS "cli;slow" TIMEOUT 600)
+endif()

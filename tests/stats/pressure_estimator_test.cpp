@@ -5,7 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <cstdint>
 
 namespace hipfai::stats {
@@ -122,6 +124,59 @@ TEST(PressureEstimator, RejectsMismatches) {
   EXPECT_THROW(estimate(model, data.features.row(0).transpose(), EstimatorMethod::kPcaNn, 0), Error);
   EXPECT_THROW(parse_estimator_method("svm"), Error);
   EXPECT_EQ(parse_estimator_method("ridge"), EstimatorMethod::kRidge);
+}
+
+}  // namespace
+}  // namespace hipfai::stats
+
+namespace hipfai::stats {
+namespace {
+
+// select_e_prime against a leave-one-out written out here: each hip estimated by a model trained
+// on the other 26, mean error per e', the first smallest. The two must agree to rounding.
+TEST(PressureEstimatorEPrime, SelectionEqualsAnIndependentLeaveOneOut) {
+  const Synthetic data;
+  const EstimatorSettings settings{.pca = {.components = 6}};
+  constexpr int kMaxE = 5;
+  std::vector<double> expected(kMaxE, 0.0);
+  for (int target = 0; target < 27; ++target) {
+    Eigen::MatrixXd features(26, data.features.cols()), values(26, data.values.cols());
+    for (int i = 0, r = 0; i < 27; ++i) {
+      if (i == target) continue;
+      features.row(r) = data.features.row(i);
+      values.row(r++) = data.values.row(i);
+    }
+    const TrainedEstimator model = train_estimator(features, values, settings);
+    for (int e = 1; e <= kMaxE; ++e) {
+      const auto result = estimate(model, data.features.row(target).transpose(), EstimatorMethod::kPcaNn, e);
+      expected[static_cast<std::size_t>(e - 1)] += mean_abs_error_percent(result, data.values, target) / 27.0;
+    }
+  }
+  const EPrimeSelection selection = select_e_prime(data.features, data.values, settings, EstimatorMethod::kPcaNn, kMaxE);
+  ASSERT_EQ(selection.mean_error_percent.size(), static_cast<std::size_t>(kMaxE));
+  EXPECT_EQ(selection.hips, 27);
+  for (int e = 0; e < kMaxE; ++e) EXPECT_NEAR(selection.mean_error_percent[static_cast<std::size_t>(e)], expected[static_cast<std::size_t>(e)], 1e-9);
+  const int best = static_cast<int>(std::min_element(expected.begin(), expected.end()) - expected.begin()) + 1;
+  EXPECT_EQ(selection.e_prime, best);
+}
+
+// Hips with a missing or non-positive value cannot give a relative error and are left out; with
+// fewer than four usable hips there is no choice to make: max e', no errors.
+TEST(PressureEstimatorEPrime, IncompleteHipsLeftOutAndTooFewHipsGiveTheMaximum) {
+  Synthetic data;
+  data.values(0, 2) = std::numeric_limits<double>::quiet_NaN();
+  data.values(1, 0) = 0.0;
+  const EstimatorSettings settings{.pca = {.components = 4}};
+  const EPrimeSelection selection = select_e_prime(data.features, data.values, settings, EstimatorMethod::kPcaNn, 3);
+  EXPECT_EQ(selection.hips, 25);
+  EXPECT_EQ(selection.mean_error_percent.size(), 3u);
+
+  const EPrimeSelection none = select_e_prime(data.features.topRows(5), data.values.topRows(5), settings,
+                                              EstimatorMethod::kPcaNn, 3);
+  EXPECT_EQ(none.hips, 0);  // rows 0 and 1 incomplete: 3 usable hips
+  EXPECT_EQ(none.e_prime, 3);
+  EXPECT_TRUE(none.mean_error_percent.empty());
+  EXPECT_THROW(select_e_prime(data.features, data.values, settings, EstimatorMethod::kPcaNn, 0), Error);
 }
 
 }  // namespace

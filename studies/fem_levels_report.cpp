@@ -1,0 +1,212 @@
+#include "studies/fem_levels_study.h"
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "studies/svg_plot.h"
+
+#include <cstdio>
+#include <sstream>
+#include <thread>
+
+namespace hipfai::studies {
+
+namespace {
+
+double relative_difference_percent(double value, double reference) {
+  return reference != 0.0 ? 100.0 * (value - reference) / reference : 0.0;
+}
+
+}  // namespace
+
+void write_fem_levels_report(const FemLevelsResult& result, const FemLevelsOptions& options) {
+  if (!result.writer || result.rows.empty()) return;
+  const std::vector<FemLevelRow>& rows = result.rows;
+  const FemLevelRow& finest = rows.back();
+  const std::vector<std::string>& bodies = finest.summary.bodies;
+
+  const std::filesystem::path dir(options.out_dir);
+  {
+    std::ostringstream csv;
+    csv << "level,hexahedra,dofs,steps,not_converged,wall_s,wall_per_step_s,peak_pressure_mpa,"
+           "peak_pressure_diff_percent";
+    for (const std::string& body : bodies) csv << ",peak_von_mises_mpa " << body << ",diff_percent";
+    for (const std::string& body : bodies) csv << ",peak_p95_von_mises_mpa " << body << ",diff_percent";
+    csv << ",last_mean_pressure_mpa,diff_percent,last_contact_area_mm2,diff_percent,last_translation_mm,diff_percent";
+    csv << ",peak_radius_mm,ball_peak_pressure_mpa,diff_percent";
+    for (const std::string& body : bodies) csv << ",ball_peak_von_mises_mpa " << body << ",diff_percent";
+    csv << ",max_pressure_x_mm,max_pressure_y_mm,max_pressure_z_mm,max_pressure_surface"
+           ",ball_peak_pressure_x_mm,ball_peak_pressure_y_mm,ball_peak_pressure_z_mm,ball_peak_pressure_surface\n";
+    csv.precision(10);
+    for (const FemLevelRow& row : rows) {
+      csv << row.level << ',' << row.summary.hexes << ','
+          << (row.summary.results.empty() ? 0ul : row.summary.results.front().n_dofs) << ','
+          << row.summary.results.size() << ',' << row.summary.failed << ',' << row.summary.seconds << ','
+          << row.wall_per_step << ',' << row.peak_pressure << ','
+          << relative_difference_percent(row.peak_pressure, finest.peak_pressure);
+      for (std::size_t b = 0; b < bodies.size(); ++b) {
+        csv << ',' << row.peak_vm[b] << ',' << relative_difference_percent(row.peak_vm[b], finest.peak_vm[b]);
+      }
+      for (std::size_t b = 0; b < bodies.size(); ++b) {
+        csv << ',' << row.peak_p95[b] << ',' << relative_difference_percent(row.peak_p95[b], finest.peak_p95[b]);
+      }
+      csv << ',' << row.last_mean_pressure << ','
+          << relative_difference_percent(row.last_mean_pressure, finest.last_mean_pressure) << ',' << row.last_area
+          << ',' << relative_difference_percent(row.last_area, finest.last_area) << ',' << row.last_translation << ','
+          << relative_difference_percent(row.last_translation, finest.last_translation);
+      csv << ',' << options.run.peak_radius_mm << ',' << row.ball_peak_pressure << ','
+          << relative_difference_percent(row.ball_peak_pressure, finest.ball_peak_pressure);
+      for (std::size_t b = 0; b < bodies.size(); ++b) {
+        csv << ',' << row.ball_peak_vm[b] << ','
+            << relative_difference_percent(row.ball_peak_vm[b], finest.ball_peak_vm[b]);
+      }
+      for (unsigned int d = 0; d < 3; ++d) csv << ',' << row.max_pressure_position[d];
+      csv << ',' << row.max_pressure_surface;
+      for (unsigned int d = 0; d < 3; ++d) csv << ',' << row.ball_peak_pressure_position[d];
+      csv << ',' << row.ball_peak_pressure_surface << '\n';
+    }
+    write_file_atomically(dir / "levels.csv", csv.str());
+  }
+
+  // Plots: difference from the finest level, and wall time per step, against the DOFs.
+  LineChart accuracy;
+  accuracy.title = "Peak values: difference from the finest level";
+  accuracy.x_label = "degrees of freedom";
+  accuracy.y_label = "difference from " + finest.level + " (%)";
+  accuracy.log_x = true;
+  auto dofs_of = [](const FemLevelRow& row) {
+    return row.summary.results.empty() ? 0.0 : static_cast<double>(row.summary.results.front().n_dofs);
+  };
+  {
+    Series pressure{"peak contact pressure", {}, {}, false};
+    for (const FemLevelRow& row : rows) {
+      pressure.x.push_back(dofs_of(row));
+      pressure.y.push_back(relative_difference_percent(row.peak_pressure, finest.peak_pressure));
+    }
+    accuracy.series.push_back(pressure);
+    Series ball_pressure{"ball-averaged peak pressure", {}, {}, true};
+    for (const FemLevelRow& row : rows) {
+      ball_pressure.x.push_back(dofs_of(row));
+      ball_pressure.y.push_back(relative_difference_percent(row.ball_peak_pressure, finest.ball_peak_pressure));
+    }
+    accuracy.series.push_back(ball_pressure);
+    for (std::size_t b = 0; b < bodies.size(); ++b) {
+      Series vm{"max von Mises, " + bodies[b], {}, {}, false};
+      Series p95{"p95 von Mises, " + bodies[b], {}, {}, true};
+      for (const FemLevelRow& row : rows) {
+        vm.x.push_back(dofs_of(row));
+        vm.y.push_back(relative_difference_percent(row.peak_vm[b], finest.peak_vm[b]));
+        p95.x.push_back(dofs_of(row));
+        p95.y.push_back(relative_difference_percent(row.peak_p95[b], finest.peak_p95[b]));
+      }
+      Series ball{"ball-averaged von Mises, " + bodies[b], {}, {}, true};
+      for (const FemLevelRow& row : rows) {
+        ball.x.push_back(dofs_of(row));
+        ball.y.push_back(relative_difference_percent(row.ball_peak_vm[b], finest.ball_peak_vm[b]));
+      }
+      accuracy.series.push_back(vm);
+      accuracy.series.push_back(p95);
+      accuracy.series.push_back(ball);
+    }
+  }
+  write_svg(accuracy, dir / "levels_accuracy.svg");
+  LineChart cost;
+  cost.title = "Wall time per step (this machine)";
+  cost.x_label = "degrees of freedom";
+  cost.y_label = "seconds per step";
+  cost.log_x = cost.log_y = true;
+  Series time{"wall time per step", {}, {}, false};
+  for (const FemLevelRow& row : rows) {
+    time.x.push_back(dofs_of(row));
+    time.y.push_back(row.wall_per_step);
+  }
+  cost.series.push_back(time);
+  write_svg(cost, dir / "levels_time.svg");
+
+  // Markdown report.
+  std::ostringstream md;
+  char line[512];
+  // One " value | diff from the finest |" pair of cells per body.
+  const auto body_cells = [&md](const std::vector<double>& values, const std::vector<double>& reference) {
+    char cells[64];
+    for (std::size_t b = 0; b < values.size(); ++b) {
+      std::snprintf(cells, sizeof cells, " %.4f | %+.1f %% |", values[b], relative_difference_percent(values[b], reference[b]));
+      md << cells;
+    }
+  };
+  md << "# Hip FE model: mesh levels, accuracy and cost\n\n";
+  md << "Model `" << options.run.model_dir << "`, "
+     << (options.run.motion_file.empty() ? "standing-to-sitting in " + std::to_string(options.run.steps) + " steps"
+                                         : "motion `" + options.run.motion_file + "`")
+     << ", " << finest.summary.results.size() << " step(s) per level"
+     << (options.run.labrum_refinement > 1
+             ? ", labrum meshed " + std::to_string(options.run.labrum_refinement) + " times finer than each level"
+             : std::string())
+     << ". Peak = maximum over the steps. "
+     << "Differences are relative to the finest level run (" << finest.level << "). Times are wall "
+     << "times on this machine (" << std::thread::hardware_concurrency() << " hardware threads).\n\n";
+  md << "| level | hexahedra | DOFs | not converged | wall per step (s) | wall per model (s) | peak pressure (MPa) | diff |";
+  for (const std::string& body : bodies) md << " max VM " << body << " (MPa) | diff |";
+  md << "\n|---|---:|---:|---:|---:|---:|---:|---:|";
+  for (std::size_t b = 0; b < bodies.size(); ++b) md << "---:|---:|";
+  md << '\n';
+  for (const FemLevelRow& row : rows) {
+    std::snprintf(line, sizeof line, "| %s | %zu | %.0f | %zu | %.2f | %.1f | %.4f | %+.1f %% |", row.level.c_str(),
+                  row.summary.hexes, dofs_of(row), row.summary.failed, row.wall_per_step, row.summary.seconds,
+                  row.peak_pressure, relative_difference_percent(row.peak_pressure, finest.peak_pressure));
+    md << line;
+    body_cells(row.peak_vm, finest.peak_vm);
+    md << '\n';
+  }
+  md << "\n95th percentile of von Mises over each tissue's Gauss points (peak over the steps):\n\n| level |";
+  for (const std::string& body : bodies) md << " p95 VM " << body << " (MPa) | diff |";
+  md << "\n|---|";
+  for (std::size_t b = 0; b < bodies.size(); ++b) md << "---:|---:|";
+  md << '\n';
+  for (const FemLevelRow& row : rows) {
+    md << "| " << row.level << " |";
+    body_cells(row.peak_p95, finest.peak_p95);
+    md << '\n';
+  }
+  md << "\nIntegral quantities at the last step (mean pressure = normal force / contact area):\n\n"
+     << "| level | mean pressure (MPa) | diff | contact area (mm^2) | diff | femur translation (mm) | diff |\n"
+     << "|---|---:|---:|---:|---:|---:|---:|\n";
+  for (const FemLevelRow& row : rows) {
+    std::snprintf(line, sizeof line, "| %s | %.4f | %+.1f %% | %.0f | %+.1f %% | %.4f | %+.1f %% |\n", row.level.c_str(),
+                  row.last_mean_pressure, relative_difference_percent(row.last_mean_pressure, finest.last_mean_pressure),
+                  row.last_area, relative_difference_percent(row.last_area, finest.last_area), row.last_translation,
+                  relative_difference_percent(row.last_translation, finest.last_translation));
+    md << line;
+  }
+  std::snprintf(line, sizeof line, "%g", options.run.peak_radius_mm);
+  md << "\nBall-averaged peaks: the largest mean over a ball of radius " << line
+     << " mm (fem/peak_measures.h; von Mises JxW-weighted over each tissue's Gauss points, pressure "
+        "area-weighted over the active contact nodes), peak over the steps:\n\n| level | ball peak pressure (MPa) | diff |";
+  for (const std::string& body : bodies) md << " ball VM " << body << " (MPa) | diff |";
+  md << "\n|---|---:|---:|";
+  for (std::size_t b = 0; b < bodies.size(); ++b) md << "---:|---:|";
+  md << '\n';
+  for (const FemLevelRow& row : rows) {
+    std::snprintf(line, sizeof line, "| %s | %.4f | %+.1f %% |", row.level.c_str(), row.ball_peak_pressure,
+                  relative_difference_percent(row.ball_peak_pressure, finest.ball_peak_pressure));
+    md << line;
+    body_cells(row.ball_peak_vm, finest.ball_peak_vm);
+    md << '\n';
+  }
+  md << "\nWhere the pressure peaks sit (hip frame, mm, at the step of the peak; the slave surface of the node):\n\n"
+     << "| level | max nodal pressure at | surface | ball peak centre | surface |\n|---|---|---|---|---|\n";
+  for (const FemLevelRow& row : rows) {
+    std::snprintf(line, sizeof line, "| %s | (%.2f, %.2f, %.2f) | %s | (%.2f, %.2f, %.2f) | %s |\n", row.level.c_str(),
+                  row.max_pressure_position[0], row.max_pressure_position[1], row.max_pressure_position[2],
+                  row.max_pressure_surface.c_str(), row.ball_peak_pressure_position[0],
+                  row.ball_peak_pressure_position[1], row.ball_peak_pressure_position[2],
+                  row.ball_peak_pressure_surface.c_str());
+    md << line;
+  }
+  md << "\n![difference from the finest level](levels_accuracy.svg)\n\n![wall time per step](levels_time.svg)\n\n"
+     << "Per level: `<level>.h5` (every step, docs/results-layout.md) and `<level>.csv`.\n";
+  write_file_atomically(dir / "levels.md", md.str());
+  std::printf("fem levels: %s, %s, %s\n", (dir / "levels.md").c_str(), (dir / "levels.csv").c_str(),
+              (dir / "levels_accuracy.svg").c_str());
+}
+
+}  // namespace hipfai::studies
