@@ -107,18 +107,30 @@ const CommandRegistrar registrar("estimator", [](CLI::App& parent) {
   auto hip_dir = std::make_shared<std::string>();
   auto csv = std::make_shared<std::string>();
   auto method = std::make_shared<std::string>("pca_nn");
-  auto e_prime = std::make_shared<int>(0);
+  auto e_prime = std::make_shared<std::string>();
   predict->add_option("--model", *model_path, "Model file from `estimator train`")->required();
   predict->add_option("--hip", *hip_dir, "Hip model folder (model.json)")->required();
   predict->add_option("--csv", *csv, "Write step, estimate, low, high, bordering to this file");
   predict->add_option("--method", *method, "pca_nn (thesis), knn or ridge")->capture_default_str()
       ->check(CLI::IsMember({"pca_nn", "knn", "ridge"}));
-  predict->add_option("--e-prime", *e_prime, "Components used, e' (default: all the model keeps)")
-      ->check(CLI::Range(1, 1000));
+  predict->add_option("--e-prime", *e_prime,
+                      "Components used, e' (default: all the model keeps), or 'auto': the e' with the smallest "
+                      "leave-one-out error among the training hips")
+      ->check(CLI::Range(1, 1000) | CLI::IsMember({"auto"}));
   predict->callback([=] {
     const auto model = studies::read_estimator_model(*model_path);
-    const int used = *e_prime > 0 ? *e_prime : model.estimator.pca.num_components();
-    const auto prediction = studies::predict_hip(model, *hip_dir, stats::parse_estimator_method(*method), used);
+    const stats::EstimatorMethod chosen_method = stats::parse_estimator_method(*method);
+    int used = model.estimator.pca.num_components();
+    if (*e_prime == "auto") {
+      const stats::EPrimeSelection selection = studies::choose_e_prime(model, chosen_method);
+      used = selection.e_prime;
+      std::cout << "e' = " << used << " chosen by leave-one-out among the " << selection.hips << " training hips";
+      if (selection.hips == 0) std::cout << " (too few hips with complete values to choose: all components)";
+      std::cout << '\n';
+    } else if (!e_prime->empty()) {
+      used = std::stoi(*e_prime);
+    }
+    const auto prediction = studies::predict_hip(model, *hip_dir, chosen_method, used);
     const auto& result = prediction.result;
     std::ostringstream table;
     table << std::setprecision(10) << "step,estimate,low,high,bordering\n";

@@ -472,4 +472,9 @@ HipPrediction predict_hip(const EstimatorModel& model, const std::filesystem::pa
   return prediction;
 }
 
+stats::EPrimeSelection choose_e_prime(const EstimatorModel& model, stats::EstimatorMethod method) {
+  return stats::select_e_prime(model.estimator.features, model.estimator.values, model.estimator.settings, method,
+                               model.estimator.pca.num_components());
+}
+
 }  // namespace hipfai::studies

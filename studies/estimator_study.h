@@ -98,6 +98,10 @@ struct HipPrediction {
 HipPrediction predict_hip(const EstimatorModel& model, const std::filesystem::path& hip_dir,
                           stats::EstimatorMethod method, int e_prime);
 
+// e' for `method` chosen among the model's training hips alone, over the whole motion: the
+// smallest leave-one-out error for e' = 1..components (stats::select_e_prime).
+stats::EPrimeSelection choose_e_prime(const EstimatorModel& model, stats::EstimatorMethod method);
+
 struct EstimatorValidateOptions {
   EstimatorTrainOptions train;
   std::filesystem::path out_dir = "out/estimator";

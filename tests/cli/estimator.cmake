@@ -34,3 +34,5 @@ cmp \"$2/a/loo.csv\" \"$2/b/loo.csv\" || { echo 'a rerun from the cache changed 
                    sh $<TARGET_FILE:hipfai> ${estimator_tmp})
   set_tests_properties(cli.estimator_validate_quick PROPERTIES LABELS "cli;slow" TIMEOUT 600)
 endif()
+hipfai_cli_test(NAME estimator_predict_bad_e_prime EXIT nonzero STDERR "--e-prime"
+  COMMAND estimator predict --model @TMP@/none.h5 --hip @TMP@ --e-prime most)
