@@ -26,8 +26,8 @@ struct TrainArgs {
 
 void add_train_options(CLI::App* app, TrainArgs& args, bool fe_required) {
   auto* fe = app->add_option("--fe", args.fe,
-                             "FE results: a `hipfai study validate` output folder (steps.csv) or a steps.csv; "
-                             "repeat for several sweeps of the same motion");
+                             "FE results: a `hipfai study validate` output folder (steps.csv), a steps.csv, or a "
+                             "scripts/fem-sweep output folder; repeat for several sweeps of the same motion");
   if (fe_required) fe->required();
   app->add_option("--hips", args.hips, "Folder of hip model folders (model.json), matched to the FE rows by CE/alpha");
   app->add_option("--measure", args.measure, "FE quantity to estimate (a steps.csv column ending in _mpa)")

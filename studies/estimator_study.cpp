@@ -7,6 +7,7 @@
 #include "geometry/hip_model.h"
 #include "studies/hip_source.h"
 #include "studies/results_file.h"
+#include "studies/validation_study.h"
 
 #include <algorithm>
 #include <chrono>
@@ -15,6 +16,7 @@
 #include <iomanip>
 #include <limits>
 #include <map>
+#include <numbers>
 #include <set>
 #include <sstream>
 
@@ -115,9 +117,79 @@ void check_same_motion(const std::vector<double>& a, const std::vector<double>& 
   }
 }
 
+// A `scripts/fem-sweep` folder: summary.csv starting "model,exit_status" and, per model that
+// finished, <model>.csv (the `fem run --csv` table) and <model>.h5 (its per-step rotations).
+bool is_fem_sweep_folder(const std::filesystem::path& dir) {
+  if (!std::filesystem::is_directory(dir) || std::filesystem::exists(dir / "steps.csv")) return false;
+  std::ifstream in(dir / "summary.csv");
+  std::string line;
+  return in && std::getline(in, line) && line.rfind("model,exit_status", 0) == 0;
+}
+
+#ifdef HIPFAI_WITH_FEM
+// CE and alpha from a grid model's name ("ce20_alpha40", `hipfai generate --grid`).
+bool angles_of_model_name(const std::string& name, double& ce, double& alpha) {
+  const std::size_t split = name.find("_alpha");
+  if (name.rfind("ce", 0) != 0 || split == std::string::npos) return false;
+  ce = parse_number(name.substr(2, split - 2));
+  alpha = parse_number(name.substr(split + 6));
+  return std::isfinite(ce) && std::isfinite(alpha);
+}
+
+FeSweep read_fem_sweep_folder(const std::filesystem::path& dir, const std::string& measure) {
+  const auto& measures = validation_fe_measures();
+  const auto which = std::find(measures.begin(), measures.end(), measure);
+  if (which == measures.end()) {
+    throw_error(dir.string(), ": ", measure, " is not one of the FE measures of `fem run` tables (",
+                measures.front(), ", ...)");
+  }
+  std::ifstream summary(dir / "summary.csv");
+  std::string line;
+  std::getline(summary, line);
+  FeSweep sweep;
+  sweep.measure = measure;
+  while (std::getline(summary, line)) {
+    if (line.empty()) continue;
+    const std::string model = split_csv_line(line).front();
+    double ce = 0, alpha = 0;
+    if (!angles_of_model_name(model, ce, alpha)) {
+      throw_error((dir / "summary.csv").string(), ": model '", model,
+                  "': CE and alpha are read from grid names like ce20_alpha40");
+    }
+    const std::filesystem::path csv = dir / (model + ".csv"), h5 = dir / (model + ".h5");
+    if (!std::filesystem::exists(csv)) continue;  // the model stopped before its table was written
+    const HipFeTable table = read_hip_fe_csv(csv);
+    const auto values = validation_fe_measures_of(table, table.rows, csv);
+    // Each step's angle: the angle of its rotation (frame-free), from the run's HDF5.
+    std::size_t rows = 0, cols = 0;
+    const std::vector<double> rotation = read_dataset(h5, "/steps/rotation", &rows, &cols);
+    if (rows != table.rows || rotation.size() != 9 * rows) {
+      throw_error(h5.string(), ": ", rows, " rotations for ", table.rows, " steps in ", csv.string());
+    }
+    std::vector<double> angles;
+    for (std::size_t k = 0; k < rows; ++k) {
+      const double trace = rotation[9 * k] + rotation[9 * k + 4] + rotation[9 * k + 8];
+      angles.push_back(std::acos(std::clamp((trace - 1.0) / 2.0, -1.0, 1.0)) * 180.0 / std::numbers::pi);
+    }
+    if (sweep.hips.empty()) sweep.angle_deg = angles;
+    check_same_motion(sweep.angle_deg, angles, csv.string() + " vs the sweep's other models");
+    sweep.hips.push_back({ce, alpha, kNaN, values[static_cast<std::size_t>(which - measures.begin())]});
+  }
+  if (sweep.hips.empty()) throw_error(dir.string(), ": no model of the sweep has its table (<model>.csv)");
+  return sweep;
+}
+#endif
+
 }  // namespace
 
 FeSweep read_fe_sweep(const std::filesystem::path& fe, const std::string& measure) {
+  if (is_fem_sweep_folder(fe)) {
+#ifdef HIPFAI_WITH_FEM
+    return read_fem_sweep_folder(fe, measure);
+#else
+    throw_error(fe.string(), ": a scripts/fem-sweep folder; reading it needs the FE module (HIPFAI_WITH_FEM)");
+#endif
+  }
   const std::filesystem::path file = std::filesystem::is_directory(fe) ? fe / "steps.csv" : fe;
   std::ifstream in(file);
   if (!in) throw_error(file.string(), ": cannot read the FE table (expected a `hipfai study validate` folder)");

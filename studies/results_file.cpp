@@ -2,6 +2,7 @@
 
 #include "core/error.h"
 
+#include <algorithm>
 #include <hdf5.h>
 
 #include <system_error>
@@ -180,11 +181,19 @@ std::vector<double> read_dataset(const std::filesystem::path& file, const std::s
     H5Fclose(handle);
     throw_error(file.string(), ": no dataset ", path);
   }
+  // Any rank: rows = the first extent, cols = the product of the others (a scalar is 1 x 1).
   const hid_t space = H5Dget_space(set);
-  hsize_t dims[2] = {0, 1};
-  const int rank = H5Sget_simple_extent_dims(space, dims, nullptr);
+  const int rank = H5Sget_simple_extent_ndims(space);
+  std::vector<hsize_t> extents(static_cast<std::size_t>(std::max(rank, 0)));
+  if (rank < 0 || (rank > 0 && H5Sget_simple_extent_dims(space, extents.data(), nullptr) != rank)) {
+    H5Sclose(space);
+    H5Dclose(set);
+    H5Fclose(handle);
+    throw_error(file.string(), ": ", path, ": unreadable dataspace");
+  }
   H5Sclose(space);
-  if (rank == 1) dims[1] = 1;
+  hsize_t dims[2] = {1, 1};
+  for (int d = 0; d < rank; ++d) dims[d == 0 ? 0 : 1] *= extents[static_cast<std::size_t>(d)];
   std::vector<double> values(dims[0] * dims[1]);
   const herr_t status = values.empty() ? 0
                                        : H5Dread(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL,

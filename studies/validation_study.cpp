@@ -134,9 +134,10 @@ const std::vector<std::pair<std::string, std::string>>& fe_bodies() {
   return bodies;
 }
 
-// One FE measure per step from the run's table; NaN for steps that did not converge.
-std::vector<std::vector<double>> fe_measures(const HipFeTable& table, std::size_t steps,
-                                             const std::filesystem::path& file) {
+}  // namespace
+
+std::vector<std::vector<double>> validation_fe_measures_of(const HipFeTable& table, std::size_t steps,
+                                                           const std::filesystem::path& file) {
   if (table.rows != steps) {
     throw_error(file.string(), ": ", table.rows, " FE steps, the motion has ", steps);
   }
@@ -171,6 +172,8 @@ std::vector<std::vector<double>> fe_measures(const HipFeTable& table, std::size_
   }
   return out;
 }
+
+namespace {
 
 // The environment of an FE worker: one thread per process (two processes share two cores), and
 // nothing of an MPI launcher the parent may have been started under.
@@ -318,7 +321,7 @@ void run_fe_stage(std::vector<HipRun>& hips, const Motion& motion, const Validat
     HipRun& run = hips[h];
     const std::filesystem::path& entry = entries[h];
     const HipFeTable table = read_hip_fe_csv(entry / "fe.csv");
-    run.fe = fe_measures(table, motion.steps.size(), entry / "fe.csv");
+    run.fe = validation_fe_measures_of(table, motion.steps.size(), entry / "fe.csv");
     for (std::size_t k = 0; k < table.rows; ++k) {
       run.timing.fe_step_s += table.column("wall_time_s")[k];
       run.timing.fe_steps_failed += table.column("status")[k] != 0.0;

@@ -19,6 +19,10 @@
 //   fig61/       the CE 40 / alpha 60 hip at the end pose for ParaView (when on the grid)
 #pragma once
 
+#ifdef HIPFAI_WITH_FEM
+#include "studies/hip_fe_run.h"
+#endif
+
 #include <filesystem>
 #include <string>
 #include <utility>
@@ -47,6 +51,14 @@ struct ValidationOptions {
 
 // The FE measures of steps.csv, in column order (names end in _mpa); the first is the primary one.
 const std::vector<std::string>& validation_fe_measures();
+
+#ifdef HIPFAI_WITH_FEM
+// Every measure of validation_fe_measures() per step of an `fem run --csv` table, [measure][step];
+// NaN where the step did not converge. Throws hipfai::Error naming `file` when the table has
+// another number of steps than `steps`.
+std::vector<std::vector<double>> validation_fe_measures_of(const HipFeTable& table, std::size_t steps,
+                                                           const std::filesystem::path& file);
+#endif
 
 struct ValidationHipTiming {
   double ce_deg = 0, alpha_deg = 0;

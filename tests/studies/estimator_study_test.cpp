@@ -7,6 +7,9 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+#include <hdf5.h>
+
 #include <cmath>
 #include <fstream>
 #include <string>
@@ -236,3 +239,76 @@ TEST(EstimatorStudy, RefusesBonesOnlyRealHip) {
 
 }  // namespace
 }  // namespace hipfai::studies
+
+#ifdef HIPFAI_WITH_FEM
+namespace hipfai::studies {
+namespace {
+
+// A scripts/fem-sweep folder as the script leaves it: summary.csv, per model the `fem run --csv`
+// table and the HDF5 with each step's rotation (here about Z by `angles_deg`, and once about an
+// oblique axis: the angle of a rotation does not depend on its axis).
+void write_sweep_model(const fs::path& dir, const std::string& model, const std::vector<double>& angles_deg,
+                       double pressure_scale, const Eigen::Vector3d& axis) {
+  std::ofstream csv(dir / (model + ".csv"));
+  csv << "step,status,max_pressure_mpa,ball_peak_pressure_mpa,mean_pressure_mpa\n";
+  std::vector<double> rotation;
+  for (std::size_t k = 0; k < angles_deg.size(); ++k) {
+    csv << k + 1 << ",0," << pressure_scale * (k + 1) << ',' << 0.5 * pressure_scale * (k + 1) << ",0.1\n";
+    const Eigen::Matrix3d r = Eigen::AngleAxisd(angles_deg[k] * M_PI / 180.0, axis.normalized()).toRotationMatrix();
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) rotation.push_back(r(i, j));
+    }
+  }
+  // n x 3 x 3, as fem/fem_results.cpp writes it.
+  const hid_t file = H5Fcreate((dir / (model + ".h5")).c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  const hid_t group = H5Gcreate2(file, "steps", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  const hsize_t dims[3] = {angles_deg.size(), 3, 3};
+  const hid_t space = H5Screate_simple(3, dims, nullptr);
+  const hid_t set = H5Dcreate2(group, "rotation", H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  ASSERT_GE(H5Dwrite(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, rotation.data()), 0);
+  H5Dclose(set);
+  H5Sclose(space);
+  H5Gclose(group);
+  H5Fclose(file);
+}
+
+TEST(EstimatorStudy, ReadsAFemSweepFolder) {
+  const fs::path dir = scratch("fem-sweep");
+  {
+    std::ofstream summary(dir / "summary.csv");
+    summary << "model,exit_status,steps,converged\nce10_alpha50,0,3,3\nce20_alpha60,0,3,3\nce30_alpha70,1,0,0\n";
+  }
+  write_sweep_model(dir, "ce10_alpha50", {10, 20, 30}, 1.0, Eigen::Vector3d::UnitZ());
+  write_sweep_model(dir, "ce20_alpha60", {10, 20, 30}, 2.0, Eigen::Vector3d(1, 2, 3));
+  // ce30_alpha70 stopped before its table: skipped.
+  // read_dataset of an n x 3 x 3 set: rows n, cols 9 (it used to write past a 2-extent array).
+  std::size_t rows = 0, cols = 0;
+  EXPECT_EQ(read_dataset(dir / "ce10_alpha50.h5", "/steps/rotation", &rows, &cols).size(), 27u);
+  EXPECT_EQ(rows, 3u);
+  EXPECT_EQ(cols, 9u);
+  const FeSweep sweep = read_fe_sweep(dir, "pressure_max_mpa");
+  ASSERT_EQ(sweep.hips.size(), 2u);
+  ASSERT_EQ(sweep.angle_deg.size(), 3u);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(sweep.angle_deg[static_cast<std::size_t>(k)], 10.0 * (k + 1), 1e-9);
+  EXPECT_EQ(sweep.hips[1].ce_deg, 20.0);
+  EXPECT_EQ(sweep.hips[1].alpha_deg, 60.0);
+  EXPECT_TRUE(std::isnan(sweep.hips[1].edge_mm));
+  EXPECT_DOUBLE_EQ(sweep.hips[1].values[2], 6.0);
+  EXPECT_DOUBLE_EQ(read_fe_sweep(dir, "pressure_ball_mpa").hips[0].values[1], 1.0);
+  EXPECT_THROW(read_fe_sweep(dir, "pressure_p99_mpa"), Error);
+
+  // Another motion in one model, and a name CE/alpha cannot be read from, are errors.
+  write_sweep_model(dir, "ce20_alpha60", {10, 20, 35}, 2.0, Eigen::Vector3d::UnitZ());
+  EXPECT_THROW(read_fe_sweep(dir, "pressure_max_mpa"), Error);
+  write_sweep_model(dir, "ce20_alpha60", {10, 20, 30}, 2.0, Eigen::Vector3d::UnitZ());
+  {
+    std::ofstream summary(dir / "summary.csv", std::ios::app);
+    summary << "left_hip,0,3,3\n";
+  }
+  write_sweep_model(dir, "left_hip", {10, 20, 30}, 1.0, Eigen::Vector3d::UnitZ());
+  EXPECT_THROW(read_fe_sweep(dir, "pressure_max_mpa"), Error);
+}
+
+}  // namespace
+}  // namespace hipfai::studies
+#endif
