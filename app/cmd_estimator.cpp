@@ -150,6 +150,9 @@ const CommandRegistrar registrar("estimator", [](CLI::App& parent) {
               << " (training max " << model.estimator.max_training_mahalanobis << "), outside the training range on "
               << result.outside_components << " of " << model.estimator.significant_components
               << " significant components" << (result.bordering ? " - the estimate extrapolates" : "") << '\n'
+              << (prediction.approximate_frame
+                      ? "frame: approximate, from the bones of a segmented hip (no anatomical landmarks)\n"
+                      : "")
               << "time: load " << prediction.load_ms << " ms, features " << prediction.feature_ms
               << " ms, prediction " << prediction.predict_ms << " ms\n";
   });

@@ -31,9 +31,18 @@ Pca fit_pca(const Eigen::MatrixXd& samples, const PcaOptions& options) {
   const Eigen::MatrixXd normalised = centred.array().rowwise() / pca.scale.transpose().array();
   pca.total_variance = normalised.squaredNorm() / static_cast<double>(rows - 1);
 
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(normalised, Eigen::ComputeThinV);
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(normalised, Eigen::ComputeThinV);
+  // Directions past the numerical rank carry round-off, not data: their scores are noise that a
+  // ranking by correlation could pick and a per-component scaling would blow up (e.g. hips whose
+  // sampled tissues are identical copies). They are not kept. Rank = singular values above 1e-9
+  // of the largest (variance ratio 1e-18): round-off of the SVD and of the centring sits near
+  // 1e-15, and no feature that varies by data (>= the 1e-3 mm of a mesh coordinate against tens of
+  // mm) comes near 1e-9.
+  svd.setThreshold(1e-9);
+  const Eigen::Index rank = svd.rank();
+  if (rank == 0) throw_error("PCA: the ", rows, " samples are identical (to rounding); nothing varies");
   const Eigen::Index keep =
-      std::min<Eigen::Index>({static_cast<Eigen::Index>(options.components), rows - 1, cols});
+      std::min<Eigen::Index>({static_cast<Eigen::Index>(options.components), rows - 1, cols, rank});
   pca.basis = svd.matrixV().leftCols(keep);
   pca.variances = svd.singularValues().head(keep).array().square() / static_cast<double>(rows - 1);
   for (Eigen::Index k = 0; k < keep; ++k) {

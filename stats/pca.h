@@ -19,7 +19,9 @@
 namespace hipfai::stats {
 
 struct PcaOptions {
-  int components = literature::kEstimatorEffectiveFeatures;  // e (thesis: 10); capped at min(rows - 1, columns)
+  // e (thesis: 10); capped at min(rows - 1, columns) and at the numerical rank of the normalised
+  // samples (fewer components when the samples span fewer directions).
+  int components = literature::kEstimatorEffectiveFeatures;
   // Features whose training standard deviation is below this are divided by it instead (units of
   // the features). 0 = plain z-scores. A positive floor keeps features that vary only by noise
   // (mesh discretisation) from being blown up to unit variance.

@@ -7,6 +7,7 @@
 #include "geometry/hip_model.h"
 #include "studies/hip_source.h"
 #include "studies/results_file.h"
+#include "studies/segmented_hip.h"
 #include "studies/validation_study.h"
 
 #include <algorithm>
@@ -325,8 +326,11 @@ EstimatorModel train_estimator_model(const EstimatorTrainOptions& options, std::
         hip.misses = features.misses;
         hip.values = fe_hip.values;
         // The same hip again (another FE level, a re-run): the newer FE values replace the older.
-        const auto existing = std::find_if(model.hips.begin(), model.hips.end(),
-                                           [&](const TrainingHip& h) { return h.hash == hip.hash; });
+        // Same = same sampled meshes AND same CE/alpha: a grid of bones only (femur_bone) samples
+        // the same meshes for hips that differ in their sockets, which stay separate hips.
+        const auto existing = std::find_if(model.hips.begin(), model.hips.end(), [&](const TrainingHip& h) {
+          return h.hash == hip.hash && same(h.ce_deg, hip.ce_deg) && same(h.alpha_deg, hip.alpha_deg);
+        });
         if (existing != model.hips.end()) {
           if (notes) notes->push_back(name + ": FE values replaced by those of " + sweep.measure + " in the new results");
           *existing = std::move(hip);
@@ -513,26 +517,26 @@ EstimatorModel read_estimator_model(const std::filesystem::path& path) {
 
 HipPrediction predict_hip(const EstimatorModel& model, const std::filesystem::path& hip_dir,
                           stats::EstimatorMethod method, int e_prime) {
-  if (!std::filesystem::exists(hip_dir / "model.json")) {
-    if (std::filesystem::exists(hip_dir / "hip.json")) {
-      throw_error(hip_dir.string(), ": a segmented hip (hip.json) without model.json: bones only, in the scan's "
-                  "frame without anatomical axes; the model samples ", model.grid.describe(),
-                  " in the hip frame, so the soft tissues and the frame it needs are missing (refused, not guessed)");
-    }
-    throw_error(hip_dir.string(), ": no model.json (a hip model folder, e.g. from `hipfai generate`)");
+  const bool segmented = !std::filesystem::exists(hip_dir / "model.json") && std::filesystem::exists(hip_dir / "hip.json");
+  if (!segmented && !std::filesystem::exists(hip_dir / "model.json")) {
+    throw_error(hip_dir.string(), ": no model.json (a hip model folder, e.g. from `hipfai generate`) nor hip.json "
+                "(a segmented hip)");
   }
   HipPrediction prediction;
+  prediction.approximate_frame = segmented;
   auto start = std::chrono::steady_clock::now();
-  const std::set<std::string> tissues(model.grid.tissues.begin(), model.grid.tissues.end());
-  // All tissues are read (the file says which exist), so a missing one is named below.
-  const geometry::HipModel hip = geometry::load_hip_model(hip_dir);
-  std::string missing;
+  // All tissues are read (the file says which exist), so a missing one is named below. A
+  // segmented hip (bones from a scan) gets the approximate frame of its bones.
+  const geometry::HipModel hip = segmented ? load_segmented_hip(hip_dir) : geometry::load_hip_model(hip_dir);
+  std::string missing, present;
   for (const auto& name : model.grid.tissues) {
     if (!hip.tissues.count(name)) missing += (missing.empty() ? "" : ", ") + name;
   }
+  for (const auto& [name, mesh] : hip.tissues) present += (present.empty() ? "" : ", ") + name;
   if (!missing.empty()) {
-    throw_error(hip_dir.string(), ": no ", missing, "; the model's features (", model.grid.describe(),
-                ") need every one of them (refused, not filled in)");
+    throw_error(hip_dir.string(), ": no ", missing, " (it has ", present, "); the model's features (",
+                model.grid.describe(), ") need every one of them (refused, not filled in)",
+                segmented ? "; a model of the bones it has: `estimator train --tissues femur_bone`" : "");
   }
   prediction.load_ms = elapsed_ms(start);
   const HipFeatures features = extract_hip_features(hip, model.grid);

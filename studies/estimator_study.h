@@ -91,10 +91,13 @@ struct HipPrediction {
   stats::EstimateResult result;
   double load_ms = 0, feature_ms = 0, predict_ms = 0;
   int misses = 0;
+  // A segmented hip (hip.json): its hip frame is approximate (studies/segmented_hip.h).
+  bool approximate_frame = false;
 };
 
-// Loads the hip folder (refusing, with what is missing, a folder the model's features cannot be
-// taken from), extracts its features on the model's grid and estimates every step.
+// Loads the hip folder — a model folder (model.json) or a segmented hip (hip.json, bones in the
+// scan's frame, studies/segmented_hip.h) — refusing, with what is missing, one the model's
+// features cannot be taken from; extracts its features on the model's grid and estimates every step.
 HipPrediction predict_hip(const EstimatorModel& model, const std::filesystem::path& hip_dir,
                           stats::EstimatorMethod method, int e_prime);
 

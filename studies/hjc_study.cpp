@@ -14,6 +14,7 @@
 #include "studies/penetration_run.h"
 #include "studies/results_file.h"
 #include "studies/svg_plot.h"
+#include "studies/segmented_hip.h"
 
 #include <Eigen/Dense>
 
@@ -93,17 +94,9 @@ HjcStudyResult run_bones(const HjcStudyOptions& options) {
   request.pelvis_name = options.pelvis.string();
   const geometry::HjcResult hjc = geometry::estimate_hjc(request);
 
-  // Approximate hip frame from the bones (hjc_study.h).
-  Vec3 femur_centroid, pelvis_centroid;
-  Eigen::Vector3d z = geometry::principal_axis(femur, &femur_centroid);
-  geometry::principal_axis(pelvis, &pelvis_centroid);
-  const Vec3 head = hjc.method("femoralheadsphere").center_mm;
-  if ((head - femur_centroid).dot(z) < 0.0) z = -z;
-  Eigen::Vector3d x = head - pelvis_centroid;
-  x -= x.dot(z) * z;
-  x.normalize();
-  const Eigen::Vector3d y = z.cross(x);
-  const std::array<Eigen::Vector3d, 3> axes{x, y, z};
+  // Approximate hip frame from the bones (hjc_study.h), about the fitted head.
+  const Eigen::Matrix3d frame = approximate_hip_frame(femur, pelvis, hjc.method("femoralheadsphere").center_mm);
+  const std::array<Eigen::Vector3d, 3> axes{frame.col(0), frame.col(1), frame.col(2)};
   // (rotation name, axis index, anticlockwise?) for a right hip: flexion +X, adduction +Y, IR +Z.
   const std::vector<std::tuple<std::string, int, bool>> directions{
       {"flexion", 0, true}, {"extension", 0, false}, {"internal_rotation", 2, true},
@@ -179,9 +172,9 @@ HjcStudyResult run_bones(const HjcStudyOptions& options) {
      << "target after the per-pose shifts (the head is not a perfect sphere).\n\n"
      << "## Bone-to-bone range of motion per method (exact range finder)\n\n"
      << "Approximate hip frame (no anatomical landmarks in the CT): Z = femur principal axis towards the head ("
-     << fmt(z.x(), 3) << ", " << fmt(z.y(), 3) << ", " << fmt(z.z(), 3) << "), X = from the pelvis centroid towards the "
-     << "head, orthogonal to Z (" << fmt(x.x(), 3) << ", " << fmt(x.y(), 3) << ", " << fmt(x.z(), 3) << "), Y = Z x X ("
-     << fmt(y.x(), 3) << ", " << fmt(y.y(), 3) << ", " << fmt(y.z(), 3) << "). Rotations start from the scanned "
+     << fmt(axes[2].x(), 3) << ", " << fmt(axes[2].y(), 3) << ", " << fmt(axes[2].z(), 3) << "), X = from the pelvis centroid towards the "
+     << "head, orthogonal to Z (" << fmt(axes[0].x(), 3) << ", " << fmt(axes[0].y(), 3) << ", " << fmt(axes[0].z(), 3) << "), Y = Z x X ("
+     << fmt(axes[1].x(), 3) << ", " << fmt(axes[1].y(), 3) << ", " << fmt(axes[1].z(), 3) << "). Rotations start from the scanned "
      << "pose, which is not the anatomical neutral pose. Bones only: cartilage and labrum absent, so these are the "
      << "bony limits, larger than a living hip's. Whole femur: every contact counts, the head's in its own socket "
      << "too. Head removed: the femur without its head (radius + 1.5 mm about the femoralheadsphere centre), the "

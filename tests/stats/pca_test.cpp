@@ -15,13 +15,14 @@ namespace {
 TEST(Pca, DiagonalPointsByHand) {
   Eigen::MatrixXd samples(4, 2);
   samples << -2, -2, -1, -1, 1, 1, 2, 2;
+  // Two components asked for; the points span one direction, so one is kept (the second would be
+  // a round-off direction, pca.h).
   const Pca pca = fit_pca(samples, {.components = 2, .scale_floor = 0.0});
-  ASSERT_EQ(pca.num_components(), 2);
+  ASSERT_EQ(pca.num_components(), 1);
   EXPECT_NEAR(pca.mean(0), 0.0, 1e-15);
   EXPECT_NEAR(pca.scale(0), std::sqrt(10.0 / 3.0), 1e-14);
   EXPECT_NEAR(pca.total_variance, 2.0, 1e-13);
   EXPECT_NEAR(pca.variances(0), 2.0, 1e-13);
-  EXPECT_NEAR(pca.variances(1), 0.0, 1e-13);
   // Sign convention: the largest loading is positive (both equal: the first wins).
   EXPECT_NEAR(pca.basis(0, 0), 1.0 / std::sqrt(2.0), 1e-14);
   EXPECT_NEAR(pca.basis(1, 0), 1.0 / std::sqrt(2.0), 1e-14);
@@ -72,6 +73,27 @@ TEST(Pca, RejectsBadInput) {
   EXPECT_THROW(fit_pca(nan, {}), Error);
   const Pca pca = fit_pca(Eigen::MatrixXd::Random(4, 3), {});
   EXPECT_THROW(pca_scores(pca, Eigen::MatrixXd::Ones(1, 2)), Error);
+}
+
+}  // namespace
+}  // namespace hipfai::stats
+
+namespace hipfai::stats {
+namespace {
+
+// Six samples that are three points, each twice (hips whose sampled tissues are copies): the
+// normalised data span two directions, so at most two components are kept whatever is asked, and
+// their scores stay O(1) (no round-off direction scaled up). All samples equal: an error.
+TEST(Pca, ComponentsCappedAtTheNumericalRank) {
+  Eigen::MatrixXd samples(6, 4);
+  samples << 1, 2, 3, 4, 1, 2, 3, 4, 2, 2, 5, 1, 2, 2, 5, 1, 0, 7, 1, 1, 0, 7, 1, 1;
+  const Pca pca = fit_pca(samples, {.components = 5, .scale_floor = 0.0});
+  EXPECT_EQ(pca.num_components(), 2);
+  EXPECT_NEAR(pca.variances.sum(), pca.total_variance, 1e-12 * pca.total_variance);
+  const Eigen::MatrixXd scores = pca_scores(pca, samples);
+  EXPECT_LT(scores.cwiseAbs().maxCoeff(), 10.0);
+  const Eigen::MatrixXd same = Eigen::MatrixXd::Constant(3, 4, 2.5);
+  EXPECT_THROW(fit_pca(same, {.components = 2, .scale_floor = 0.0}), Error);
 }
 
 }  // namespace
