@@ -12,6 +12,7 @@
 #ifdef HIPFAI_WITH_FEM
 
 #include "app/command_registry.h"
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/progress.h"
 #include "fem/fem_results.h"
@@ -274,8 +275,8 @@ void run_fem_levels(const FemLevelsOptions& options) {
 
   const std::filesystem::path dir(options.out_dir);
   {
-    const std::filesystem::path csv_path = dir / "levels.csv", partial = dir / "levels.csv.partial";
-    std::ofstream csv(partial);
+    AtomicFile csv_file(dir / "levels.csv");
+    std::ofstream csv(csv_file.partial_path());
     csv << "level,hexahedra,dofs,steps,not_converged,wall_s,wall_per_step_s,peak_pressure_mpa,"
            "peak_pressure_diff_percent";
     for (const std::string& body : bodies) csv << ",peak_von_mises_mpa " << body << ",diff_percent";
@@ -313,9 +314,9 @@ void run_fem_levels(const FemLevelsOptions& options) {
       for (unsigned int d = 0; d < 3; ++d) csv << ',' << row.ball_peak_pressure_position[d];
       csv << ',' << row.ball_peak_pressure_surface << '\n';
     }
-    if (!csv) throw_error(partial.string(), ": write failed");
     csv.close();
-    std::filesystem::rename(partial, csv_path);
+    if (!csv) throw_error(csv_file.target().string(), ": write failed");
+    csv_file.commit();
   }
 
   // Plots: difference from the finest level, and wall time per step, against the DOFs.
@@ -374,8 +375,8 @@ void run_fem_levels(const FemLevelsOptions& options) {
   studies::write_svg(cost, dir / "levels_time.svg");
 
   // Markdown report.
-  const std::filesystem::path md_path = dir / "levels.md", md_partial = dir / "levels.md.partial";
-  std::ofstream md(md_partial);
+  AtomicFile md_file(dir / "levels.md");
+  std::ofstream md(md_file.partial_path());
   char line[512];
   // One " value | diff from the finest |" pair of cells per body.
   const auto body_cells = [&md](const std::vector<double>& values, const std::vector<double>& reference) {
@@ -456,9 +457,9 @@ void run_fem_levels(const FemLevelsOptions& options) {
   }
   md << "\n![difference from the finest level](levels_accuracy.svg)\n\n![wall time per step](levels_time.svg)\n\n"
      << "Per level: `<level>.h5` (every step, docs/results-layout.md) and `<level>.csv`.\n";
-  if (!md) throw_error(md_partial.string(), ": write failed");
   md.close();
-  std::filesystem::rename(md_partial, md_path);
+  if (!md) throw_error(md_file.target().string(), ": write failed");
+  md_file.commit();
   std::printf("fem levels: %s, %s, %s\n", (dir / "levels.md").c_str(), (dir / "levels.csv").c_str(),
               (dir / "levels_accuracy.svg").c_str());
 }

@@ -2,6 +2,7 @@
 
 #include "geometry/gmsh_runtime.h"
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 
 #include <gmsh.h>
@@ -929,10 +930,7 @@ void write_hex_msh(const HexMesh& mesh, const std::filesystem::path& file) {
   }
   std::error_code error;
   if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path(), error);
-  const std::filesystem::path temporary = file.string() + ".tmp";
-  {
-    std::ofstream out(temporary);
-    if (!out) throw_error(file.string(), ": cannot write");
+  write_file_atomically(file, [&](std::ostream& out) {
     out.precision(17);
     out << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n";
     std::set<int> volume_tags, surface_tags;
@@ -962,11 +960,7 @@ void write_hex_msh(const HexMesh& mesh, const std::filesystem::path& file) {
       out << '\n';
     }
     out << "$EndElements\n";
-    out.close();
-    if (!out) throw_error(file.string(), ": write failed");
-  }
-  std::filesystem::rename(temporary, file, error);
-  if (error) throw_error(file.string(), ": cannot rename the temporary file: ", error.message());
+  });
 }
 namespace {
 

@@ -1,10 +1,10 @@
 #include "geometry/mesh_io.h"
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <bit>
 #include <cctype>
 #include <cerrno>
@@ -19,7 +19,6 @@
 #include <optional>
 #include <string_view>
 #include <system_error>
-#include <unistd.h>
 #include <unordered_map>
 #include <vector>
 
@@ -1161,7 +1160,7 @@ TriMesh read_vtp(const std::string& name, std::string_view xml) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Writers: each builds the file in memory; write_atomically puts it in place.
+// Writers: each builds the file in memory; write_file_atomically (core/) puts it in place.
 
 std::string encode_base64(const std::string& bytes) {
   static const char* alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
@@ -1378,30 +1377,6 @@ std::string vtp_bytes(const TriMesh& mesh, bool ascii) {
   return out;
 }
 
-void write_atomically(const fs::path& path, const std::string& bytes) {
-  const std::string name = path.string();
-  static std::atomic<unsigned> counter{0};
-  const fs::path temporary =
-      path.parent_path() / (path.filename().string() + ".tmp" + std::to_string(::getpid()) + "_" +
-                            std::to_string(counter++));
-  std::FILE* file = std::fopen(temporary.c_str(), "wb");
-  if (!file) throw_error(name, ": cannot write (", std::strerror(errno), ")");
-  const bool written = std::fwrite(bytes.data(), 1, bytes.size(), file) == bytes.size();
-  const int saved_errno = errno;
-  const bool closed = std::fclose(file) == 0;
-  std::error_code ec;
-  if (!written || !closed) {
-    fs::remove(temporary, ec);
-    throw_error(name, ": write failed (", std::strerror(written ? errno : saved_errno), ")");
-  }
-  fs::rename(temporary, path, ec);
-  if (ec) {
-    std::error_code ignored;
-    fs::remove(temporary, ignored);
-    throw_error(name, ": cannot move the written file into place (", ec.message(), ")");
-  }
-}
-
 }  // namespace
 
 MeshFormat mesh_format_from_path(const fs::path& path) {
@@ -1453,7 +1428,7 @@ void write_mesh(const TriMesh& mesh, const fs::path& path, const MeshWriteOption
     case MeshFormat::ply: bytes = ply_bytes(name, mesh, options.ascii); break;
     case MeshFormat::vtp: bytes = vtp_bytes(mesh, options.ascii); break;
   }
-  write_atomically(path, bytes);
+  write_file_atomically(path, bytes);
 }
 
 }  // namespace hipfai::geometry

@@ -1,6 +1,7 @@
 #include "studies/fai_study.h"
 
 #include "contact/radial_mapping.h"
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/progress.h"
 #include "core/version.h"
@@ -123,15 +124,7 @@ void normalise(std::vector<FaiModelSummary>& models) {
   }
 }
 
-void write_csv(const std::filesystem::path& path, const std::string& text) {
-  const std::filesystem::path partial = path.string() + ".partial";
-  {
-    std::ofstream out(partial);
-    out << text;
-    if (!out) throw_error(path.string(), ": write failed");
-  }
-  std::filesystem::rename(partial, path);
-}
+void write_csv(const std::filesystem::path& path, const std::string& text) { write_file_atomically(path, text); }
 
 const FaiModelSummary* find(const std::vector<FaiModelSummary>& models, double ce, double alpha) {
   for (const auto& m : models) {

@@ -1,6 +1,7 @@
 #include "studies/scene_runner.h"
 
 #include "contact/radial_mapping.h"
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/version.h"
 #include "geometry/mesh_io.h"
@@ -31,9 +32,7 @@ contact::RadialMapping mapping_of(const std::string& name) {
 // null), the FE columns when the FE ran.
 void write_steps_csv(const std::filesystem::path& path, const Motion& motion, const PenetrationRun* run,
                      const SceneFeResult& fe) {
-  const std::filesystem::path partial = path.string() + ".partial";
-  {
-    std::ofstream out(partial);
+  write_file_atomically(path, [&](std::ostream& out) {
     out << "step,flexion_deg,adduction_deg,internal_rotation_deg,angle_deg";
     if (run) {
       out << ",max_curvilinear_mm,max_radial_mm,curvilinear_vertices,radial_vertices,curvilinear_ms,radial_ms";
@@ -59,9 +58,7 @@ void write_steps_csv(const std::filesystem::path& path, const Motion& motion, co
       }
       out << '\n';
     }
-    if (!out) throw_error(path.string(), ": write failed");
-  }
-  std::filesystem::rename(partial, path);
+  });
 }
 
 #ifdef HIPFAI_WITH_FEM
