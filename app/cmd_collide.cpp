@@ -111,7 +111,7 @@ const CommandRegistrar registrar("collide", [](CLI::App& parent) {
   auto* command = parent.add_subcommand(
       "collide", "Penetrating vertices and depths of a mobile mesh rotated about an axis");
   auto args = std::make_shared<CollideArgs>();
-  command->add_option("--fixed", args->fixed, "Fixed mesh (STL, OBJ, PLY, VTP)")
+  command->add_option("--fixed", args->fixed, "Fixed mesh (STL, OBJ, PLY, VTP, MSH)")
       ->required()->check(CLI::ExistingFile);
   command->add_option("--mobile", args->mobile, "Mobile mesh, posed by the rotation")
       ->required()->check(CLI::ExistingFile);
