@@ -37,12 +37,6 @@ std::string model_id(double ce, double alpha) {
   return id.str();
 }
 
-contact::RadialMapping mapping_of(const std::string& name) {
-  if (name == "spherical") return contact::RadialMapping::kSpherical;
-  if (name == "cartesian") return contact::RadialMapping::kCartesian;
-  return contact::RadialMapping::kCube;
-}
-
 std::string fixed(double value, int digits = 2) {
   std::ostringstream out;
   out << std::fixed << std::setprecision(digits) << value;
@@ -71,7 +65,7 @@ ModelRun run_model(double ce, double alpha, double edge_mm, const Motion& motion
   model.hip = acquire_hip(scene, scene.tissues, options.cache_dir, log);
   model.summary.generate_s = seconds_since(start);
   PenetrationOptions penetration;
-  penetration.mapping = mapping_of(options.mapping);
+  penetration.mapping = options.mapping;
   penetration.table_size = options.table_size;
   penetration.threads = options.threads;
   penetration.cache_dir = options.cache_dir;
@@ -197,7 +191,7 @@ FaiStudyResult run_fai_study(const FaiStudyOptions& options) {
     file.set_attribute("/", "units", "length mm, angle deg, time ms");
     file.set_attribute("/", "motion", motion.name + ", " + std::to_string(motion.steps.size()) + " sub-motions");
     file.set_attribute("/", "edge_mm", options.edge_mm);
-    file.set_attribute("/", "radial_mapping", options.mapping);
+    file.set_attribute("/", "radial_mapping", contact::to_string(options.mapping));
     file.set_attribute("/", "radial_table_size", static_cast<double>(options.table_size));
     std::vector<double> ce, alpha, max_c, max_r, diff;
     for (const auto& m : result.models) {
@@ -415,7 +409,7 @@ FaiStudyResult run_fai_study(const FaiStudyOptions& options) {
      << "hipfai " << kVersion << " (" << kGitSha << "). " << result.models.size()
      << " parametric hips, standing to sitting in " << motion.steps.size()
      << " equal sub-motions to (flexion, adduction, internal rotation) = (59.6, 13.6, 10.9) deg "
-     << "(thesis §4.3.2.3). Surface edge " << options.edge_mm << " mm; radial mapping " << options.mapping
+     << "(thesis §4.3.2.3). Surface edge " << options.edge_mm << " mm; radial mapping " << contact::to_string(options.mapping)
      << ", " << options.table_size << " cells. Curvilinear: femur bone vs labrum, cylindrical segmenting; "
      << "radial: femoral cartilage vs acetabular cartilage + labrum, radial segmenting; both with the role "
      << "swap (§4.3.2.1). Total run time " << fixed(result.total_seconds, 1) << " s.\n\n";

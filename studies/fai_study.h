@@ -12,6 +12,8 @@
 //   fig60_*.svg, fig62_*.svg, fig63_*.svg, hip_*.svg, *.vtp
 #pragma once
 
+#include "contact/radial_mapping.h"
+
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -26,7 +28,7 @@ struct FaiStudyOptions {
   double edge_mm = 2.0;                        // surface resolution of the main run
   int sub_motions = 30;
   std::vector<double> resolution_edges_mm;     // extra runs for the accuracy-vs-time table
-  std::string mapping = "cube";
+  contact::RadialMapping mapping = contact::RadialMapping::kCube;
   std::int64_t table_size = 20000;
   int threads = 2;
   // Contact tolerance (mm) of the penetration method; negative: max(sagitta bound, sphericity)

@@ -22,12 +22,6 @@ namespace hipfai::studies {
 
 namespace {
 
-contact::RadialMapping mapping_of(const std::string& name) {
-  if (name == "spherical") return contact::RadialMapping::kSpherical;
-  if (name == "cartesian") return contact::RadialMapping::kCartesian;
-  return contact::RadialMapping::kCube;
-}
-
 // One row per motion step: the pose, the penetration columns when penetration ran (`run` not
 // null), the FE columns when the FE ran.
 void write_steps_csv(const std::filesystem::path& path, const Motion& motion, const PenetrationRun* run,
@@ -172,7 +166,7 @@ SceneRunSummary run_scene(const Scene& scene, const Motion& motion, const SceneR
   penetration.radial = scene.outputs.count(Output::kRadialDepth) != 0;
   penetration.rom = scene.outputs.count(Output::kRom) != 0;
   penetration.swap_roles = scene.options.swap_roles;
-  penetration.mapping = mapping_of(scene.options.mapping);
+  penetration.mapping = scene.options.mapping;
   penetration.table_size = scene.options.table_size;
   penetration.threads = options.threads;
   penetration.cache_dir = options.cache_dir;
