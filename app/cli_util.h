@@ -2,6 +2,7 @@
 // CSV output.
 #pragma once
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 
 #include <CLI/CLI.hpp>
@@ -31,22 +32,12 @@ inline Eigen::Vector3d to_vec3(const std::vector<double>& values, const std::str
   return v;
 }
 
-// Writes a text file through a temporary name, so a failure leaves no half-written file.
+// Writes an output file the user named, creating its folder first (a CLI convenience), through
+// core/atomic_file.h so a failure leaves no half-written file.
 inline void write_text_atomically(const std::filesystem::path& path,
                                   const std::function<void(std::ostream&)>& write) {
   if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
-  const std::filesystem::path partial = path.string() + ".partial";
-  {
-    std::ofstream out(partial);
-    if (!out) throw_error(path.string(), ": cannot write");
-    write(out);
-    out.flush();
-    if (!out) {
-      std::filesystem::remove(partial);
-      throw_error(path.string(), ": write failed");
-    }
-  }
-  std::filesystem::rename(partial, path);
+  write_file_atomically(path, write);
 }
 
 }  // namespace hipfai::app

@@ -6,6 +6,7 @@
 #include "contact/start_pose.h"
 #include "geometry/hip_frame.h"
 #include "geometry/mesh_io.h"
+#include "studies/radial_mapping_name.h"
 
 #include <iomanip>
 #include <iostream>
@@ -23,12 +24,6 @@ struct CollideArgs {
   int threads = 0;
   double touching_mm = contact::kStartPoseTouchingMm;
 };
-
-contact::RadialMapping parse_mapping(const std::string& name) {
-  if (name == "spherical") return contact::RadialMapping::kSpherical;
-  if (name == "cartesian") return contact::RadialMapping::kCartesian;
-  return contact::RadialMapping::kCube;
-}
 
 void run(const CollideArgs& args) {
   const geometry::TriMesh fixed = geometry::read_mesh(args.fixed);
@@ -66,7 +61,7 @@ void run(const CollideArgs& args) {
     result = contact::cylindrical_segmenting(triangles_of, vertices_of, centre, axis, options);
   } else {
     contact::RadialTableOptions table_options;
-    table_options.mapping = parse_mapping(args.mapping);
+    table_options.mapping = *studies::radial_mapping_from_name(args.mapping);  // checked by IsMember
     table_options.table_size =
         args.table_size > 0 ? args.table_size
                             : std::max<long long>(64, static_cast<long long>(triangles_of.num_triangles()));
@@ -111,7 +106,7 @@ const CommandRegistrar registrar("collide", [](CLI::App& parent) {
   auto* command = parent.add_subcommand(
       "collide", "Penetrating vertices and depths of a mobile mesh rotated about an axis");
   auto args = std::make_shared<CollideArgs>();
-  command->add_option("--fixed", args->fixed, "Fixed mesh (STL, OBJ, PLY, VTP)")
+  command->add_option("--fixed", args->fixed, "Fixed mesh (STL, OBJ, PLY, VTP, MSH)")
       ->required()->check(CLI::ExistingFile);
   command->add_option("--mobile", args->mobile, "Mobile mesh, posed by the rotation")
       ->required()->check(CLI::ExistingFile);

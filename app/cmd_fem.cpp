@@ -12,6 +12,7 @@
 #ifdef HIPFAI_WITH_FEM
 
 #include "app/command_registry.h"
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/progress.h"
 #include "fem/fem_results.h"
@@ -36,6 +37,7 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -58,9 +60,11 @@ void run_fem_verify(const FemVerifyOptions& options) {
   const std::vector<std::string> cases =
       options.cases.empty() ? fem::verification_case_names() : options.cases;
 
+  std::optional<AtomicFile> csv_file;  // committed once every case has run
   std::unique_ptr<std::ofstream> csv;
   if (!options.csv_file.empty() && rank == 0) {
-    csv = std::make_unique<std::ofstream>(options.csv_file);
+    csv_file.emplace(options.csv_file);
+    csv = std::make_unique<std::ofstream>(csv_file->partial_path());
     if (!*csv) throw_error(options.csv_file, ": cannot open for writing (--csv)");
     *csv << "case,quantity,unit,computed,closed_form,relative_error,tolerance,passed,status,"
             "cells,dofs,ranks,active_set_iterations,linear_solves,cg_iterations,"
@@ -100,6 +104,11 @@ void run_fem_verify(const FemVerifyOptions& options) {
       }
     }
     std::fflush(stdout);
+  }
+  if (csv) {
+    csv->close();
+    if (!*csv) throw_error(options.csv_file, ": write failed (--csv)");
+    csv_file->commit();  // before the verdict: the table of a failed case is what one looks at
   }
   if (!failed.empty()) {
     std::string list;

@@ -10,16 +10,12 @@
 #include "geometry/hip_model.h"
 #include "geometry/hip_volume_mesh.h"
 
-#include <nlohmann/json.hpp>
-
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <optional>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -53,41 +49,6 @@ struct GeneratedRow {
   std::string dir;
 };
 
-// Adds "volume" to DIR/model.json (written just before by write_hip_model): which file holds the
-// hexahedral soft-tissue mesh and the options that made it. Atomic like model.json itself.
-void record_volume(const std::filesystem::path& dir, const geometry::HipVolumeMesh& volume) {
-  const auto path = dir / "model.json";
-  std::ifstream in(path);
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  nlohmann::ordered_json json;
-  try {
-    json = nlohmann::ordered_json::parse(buffer.str());
-  } catch (const nlohmann::json::exception& e) {
-    throw_error(path.string(), ": cannot add the volume record: ", e.what());
-  }
-  nlohmann::ordered_json record;
-  record["file"] = "volume.msh";
-  record["format"] = "gmsh MSH 2.2 ASCII: hexahedra tagged by tissue, boundary quadrangles by surface";
-  record["edge_mm"] = volume.options.edge_mm;
-  record["layers"] = volume.options.layers;
-  record["min_thickness_mm"] = volume.options.min_thickness_mm;
-  record["hexahedra"] = volume.mesh.hexes.size();
-  record["nodes"] = volume.mesh.vertices.size();
-  record["boundary_quadrangles"] = volume.mesh.quads.size();
-  record["min_scaled_jacobian"] = volume.min_scaled_jacobian;
-  json["volume"] = record;
-  const auto temporary = dir / "model.json.tmp";
-  {
-    std::ofstream out(temporary);
-    out << json.dump(2) << '\n';
-    if (!out) throw_error(temporary.string(), ": write failed");
-  }
-  std::error_code error;
-  std::filesystem::rename(temporary, path, error);
-  if (error) throw_error(path.string(), ": cannot replace: ", error.message());
-}
-
 GeneratedRow generate_one(const GenerateOptions& options, double ce_deg, double alpha_deg,
                           const std::filesystem::path& dir) {
   geometry::HipParameters parameters;
@@ -110,7 +71,7 @@ GeneratedRow generate_one(const GenerateOptions& options, double ce_deg, double 
     row.min_scaled_jacobian = volume->min_scaled_jacobian;
     row.volume_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
-  geometry::write_hip_model(model, dir, options.format);
+  geometry::write_hip_model(model, dir, options.format, volume ? &*volume : nullptr);
   if (options.figures) {
     // The drawings need the constructions (rim point, departure point), not only the angles the
     // generator recorded.
@@ -121,10 +82,6 @@ GeneratedRow generate_one(const GenerateOptions& options, double ce_deg, double 
         {&model.tissue("femur_bone"), &model.tissue("femoral_cartilage")}, model.hjc_mm,
         model.neck_axis, model.superior, model.superior.cross(model.lateral));
     geometry::write_hip_figures(model, ce, alpha, dir);
-  }
-  if (volume) {
-    geometry::write_hex_msh(volume->mesh, dir / "volume.msh");
-    record_volume(dir, *volume);
   }
 
   row.ce_deg = ce_deg;

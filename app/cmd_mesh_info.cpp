@@ -118,7 +118,7 @@ const CommandRegistrar registrar{"mesh-info", [](CLI::App& parent) {
   auto options = std::make_shared<MeshInfoOptions>();
   CLI::App* command = parent.add_subcommand(
       "mesh-info",
-      "Read a surface mesh (.stl, .obj, .ply, .vtp) and report its size, geometry and defects");
+      "Read a surface mesh (.stl, .obj, .ply, .vtp, .msh) and report its size, geometry and defects");
   command->add_option("FILE", options->file, "Mesh file")->required()->check(CLI::ExistingFile);
   command->add_flag("--json", options->json, "Print the report as JSON");
   command->callback([options] { run_mesh_info(*options); });

@@ -190,7 +190,7 @@ const CommandRegistrar registrar("rom", [](CLI::App& parent) {
   auto* command = parent.add_subcommand(
       "rom", "Exact range of motion (both directions) of a mobile mesh about an axis, in one pass");
   auto args = std::make_shared<RomArgs>();
-  command->add_option("--fixed", args->fixed, "Fixed mesh, e.g. the pelvis (STL, OBJ, PLY, VTP)")
+  command->add_option("--fixed", args->fixed, "Fixed mesh, e.g. the pelvis (STL, OBJ, PLY, VTP, MSH)")
       ->required()->check(CLI::ExistingFile);
   command->add_option("--mobile", args->mobile, "Mobile mesh at its start pose, e.g. the femur")
       ->required()->check(CLI::ExistingFile);

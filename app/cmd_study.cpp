@@ -2,6 +2,7 @@
 #include "app/command_registry.h"
 #include "studies/fai_study.h"
 #include "studies/hip_sensitivity.h"
+#include "studies/radial_mapping_name.h"
 #include "studies/validation_report.h"
 #include "studies/validation_study.h"
 
@@ -24,6 +25,7 @@ const CommandRegistrar registrar("study", [](CLI::App& parent) {
   auto resolutions = std::make_shared<std::vector<double>>(std::vector<double>{3.0, 2.5});
   auto out = std::make_shared<std::string>("out/fai");
   auto cache = std::make_shared<std::string>("cache");
+  auto mapping = std::make_shared<std::string>(contact::to_string(options->mapping));
   fai->add_flag("--quick", *quick,
                 "CI-sized run: 25 hips at 3 mm edges, 10 sub-motions, no resolution sweep");
   fai->add_option("--out", *out, "Output folder")->capture_default_str();
@@ -35,7 +37,7 @@ const CommandRegistrar registrar("study", [](CLI::App& parent) {
   fai->add_option("--resolutions", *resolutions,
                   "Extra edge lengths (mm) for the accuracy-vs-time table (archetype hips)")->capture_default_str()
       ->delimiter(',');
-  fai->add_option("--mapping", options->mapping, "Radial mapping")->capture_default_str()
+  fai->add_option("--mapping", *mapping, "Radial mapping")->capture_default_str()
       ->check(CLI::IsMember({"spherical", "cartesian", "cube"}));
   fai->add_option("--table-size", options->table_size, "Radial table cells")->capture_default_str()
       ->check(CLI::Range(6LL, 100000000LL));
@@ -50,6 +52,7 @@ const CommandRegistrar registrar("study", [](CLI::App& parent) {
     run.out_dir = *out;
     run.cache_dir = *cache;
     run.resolution_edges_mm = *resolutions;
+    run.mapping = *studies::radial_mapping_from_name(*mapping);  // a member: checked by IsMember
     if (*quick) {
       run.edge_mm = 3.0;
       run.sub_motions = 10;

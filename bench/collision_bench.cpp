@@ -15,6 +15,7 @@
 #include "contact/radial_table.h"
 #include "contact/range_finder.h"
 #include "contact/ray_sampling.h"
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/version.h"
 #include "studies/svg_plot.h"
@@ -725,9 +726,9 @@ double fit_exponent(const std::vector<std::pair<double, double>>& points) {
 }
 
 void write_lines(const std::filesystem::path& path, const std::vector<std::string>& lines) {
-  std::ofstream out(path);
-  if (!out) throw_error(path.string(), ": cannot write");
-  for (const auto& line : lines) out << line << '\n';
+  write_file_atomically(path, [&lines](std::ostream& out) {
+    for (const auto& line : lines) out << line << '\n';
+  });
 }
 
 studies::Series series_of(const std::string& name, const std::vector<std::pair<double, double>>& points, bool dashed = false) {
@@ -1009,9 +1010,7 @@ void Bench::write_outputs(CollisionBenchReport& report) {
     md << "\n## Notes\n\n";
     for (const auto& n : notes_) md << "- " << n << '\n';
   }
-  std::ofstream out(dir / "report.md");
-  if (!out) throw_error((dir / "report.md").string(), ": cannot write");
-  out << md.str();
+  write_file_atomically(dir / "report.md", md.str());
   report.report_path = dir / "report.md";
 }
 

@@ -1,5 +1,6 @@
 #include "contact/cylindrical_cache_io.h"
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 
 #include <array>
@@ -149,28 +150,14 @@ void write_file(const std::array<char, 4>& kind, std::vector<std::byte>& payload
   header.u32(kCylindricalCacheVersion);
   header.u64(payload.size());
   header.u64(cylindrical_cache_checksum(payload));
-  std::filesystem::path partial = path;
-  partial += ".partial";
-  {
-    std::ofstream out(partial, std::ios::binary | std::ios::trunc);
-    if (!out) throw_error(what, ": cannot open '", partial.string(), "' for writing");
-    out.write(reinterpret_cast<const char*>(header.bytes().data()),
-              static_cast<std::streamsize>(header.bytes().size()));
-    out.write(reinterpret_cast<const char*>(payload.data()), static_cast<std::streamsize>(payload.size()));
-    out.close();
-    if (!out) {
-      std::error_code ignored;
-      std::filesystem::remove(partial, ignored);
-      throw_error(what, ": cannot write '", partial.string(), "' (disk full?)");
-    }
-  }
-  std::error_code error;
-  std::filesystem::rename(partial, path, error);
-  if (error) {
-    std::error_code ignored;
-    std::filesystem::remove(partial, ignored);
-    throw_error(what, ": cannot rename '", partial.string(), "' to '", path.string(),
-                "': ", error.message());
+  try {
+    write_file_atomically(path, [&](std::ostream& out) {
+      out.write(reinterpret_cast<const char*>(header.bytes().data()),
+                static_cast<std::streamsize>(header.bytes().size()));
+      out.write(reinterpret_cast<const char*>(payload.data()), static_cast<std::streamsize>(payload.size()));
+    });
+  } catch (const Error& e) {
+    throw_error(what, ": ", e.what());  // keep naming the table being saved
   }
 }
 

@@ -2,23 +2,59 @@
 
 #include "core/error.h"
 
+#include <atomic>
+#include <cerrno>
+#include <cstring>
 #include <fstream>
+#include <string>
 #include <system_error>
+#include <unistd.h>
 
 namespace hipfai {
+namespace {
 
-void write_file_atomically(const std::filesystem::path& path, const std::string& text) {
-  const std::filesystem::path partial = path.string() + ".partial";
-  {
-    std::ofstream out(partial, std::ios::binary);
-    if (!out) throw_error(partial.string(), ": cannot open for writing");
-    out << text;
-    out.flush();
-    if (!out) throw_error(partial.string(), ": write failed");
-  }
+std::filesystem::path partial_path_for(const std::filesystem::path& target) {
+  static std::atomic<unsigned long> counter{0};
+  return target.string() + "." + std::to_string(::getpid()) + "-" + std::to_string(counter++) + ".partial";
+}
+
+}  // namespace
+
+AtomicFile::AtomicFile(std::filesystem::path target)
+    : target_(std::move(target)), partial_(partial_path_for(target_)) {}
+
+AtomicFile::~AtomicFile() {
+  if (committed_) return;
+  std::error_code ignored;  // nothing may be thrown here; a missing file is fine
+  std::filesystem::remove(partial_, ignored);
+}
+
+void AtomicFile::commit() {
   std::error_code error;
-  std::filesystem::rename(partial, path, error);
-  if (error) throw_error(path.string(), ": cannot rename into place: ", error.message());
+  std::filesystem::rename(partial_, target_, error);
+  if (error) {
+    throw_error(target_.string(), ": cannot move the written file into place (", error.message(), ")");
+  }
+  committed_ = true;
+}
+
+void write_file_atomically(const std::filesystem::path& path,
+                           const std::function<void(std::ostream&)>& write) {
+  AtomicFile file(path);
+  {
+    std::ofstream out(file.partial_path(), std::ios::binary | std::ios::trunc);
+    if (!out) throw_error(path.string(), ": cannot write (", std::strerror(errno), ")");
+    write(out);
+    out.close();
+    if (!out) throw_error(path.string(), ": write failed");
+  }
+  file.commit();
+}
+
+void write_file_atomically(const std::filesystem::path& path, std::string_view bytes) {
+  write_file_atomically(path, [bytes](std::ostream& out) {
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  });
 }
 
 }  // namespace hipfai

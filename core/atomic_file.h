@@ -1,13 +1,51 @@
-// hipfai — whole files written atomically: the text goes to "<path>.partial", which is renamed
-// over `path` only when completely written, so an interrupted run never leaves a half file.
+// hipfai — whole files written atomically: the bytes go to a temporary file beside the target,
+// which is renamed over the target only when completely written. An interrupted or failed write
+// therefore never leaves a half file under the target's name, and a reader sees either the old
+// file or the new one. Every writer in the tree goes through this header.
+//
+// The temporary name is "<target>.<pid>-<n>.partial": unique per process and per write, so two
+// processes (a study's hips run one per process and share caches) writing the same target never
+// write into one temporary file; the rename then makes one of the whole files win.
 #pragma once
 
 #include <filesystem>
-#include <string>
+#include <functional>
+#include <iosfwd>
+#include <string_view>
 
 namespace hipfai {
 
-// Throws hipfai::Error naming the file when it cannot be written or renamed into place.
-void write_file_atomically(const std::filesystem::path& path, const std::string& text);
+// A file being written: write it at partial_path() (with any library: streams, HDF5, ...), then
+// commit(). Destroyed without a successful commit() (an exception, an early return), the
+// temporary file is removed and the target is left as it was.
+class AtomicFile {
+ public:
+  explicit AtomicFile(std::filesystem::path target);
+  ~AtomicFile();
+  AtomicFile(const AtomicFile&) = delete;
+  AtomicFile& operator=(const AtomicFile&) = delete;
+
+  const std::filesystem::path& target() const { return target_; }
+  const std::filesystem::path& partial_path() const { return partial_; }
+
+  // Renames the temporary file over the target. Throws hipfai::Error
+  // "<target>: cannot move the written file into place (<reason>)".
+  void commit();
+
+ private:
+  std::filesystem::path target_;
+  std::filesystem::path partial_;
+  bool committed_ = false;
+};
+
+// Writes `path` with `write`, which streams the content (binary mode: bytes go out unchanged).
+// Throws hipfai::Error "<path>: cannot write (<reason>)" when the file cannot be created, or
+// "<path>: write failed" when the stream fails; whatever `write` throws passes through. In every
+// failure the temporary file is removed and the target is untouched.
+void write_file_atomically(const std::filesystem::path& path,
+                           const std::function<void(std::ostream&)>& write);
+
+// The same for content already in memory.
+void write_file_atomically(const std::filesystem::path& path, std::string_view bytes);
 
 }  // namespace hipfai

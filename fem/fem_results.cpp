@@ -1,5 +1,6 @@
 #include "fem/fem_results.h"
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/version.h"
 
@@ -52,8 +53,8 @@ void FemResultsWriter::write() const {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors become our one-line messages
   // Written under a temporary name and renamed when complete: a results file that exists is
   // whole, even if the run is killed while it is being rewritten.
-  const std::string temporary = file_ + ".tmp";
-  const hid_t file = H5Fcreate(temporary.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  AtomicFile temporary(file_);
+  const hid_t file = H5Fcreate(temporary.partial_path().c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
   if (file < 0) throw_error(file_, ": cannot create the HDF5 results file");
   const hsize_t n = results_.size();
   const hsize_t bodies = body_names_.size();
@@ -145,7 +146,7 @@ void FemResultsWriter::write() const {
   write_dataset(group, "ball_peak_pressure_position_mm", H5T_NATIVE_DOUBLE, ball_p_position.data(), {n, 3}, "mm");
   H5Gclose(group);
   if (H5Fclose(file) < 0) throw_error(file_, ": cannot write the HDF5 results file");
-  if (std::rename(temporary.c_str(), file_.c_str()) != 0) throw_error(file_, ": cannot write the HDF5 results file");
+  temporary.commit();
 }
 
 }  // namespace hipfai::fem

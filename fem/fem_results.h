@@ -35,7 +35,7 @@
 // (Positions: hip frame, at the step's pose, undeformed.)
 // Version 2 adds sub_steps, cutbacks, n_cells, n_dofs and the code_version/units attributes;
 // version 3 the positions and the ball-averaged peaks; every older dataset is unchanged.
-// The file is rewritten after every step (to <file>.tmp, then renamed), so an interrupted motion
+// The file is rewritten after every step (to a temporary file, then renamed: core/atomic_file.h), so an interrupted motion
 // keeps its finished steps and the file that exists is always whole.
 #pragma once
 

@@ -1,5 +1,6 @@
 #include "fem/motion_solver.h"
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 
 #include <deal.II/base/data_out_base.h>
@@ -8,7 +9,6 @@
 #include <array>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 
 namespace hipfai::fem {
 
@@ -124,10 +124,8 @@ class CutbackSolver {
 
 // ParaView collection of the written steps, the step number as time.
 void write_pvd(const std::string& prefix, const std::vector<std::pair<double, std::string>>& files) {
-  std::ofstream out(prefix + ".pvd");
-  if (!out) throw_error(prefix, ".pvd: cannot write the ParaView collection");
-  dealii::DataOutBase::write_pvd_record(out, files);
-  if (!out) throw_error(prefix, ".pvd: cannot write the ParaView collection");
+  write_file_atomically(prefix + ".pvd",
+                        [&files](std::ostream& out) { dealii::DataOutBase::write_pvd_record(out, files); });
 }
 
 }  // namespace

@@ -4,7 +4,6 @@
 #include "core/error.h"
 
 #include <cmath>
-#include <fstream>
 #include <sstream>
 
 namespace hipfai::geometry {
@@ -63,14 +62,13 @@ class SectionSvg {
   }
 
   void write(const std::filesystem::path& path, const std::string& title) const {
-    std::ofstream out(path);
-    if (!out) throw_error(path.string(), ": cannot open for writing");
-    out << "<svg xmlns='http://www.w3.org/2000/svg' viewBox='" << -half_ << ' ' << -half_ << ' '
-        << 2 * half_ << ' ' << 2 * half_ << "' width='800' height='800'>\n"
-        << "<title>" << title << "</title>\n<rect x='" << -half_ << "' y='" << -half_
-        << "' width='" << 2 * half_ << "' height='" << 2 * half_ << "' fill='white'/>\n"
-        << body_.str() << "</svg>\n";
-    if (!out) throw_error(path.string(), ": write failed");
+    write_file_atomically(path, [&](std::ostream& out) {
+      out << "<svg xmlns='http://www.w3.org/2000/svg' viewBox='" << -half_ << ' ' << -half_ << ' '
+          << 2 * half_ << ' ' << 2 * half_ << "' width='800' height='800'>\n"
+          << "<title>" << title << "</title>\n<rect x='" << -half_ << "' y='" << -half_
+          << "' width='" << 2 * half_ << "' height='" << 2 * half_ << "' fill='white'/>\n"
+          << body_.str() << "</svg>\n";
+    });
   }
 
  private:

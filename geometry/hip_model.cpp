@@ -1,6 +1,8 @@
 #include "geometry/hip_model.h"
 
+#include "core/atomic_file.h"
 #include "core/error.h"
+#include "geometry/hip_volume_mesh.h"
 #include "geometry/hip_measure.h"
 #include "geometry/mesh_io.h"
 
@@ -53,7 +55,7 @@ const TriMesh& HipModel::tissue(const std::string& name) const {
 }
 
 void write_hip_model(const HipModel& model, const std::filesystem::path& dir,
-                     const std::string& format) {
+                     const std::string& format, const HipVolumeMesh* volume) {
   if (format != "ply" && format != "stl" && format != "vtp" && format != "obj") {
     throw_error("--format: unknown mesh format '", format, "' (expected ply, stl, vtp or obj)");
   }
@@ -105,18 +107,22 @@ void write_hip_model(const HipModel& model, const std::filesystem::path& dir,
   }
   json["tissues"] = tissues;
   json["counts"] = counts;
-
-  // Temporary file + rename: a failed write never leaves a half-written model.json.
-  const auto target = dir / "model.json";
-  const auto temporary = dir / "model.json.tmp";
-  {
-    std::ofstream out(temporary);
-    if (!out) throw_error(temporary.string(), ": cannot open for writing");
-    out << json.dump(2) << '\n';
-    if (!out) throw_error(temporary.string(), ": write failed");
+  if (volume) {
+    write_hex_msh(volume->mesh, dir / "volume.msh");
+    nlohmann::ordered_json record;
+    record["file"] = "volume.msh";
+    record["format"] = "gmsh MSH 2.2 ASCII: hexahedra tagged by tissue, boundary quadrangles by surface";
+    record["edge_mm"] = volume->options.edge_mm;
+    record["layers"] = volume->options.layers;
+    record["min_thickness_mm"] = volume->options.min_thickness_mm;
+    record["hexahedra"] = volume->mesh.hexes.size();
+    record["nodes"] = volume->mesh.vertices.size();
+    record["boundary_quadrangles"] = volume->mesh.quads.size();
+    record["min_scaled_jacobian"] = volume->min_scaled_jacobian;
+    json["volume"] = record;
   }
-  std::filesystem::rename(temporary, target, ec);
-  if (ec) throw_error(target.string(), ": cannot rename into place: ", ec.message());
+  // Last and atomically: a model.json that exists names files that are all complete.
+  write_file_atomically(dir / "model.json", json.dump(2) + "\n");
 }
 
 HipModel load_hip_model(const std::filesystem::path& dir, const std::set<std::string>& only) {

@@ -13,7 +13,10 @@
 //     "edge_mm"                        target surface edge length,
 //     "parameters"                     every HipParameters field,
 //     "tissues"                        name -> file name relative to the directory,
-//     "counts"                         name -> {"vertices", "triangles"} }
+//     "counts"                         name -> {"vertices", "triangles"},
+//     "volume"                         (when a volume mesh was written) {"file", "format", "edge_mm",
+//                                       "layers", "min_thickness_mm", "hexahedra", "nodes",
+//                                       "boundary_quadrangles", "min_scaled_jacobian"} }
 // Tissue names of generated hips: femur_bone, femoral_cartilage, acetabular_bone,
 // acetabular_cartilage, labrum (kHipTissueNames).
 #pragma once
@@ -32,6 +35,8 @@
 #include <string>
 
 namespace hipfai::geometry {
+
+struct HipVolumeMesh;  // geometry/hip_volume_mesh.h
 
 inline constexpr std::array<const char*, 5> kHipTissueNames{
     "femur_bone", "femoral_cartilage", "acetabular_bone", "acetabular_cartilage", "labrum"};
@@ -60,10 +65,11 @@ struct HipModel {
   const TriMesh& tissue(const std::string& name) const;
 };
 
-// Writes every tissue as <dir>/<name>.<format> (format: ply, stl, vtp or obj) and model.json.
-// Creates `dir` if needed. Throws hipfai::Error naming the file on failure.
+// Writes every tissue as <dir>/<name>.<format> (format: ply, stl, vtp or obj), with `volume`
+// also <dir>/volume.msh (write_hex_msh), and model.json last, recording all of them: the one
+// writer of model.json. Creates `dir` if needed. Throws hipfai::Error naming the file on failure.
 void write_hip_model(const HipModel& model, const std::filesystem::path& dir,
-                     const std::string& format = "ply");
+                     const std::string& format = "ply", const HipVolumeMesh* volume = nullptr);
 
 // Reads <dir>/model.json and the tissue files it names. Throws hipfai::Error
 // "<dir>/model.json: <key>: <problem>" on a missing or malformed key (non-unit axis, wrong

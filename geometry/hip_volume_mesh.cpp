@@ -1,7 +1,10 @@
 #include "geometry/hip_volume_mesh.h"
 
 #include "geometry/gmsh_runtime.h"
+#include "geometry/mesh_io_common.h"
+#include "geometry/mesh_io_msh.h"
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 
 #include <gmsh.h>
@@ -920,7 +923,7 @@ HipVolumeMesh build_hip_volume_mesh(const HipModel& model, const HipVolumeOption
   return result;
 }
 
-// --- MSH 2.2 ---------------------------------------------------------------------------------
+// --- MSH 2.2 (through geometry/mesh_io_msh.h, the tree's one MSH reader and writer) ----------
 
 void write_hex_msh(const HexMesh& mesh, const std::filesystem::path& file) {
   if (mesh.hex_tags.size() != mesh.hexes.size() || mesh.quad_tags.size() != mesh.quads.size()) {
@@ -929,45 +932,32 @@ void write_hex_msh(const HexMesh& mesh, const std::filesystem::path& file) {
   }
   std::error_code error;
   if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path(), error);
-  const std::filesystem::path temporary = file.string() + ".tmp";
-  {
-    std::ofstream out(temporary);
-    if (!out) throw_error(file.string(), ": cannot write");
-    out.precision(17);
-    out << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n";
-    std::set<int> volume_tags, surface_tags;
-    for (VolumeTag tag : mesh.hex_tags) volume_tags.insert(static_cast<int>(tag));
-    for (SurfaceTag tag : mesh.quad_tags) surface_tags.insert(static_cast<int>(tag));
-    out << "$PhysicalNames\n" << surface_tags.size() + volume_tags.size() << '\n';
-    for (int tag : surface_tags) out << "2 " << tag << " \"" << to_string(static_cast<SurfaceTag>(tag)) << "\"\n";
-    for (int tag : volume_tags) out << "3 " << tag << " \"" << to_string(static_cast<VolumeTag>(tag)) << "\"\n";
-    out << "$EndPhysicalNames\n$Nodes\n" << mesh.vertices.size() << '\n';
-    for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
-      const Vec3& p = mesh.vertices[i];
-      out << i + 1 << ' ' << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
-    }
-    out << "$EndNodes\n$Elements\n" << mesh.quads.size() + mesh.hexes.size() << '\n';
-    std::size_t id = 0;
-    // Element line: id type 2 physical elementary nodes... (both tags the same).
-    for (std::size_t i = 0; i < mesh.quads.size(); ++i) {
-      const int tag = static_cast<int>(mesh.quad_tags[i]);
-      out << ++id << " 3 2 " << tag << ' ' << tag;
-      for (std::int32_t v : mesh.quads[i]) out << ' ' << v + 1;
-      out << '\n';
-    }
-    for (std::size_t i = 0; i < mesh.hexes.size(); ++i) {
-      const int tag = static_cast<int>(mesh.hex_tags[i]);
-      out << ++id << " 5 2 " << tag << ' ' << tag;
-      for (std::int32_t v : mesh.hexes[i]) out << ' ' << v + 1;
-      out << '\n';
-    }
-    out << "$EndElements\n";
-    out.close();
-    if (!out) throw_error(file.string(), ": write failed");
+  mesh_io::MshMesh msh;
+  std::set<int> volume_tags, surface_tags;
+  for (VolumeTag tag : mesh.hex_tags) volume_tags.insert(static_cast<int>(tag));
+  for (SurfaceTag tag : mesh.quad_tags) surface_tags.insert(static_cast<int>(tag));
+  for (int tag : surface_tags) msh.physical_names.push_back({2, tag, to_string(static_cast<SurfaceTag>(tag))});
+  for (int tag : volume_tags) msh.physical_names.push_back({3, tag, to_string(static_cast<VolumeTag>(tag))});
+  msh.nodes = mesh.vertices;
+  msh.elements.reserve(mesh.quads.size() + mesh.hexes.size());
+  // Physical and elementary tag the same: one gmsh entity per tag.
+  for (std::size_t i = 0; i < mesh.quads.size(); ++i) {
+    mesh_io::MshElement element;
+    element.type = mesh_io::MshElementType::kQuadrangle;
+    element.physical = element.elementary = static_cast<int>(mesh.quad_tags[i]);
+    std::copy(mesh.quads[i].begin(), mesh.quads[i].end(), element.nodes.begin());
+    msh.elements.push_back(element);
   }
-  std::filesystem::rename(temporary, file, error);
-  if (error) throw_error(file.string(), ": cannot rename the temporary file: ", error.message());
+  for (std::size_t i = 0; i < mesh.hexes.size(); ++i) {
+    mesh_io::MshElement element;
+    element.type = mesh_io::MshElementType::kHexahedron;
+    element.physical = element.elementary = static_cast<int>(mesh.hex_tags[i]);
+    element.nodes = mesh.hexes[i];
+    msh.elements.push_back(element);
+  }
+  write_file_atomically(file, mesh_io::format_msh(msh));
 }
+
 namespace {
 
 bool is_volume_tag(int tag) { return tag >= 1 && tag <= 3; }
@@ -979,92 +969,28 @@ bool is_surface_tag(int tag) {
 }  // namespace
 
 HexMesh read_hex_msh(const std::filesystem::path& file) {
-  std::ifstream in(file);
-  if (!in) throw_error(file.string(), ": cannot open");
   const std::string where = file.string();
-  std::string line;
-  auto expect = [&](const std::string& wanted) {
-    if (!(in >> line) || line != wanted) throw_error(where, ": expected ", wanted, (in ? " but found " + line : std::string(" at the end")));
-  };
-  expect("$MeshFormat");
-  std::string version;
-  int binary = -1, size = 0;
-  if (!(in >> version >> binary >> size) || version != "2.2" || binary != 0) {
-    throw_error(where, ": not an ASCII MSH 2.2 file");
-  }
-  expect("$EndMeshFormat");
+  const mesh_io::MshMesh msh = mesh_io::parse_msh(where, mesh_io::read_file_bytes(file));
   HexMesh mesh;
-  std::unordered_map<long long, std::int32_t> index_of;
-  bool have_nodes = false, have_elements = false;
-  while (in >> line) {
-    if (line == "$PhysicalNames") {
-      std::size_t count = 0;
-      if (!(in >> count)) throw_error(where, ": bad $PhysicalNames count");
-      std::getline(in, line);
-      for (std::size_t i = 0; i < count; ++i) {
-        if (!std::getline(in, line)) throw_error(where, ": truncated $PhysicalNames");
+  mesh.vertices = msh.nodes;
+  for (const mesh_io::MshElement& element : msh.elements) {
+    if (element.type == mesh_io::MshElementType::kHexahedron) {
+      if (!is_volume_tag(element.physical)) {
+        throw_error(where, ": hexahedron ", element.id, " has unknown physical tag ", element.physical);
       }
-      expect("$EndPhysicalNames");
-    } else if (line == "$Nodes") {
-      std::size_t count = 0;
-      if (!(in >> count)) throw_error(where, ": bad $Nodes count");
-      for (std::size_t i = 0; i < count; ++i) {
-        long long id = 0;
-        double x = 0, y = 0, z = 0;
-        if (!(in >> id >> x >> y >> z)) throw_error(where, ": truncated $Nodes at node ", i + 1);
-        if (!index_of.emplace(id, static_cast<std::int32_t>(mesh.vertices.size())).second) {
-          throw_error(where, ": node ", id, " defined twice");
-        }
-        mesh.vertices.emplace_back(x, y, z);
+      mesh.hexes.push_back(element.nodes);
+      mesh.hex_tags.push_back(static_cast<VolumeTag>(element.physical));
+    } else if (element.type == mesh_io::MshElementType::kQuadrangle) {
+      if (!is_surface_tag(element.physical)) {
+        throw_error(where, ": quadrangle ", element.id, " has unknown physical tag ", element.physical);
       }
-      expect("$EndNodes");
-      have_nodes = true;
-    } else if (line == "$Elements") {
-      if (!have_nodes) throw_error(where, ": $Elements before $Nodes");
-      std::size_t count = 0;
-      if (!(in >> count)) throw_error(where, ": bad $Elements count");
-      for (std::size_t i = 0; i < count; ++i) {
-        long long id = 0;
-        int type = 0, tag_count = 0;
-        if (!(in >> id >> type >> tag_count) || tag_count < 1) throw_error(where, ": bad element line ", i + 1);
-        std::vector<int> tags(static_cast<std::size_t>(tag_count));
-        for (int& tag : tags) {
-          if (!(in >> tag)) throw_error(where, ": bad tags of element ", id);
-        }
-        const int physical = tags.front();
-        const std::size_t nodes = type == 5 ? 8 : type == 3 ? 4 : 0;
-        if (nodes == 0) throw_error(where, ": element ", id, " has type ", type, " (only quadrangles 3 and hexahedra 5)");
-        std::array<std::int32_t, 8> vertices{};
-        for (std::size_t k = 0; k < nodes; ++k) {
-          long long node = 0;
-          if (!(in >> node)) throw_error(where, ": truncated element ", id);
-          const auto found = index_of.find(node);
-          if (found == index_of.end()) throw_error(where, ": element ", id, " uses unknown node ", node);
-          vertices[k] = found->second;
-        }
-        if (type == 5) {
-          if (!is_volume_tag(physical)) throw_error(where, ": hexahedron ", id, " has unknown physical tag ", physical);
-          mesh.hexes.push_back(vertices);
-          mesh.hex_tags.push_back(static_cast<VolumeTag>(physical));
-        } else {
-          if (!is_surface_tag(physical)) throw_error(where, ": quadrangle ", id, " has unknown physical tag ", physical);
-          mesh.quads.push_back({vertices[0], vertices[1], vertices[2], vertices[3]});
-          mesh.quad_tags.push_back(static_cast<SurfaceTag>(physical));
-        }
-      }
-      expect("$EndElements");
-      have_elements = true;
-    } else if (!line.empty() && line.front() == '$') {
-      // Another section (e.g. $NodeData): skip to its end marker.
-      const std::string end = "$End" + line.substr(1);
-      while (in >> line && line != end) {
-      }
-      if (line != end) throw_error(where, ": unterminated section ", end);
+      mesh.quads.push_back({element.nodes[0], element.nodes[1], element.nodes[2], element.nodes[3]});
+      mesh.quad_tags.push_back(static_cast<SurfaceTag>(element.physical));
     } else {
-      throw_error(where, ": unexpected '", line, "' between sections");
+      throw_error(where, ": element ", element.id, " has type ", static_cast<int>(element.type),
+                  " (only quadrangles 3 and hexahedra 5)");
     }
   }
-  if (!have_elements) throw_error(where, ": no $Elements section");
   return mesh;
 }
 

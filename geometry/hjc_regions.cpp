@@ -219,7 +219,8 @@ SurfaceRegion region_from_mesh(const TriMesh& region_mesh) {
 SurfaceRegion read_region(const TriMesh& mesh, const std::filesystem::path& path) {
   std::string extension = path.extension().string();
   for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (extension == ".stl" || extension == ".obj" || extension == ".ply" || extension == ".vtp") {
+  if (extension == ".stl" || extension == ".obj" || extension == ".ply" || extension == ".vtp" ||
+      extension == ".msh") {
     SurfaceRegion region = region_from_mesh(read_mesh(path));
     region.source = "mesh " + path.filename().string();
     return region;

@@ -84,7 +84,7 @@ SurfaceRegion region_from_vertices(const TriMesh& mesh, const std::vector<std::i
 // A separate mesh as a region of itself.
 SurfaceRegion region_from_mesh(const TriMesh& region_mesh);
 
-// Reads a region of `mesh` from `path`: a mesh file (.stl, .obj, .ply, .vtp: a separate mesh), or
+// Reads a region of `mesh` from `path`: a mesh file (.stl, .obj, .ply, .vtp, .msh: a separate mesh), or
 // a text file of integers, either one 0/1 per vertex of `mesh` (a mask) or vertex indices
 // (separated by whitespace or commas). Throws hipfai::Error "<path>: ..." on anything else.
 SurfaceRegion read_region(const TriMesh& mesh, const std::filesystem::path& path);

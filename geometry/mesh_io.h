@@ -1,26 +1,18 @@
-// hipfai — reading and writing triangle surface meshes (STL, OBJ, PLY, VTK XML PolyData).
+// hipfai — reading and writing triangle surface meshes (STL, OBJ, PLY, VTK XML PolyData, gmsh MSH).
 //
 // Users bring their own bones segmented from CT/MR in whatever format their tool exports, so the
 // readers accept the common variants and reject everything else with a one-line hipfai::Error
-// "<path>: <problem>" — never a crash, never a silently wrong mesh:
-//   .stl  ASCII and binary. Binary is recognised by its size (84 + 50 n bytes), so binary files
-//         whose header starts with "solid" are read correctly. Exactly-equal vertices are welded,
-//         so triangles that share a corner share the vertex index.
-//   .obj  `v` and `f` lines; `f a/b/c` forms, negative (relative) indices; polygons are
-//         fan-triangulated. Other statements (vt, vn, g, usemtl, ...) are ignored.
-//   .ply  ascii, binary_little_endian, binary_big_endian; any numeric vertex property type;
-//         x, y, z are the position and every other scalar vertex property becomes a vertex field;
-//         faces as a list property `vertex_indices` (or `vertex_index`) with any integer count
-//         type; polygons fan-triangulated; other elements are skipped.
-//   .vtp  VTK XML PolyData, one Piece: Points, Polys (connectivity/offsets), Strips; scalar
-//         PointData arrays become vertex fields. DataArrays ascii or inline base64 binary with a
-//         UInt32 or UInt64 header, either byte order. Compressed and appended data are rejected.
+// "<path>: <problem>" — never a crash, never a silently wrong mesh. One file per format says
+// which variants it takes (geometry/mesh_io_<format>.h); this header is the dispatcher:
+//   .stl  ASCII and binary (mesh_io_stl.h)          .obj  Wavefront OBJ (mesh_io_obj.h)
+//   .ply  ascii and binary PLY (mesh_io_ply.h)       .vtp  VTK XML PolyData, via expat (mesh_io_vtp.h)
+//   .msh  gmsh MSH 2.2 ASCII triangles (mesh_io_msh.h)
 // The format is chosen by the file extension, case-insensitively. Every read ends with
 // validate_mesh(), so a returned mesh is non-empty, finite and has in-range indices.
 //
 // Writers store vertex fields where the format can hold them (PLY, VTP) and drop them otherwise
-// (STL, OBJ). They write to a temporary file beside the target and rename it into place, so a
-// failed write never leaves a half-written mesh under the target name.
+// (STL, OBJ, MSH). They write through core/atomic_file.h (a temporary file renamed into place),
+// so a failed write never leaves a half-written mesh under the target name.
 #pragma once
 
 #include "geometry/tri_mesh.h"
@@ -30,10 +22,22 @@
 
 namespace hipfai::geometry {
 
-enum class MeshFormat { stl, obj, ply, vtp };
+// kCamel like the project's other enumerators. The lower-case names are the old spelling, kept
+// as aliases because tests/geometry/mesh_io_test.cpp (the readers' contract) still uses them.
+enum class MeshFormat {
+  kStl,
+  kObj,
+  kPly,
+  kVtp,
+  kMsh,
+  stl = kStl,
+  obj = kObj,
+  ply = kPly,
+  vtp = kVtp,
+};
 
 // The format named by the extension of `path` (case-insensitive); throws hipfai::Error
-// "<path>: unknown mesh format '.ext' (expected .stl, .obj, .ply or .vtp)" otherwise.
+// "<path>: unknown mesh format '.ext' (expected .stl, .obj, .ply, .vtp or .msh)" otherwise.
 MeshFormat mesh_format_from_path(const std::filesystem::path& path);
 
 std::string to_string(MeshFormat format);
@@ -43,7 +47,7 @@ std::string to_string(MeshFormat format);
 TriMesh read_mesh(const std::filesystem::path& path);
 
 struct MeshWriteOptions {
-  // Text output where the format has both (STL, PLY, VTP); OBJ is always text.
+  // Text output where the format has both (STL, PLY, VTP); OBJ and MSH are always text.
   bool ascii = false;
 };
 

@@ -42,7 +42,7 @@ void write_results_h5(const FaiStudyResult& result, const FaiStudyOptions& optio
     file.set_attribute("/", "units", "length mm, angle deg, time ms");
     file.set_attribute("/", "motion", result.motion.name + ", " + std::to_string(result.motion.steps.size()) + " sub-motions");
     file.set_attribute("/", "edge_mm", options.edge_mm);
-    file.set_attribute("/", "radial_mapping", options.mapping);
+    file.set_attribute("/", "radial_mapping", contact::to_string(options.mapping));
     file.set_attribute("/", "radial_table_size", static_cast<double>(options.table_size));
     std::vector<double> ce, alpha, max_c, max_r, diff;
     for (const auto& m : result.models) {
@@ -231,7 +231,7 @@ void write_report_md(const FaiStudyResult& result, const FaiStudyOptions& option
      << "hipfai " << kVersion << " (" << kGitSha << "). " << result.models.size()
      << " parametric hips, standing to sitting in " << result.motion.steps.size()
      << " equal sub-motions to (flexion, adduction, internal rotation) = (59.6, 13.6, 10.9) deg "
-     << "(thesis §4.3.2.3). Surface edge " << options.edge_mm << " mm; radial mapping " << options.mapping
+     << "(thesis §4.3.2.3). Surface edge " << options.edge_mm << " mm; radial mapping " << contact::to_string(options.mapping)
      << ", " << options.table_size << " cells. Curvilinear: femur bone vs labrum, cylindrical segmenting; "
      << "radial: femoral cartilage vs acetabular cartilage + labrum, radial segmenting; both with the role "
      << "swap (§4.3.2.1). Total run time " << fixed(result.total_seconds, 1) << " s.\n\n";

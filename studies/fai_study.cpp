@@ -24,13 +24,6 @@ using Clock = SteadyClock;
 
 std::string model_id(double ce, double alpha) { return parametric_hip_id(ce, alpha); }
 
-contact::RadialMapping mapping_of(const std::string& name) {
-  if (name == "spherical") return contact::RadialMapping::kSpherical;
-  if (name == "cartesian") return contact::RadialMapping::kCartesian;
-  return contact::RadialMapping::kCube;
-}
-
-
 // One model: generate (or reuse) the hip, run the penetration method over the motion.
 FaiModelRun run_model(double ce, double alpha, double edge_mm, const Motion& motion,
                    const FaiStudyOptions& options, StageLog& log) {
@@ -47,7 +40,7 @@ FaiModelRun run_model(double ce, double alpha, double edge_mm, const Motion& mot
   model.hip = acquire_hip(scene, scene.tissues, options.cache_dir, log);
   model.summary.generate_s = seconds_since(start);
   PenetrationOptions penetration;
-  penetration.mapping = mapping_of(options.mapping);
+  penetration.mapping = options.mapping;
   penetration.table_size = options.table_size;
   penetration.threads = options.threads;
   penetration.cache_dir = options.cache_dir;

@@ -16,6 +16,7 @@
 // write_fai_study_outputs() writes the files above from it. run_fai_study() does both.
 #pragma once
 
+#include "contact/radial_mapping.h"
 #include "studies/hip_source.h"
 #include "studies/motion.h"
 #include "studies/penetration_run.h"
@@ -36,7 +37,7 @@ struct FaiStudyOptions {
   double edge_mm = 2.0;                        // surface resolution of the main run
   int sub_motions = 30;
   std::vector<double> resolution_edges_mm;     // extra runs for the accuracy-vs-time table
-  std::string mapping = "cube";
+  contact::RadialMapping mapping = contact::RadialMapping::kCube;
   std::int64_t table_size = 20000;
   int threads = 2;
   // Contact tolerance (mm) of the penetration method; negative: max(sagitta bound, sphericity)

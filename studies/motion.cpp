@@ -1,5 +1,6 @@
 #include "studies/motion.h"
 
+#include "core/atomic_file.h"
 #include "core/csv.h"
 #include "core/error.h"
 #include "core/literature.h"
@@ -145,19 +146,18 @@ void write_motion_csv(const Motion& motion, const std::filesystem::path& path) {
   const bool with_force = !motion.steps.empty() &&
                           std::all_of(motion.steps.begin(), motion.steps.end(),
                                       [](const MotionStep& step) { return step.force_N.has_value(); });
-  std::ofstream out(path);
-  if (!out) throw_error(path.string(), ": cannot write motion file");
-  out << std::setprecision(std::numeric_limits<double>::max_digits10);
-  out << "step,flexion_deg,adduction_deg,internal_rotation_deg" << (with_force ? ",Fx_N,Fy_N,Fz_N" : "")
-      << '\n';
-  for (std::size_t k = 0; k < motion.steps.size(); ++k) {
-    const MotionStep& step = motion.steps[k];
-    out << k + 1 << ',' << step.pose.flexion_deg << ',' << step.pose.adduction_deg << ','
-        << step.pose.internal_rotation_deg;
-    if (with_force) out << ',' << step.force_N->x() << ',' << step.force_N->y() << ',' << step.force_N->z();
-    out << '\n';
-  }
-  if (!out) throw_error(path.string(), ": cannot write motion file");
+  write_file_atomically(path, [&](std::ostream& out) {
+    out << std::setprecision(std::numeric_limits<double>::max_digits10);
+    out << "step,flexion_deg,adduction_deg,internal_rotation_deg" << (with_force ? ",Fx_N,Fy_N,Fz_N" : "")
+        << '\n';
+    for (std::size_t k = 0; k < motion.steps.size(); ++k) {
+      const MotionStep& step = motion.steps[k];
+      out << k + 1 << ',' << step.pose.flexion_deg << ',' << step.pose.adduction_deg << ','
+          << step.pose.internal_rotation_deg;
+      if (with_force) out << ',' << step.force_N->x() << ',' << step.force_N->y() << ',' << step.force_N->z();
+      out << '\n';
+    }
+  });
 }
 
 Eigen::Vector3d sitting_down_force_n(double phase, const SittingDownLoadOptions& options) {

@@ -91,7 +91,7 @@ Plan plan_scene(const Scene& scene, const Motion& motion) {
   }
   if (scene.outputs.count(Output::kRadialDepth)) {
     const std::string cells =
-        " (" + scene.options.mapping + ", " + std::to_string(scene.options.table_size) + " cells)";
+        " (" + std::string(contact::to_string(scene.options.mapping)) + ", " + std::to_string(scene.options.table_size) + " cells)";
     add(StageKind::kRadialTable, "fixed acetabular_cartilage+labrum" + cells);
     if (swap) add(StageKind::kRadialTable, "fixed femur_bone+femoral_cartilage (role swap)" + cells);
     add(StageKind::kRadialQuery, "femur_bone+femoral_cartilage vertices vs acetabular_cartilage+labrum", steps);

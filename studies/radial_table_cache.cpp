@@ -1,5 +1,6 @@
 #include "studies/radial_table_cache.h"
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 
 #include <cstdint>
@@ -46,10 +47,7 @@ bool get_vector(std::istream& in, std::vector<T>& values, std::uint64_t limit) {
 
 void save_radial_table(const contact::RadialTable& table, const std::filesystem::path& path) {
   std::filesystem::create_directories(path.parent_path());
-  const std::filesystem::path partial = path.string() + ".partial";
-  {
-    std::ofstream out(partial, std::ios::binary);
-    if (!out) throw_error(path.string(), ": cannot write radial table cache");
+  write_file_atomically(path, [&](std::ostream& out) {
     out.write(kMagic, sizeof kMagic);
     put(out, static_cast<std::int32_t>(table.grid.mapping));
     put(out, static_cast<std::int32_t>(table.grid.dimension));
@@ -64,9 +62,7 @@ void save_radial_table(const contact::RadialTable& table, const std::filesystem:
     put(out, static_cast<std::uint64_t>(table.triangle_cells.size()));
     for (const auto& cells : table.triangle_cells) put_vector(out, cells);
     put_vector(out, table.is_always);
-    if (!out) throw_error(path.string(), ": write failed");
-  }
-  std::filesystem::rename(partial, path);
+  });
 }
 
 std::optional<contact::RadialTable> load_radial_table(const std::filesystem::path& path) {

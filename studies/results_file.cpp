@@ -65,21 +65,19 @@ void write_string_attribute(hid_t object, const std::string& name, const std::st
 }  // namespace
 
 ResultsFile::ResultsFile(std::filesystem::path path)
-    : final_path_(std::move(path)), partial_path_(final_path_.string() + ".partial") {
-  if (final_path_.has_parent_path()) {
+    : atomic_(std::move(path)) {
+  if (atomic_.target().has_parent_path()) {
     std::error_code ignored;
-    std::filesystem::create_directories(final_path_.parent_path(), ignored);
+    std::filesystem::create_directories(atomic_.target().parent_path(), ignored);
   }
-  file_ = H5Fcreate(partial_path_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-  if (file_ < 0) throw_error(final_path_.string(), ": cannot create HDF5 file");
+  file_ = H5Fcreate(atomic_.partial_path().c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  if (file_ < 0) throw_error(atomic_.target().string(), ": cannot create HDF5 file");
 }
 
+// The HDF5 handle is closed here; atomic_, destroyed after this body, then removes the partial
+// file unless commit() moved it into place.
 ResultsFile::~ResultsFile() {
   if (file_ >= 0) H5Fclose(static_cast<hid_t>(file_));
-  if (!committed_) {
-    std::error_code ignored;
-    std::filesystem::remove(partial_path_, ignored);
-  }
 }
 
 void ResultsFile::ensure_parent_groups(const std::string& path) {
@@ -166,9 +164,7 @@ void ResultsFile::commit() {
   if (committed_) return;
   H5Fclose(static_cast<hid_t>(file_));
   file_ = -1;
-  std::error_code error;
-  std::filesystem::rename(partial_path_, final_path_, error);
-  if (error) throw_error(final_path_.string(), ": cannot move results into place: ", error.message());
+  atomic_.commit();
   committed_ = true;
 }
 

@@ -6,6 +6,8 @@
 // leaves a half-written results file behind.
 #pragma once
 
+#include "core/atomic_file.h"
+
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -15,8 +17,8 @@ namespace hipfai::studies {
 
 class ResultsFile {
  public:
-  // Creates `<path>.partial`; commit() renames it to `path`. Without commit() the partial file is
-  // removed by the destructor.
+  // Creates a temporary file beside `path` (core/atomic_file.h); commit() renames it to `path`.
+  // Without commit() the temporary file is removed by the destructor.
   explicit ResultsFile(std::filesystem::path path);
   ~ResultsFile();
   ResultsFile(const ResultsFile&) = delete;
@@ -41,8 +43,7 @@ class ResultsFile {
  private:
   void ensure_parent_groups(const std::string& path);
 
-  std::filesystem::path final_path_;
-  std::filesystem::path partial_path_;
+  AtomicFile atomic_;
   std::int64_t file_ = -1;
   bool committed_ = false;
 };

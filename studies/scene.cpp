@@ -2,6 +2,7 @@
 
 #include "core/error.h"
 #include "studies/motion.h"
+#include "studies/radial_mapping_name.h"
 
 #include <yaml-cpp/yaml.h>
 
@@ -240,11 +241,9 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& origin) 
   if (const YAML::Node options = root["options"]) {
     ctx.only_keys(options, "options", {"mapping", "table_size", "swap_roles"});
     if (options["mapping"]) {
-      scene.options.mapping = ctx.text(options["mapping"], "options.mapping");
-      if (scene.options.mapping != "spherical" && scene.options.mapping != "cartesian" &&
-          scene.options.mapping != "cube") {
-        ctx.fail(options["mapping"], "options.mapping", "expected spherical, cartesian or cube");
-      }
+      const auto mapping = radial_mapping_from_name(ctx.text(options["mapping"], "options.mapping"));
+      if (!mapping) ctx.fail(options["mapping"], "options.mapping", "expected spherical, cartesian or cube");
+      scene.options.mapping = *mapping;
     }
     if (options["table_size"]) {
       scene.options.table_size =

@@ -30,6 +30,8 @@
 // work starts, as "<file>:<line>: <key>: <problem>". Relative paths are relative to the scene file.
 #pragma once
 
+#include "contact/radial_mapping.h"
+
 #include <filesystem>
 #include <optional>
 #include <set>
@@ -68,7 +70,7 @@ struct MotionSpec {
 };
 
 struct SceneOptions {
-  std::string mapping = "cube";   // radial mapping: spherical | cartesian | cube
+  contact::RadialMapping mapping = contact::RadialMapping::kCube;  // spherical | cartesian | cube
   int table_size = 20000;         // radial table cells (thesis Eq. 8)
   bool swap_roles = true;         // also run each method with mobile and fixed exchanged (§4.3.2.1)
 };

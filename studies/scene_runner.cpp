@@ -1,6 +1,7 @@
 #include "studies/scene_runner.h"
 
 #include "contact/radial_mapping.h"
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/version.h"
 #include "geometry/mesh_io.h"
@@ -21,19 +22,11 @@ namespace hipfai::studies {
 
 namespace {
 
-contact::RadialMapping mapping_of(const std::string& name) {
-  if (name == "spherical") return contact::RadialMapping::kSpherical;
-  if (name == "cartesian") return contact::RadialMapping::kCartesian;
-  return contact::RadialMapping::kCube;
-}
-
 // One row per motion step: the pose, the penetration columns when penetration ran (`run` not
 // null), the FE columns when the FE ran.
 void write_steps_csv(const std::filesystem::path& path, const Motion& motion, const PenetrationRun* run,
                      const SceneFeResult& fe) {
-  const std::filesystem::path partial = path.string() + ".partial";
-  {
-    std::ofstream out(partial);
+  write_file_atomically(path, [&](std::ostream& out) {
     out << "step,flexion_deg,adduction_deg,internal_rotation_deg,angle_deg";
     if (run) {
       out << ",max_curvilinear_mm,max_radial_mm,curvilinear_vertices,radial_vertices,curvilinear_ms,radial_ms";
@@ -59,9 +52,7 @@ void write_steps_csv(const std::filesystem::path& path, const Motion& motion, co
       }
       out << '\n';
     }
-    if (!out) throw_error(path.string(), ": write failed");
-  }
-  std::filesystem::rename(partial, path);
+  });
 }
 
 #ifdef HIPFAI_WITH_FEM
@@ -175,7 +166,7 @@ SceneRunSummary run_scene(const Scene& scene, const Motion& motion, const SceneR
   penetration.radial = scene.outputs.count(Output::kRadialDepth) != 0;
   penetration.rom = scene.outputs.count(Output::kRom) != 0;
   penetration.swap_roles = scene.options.swap_roles;
-  penetration.mapping = mapping_of(scene.options.mapping);
+  penetration.mapping = scene.options.mapping;
   penetration.table_size = scene.options.table_size;
   penetration.threads = options.threads;
   penetration.cache_dir = options.cache_dir;

@@ -1,5 +1,6 @@
 #include "studies/svg_plot.h"
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 
 #include <algorithm>
@@ -73,14 +74,7 @@ std::vector<double> ticks(double lo, double hi, int count) {
 
 void save(const std::filesystem::path& path, const std::string& svg) {
   if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
-  const std::filesystem::path partial = path.string() + ".partial";
-  {
-    std::ofstream out(partial);
-    if (!out) throw_error(path.string(), ": cannot write figure");
-    out << svg;
-    if (!out) throw_error(path.string(), ": write failed");
-  }
-  std::filesystem::rename(partial, path);
+  write_file_atomically(path, svg);
 }
 
 }  // namespace

@@ -39,6 +39,19 @@ std::string error_of(const std::string& text) {
   return "";
 }
 
+// The mapping is parsed once, into the enum the radial table takes; the default is the cube.
+TEST(Scene, RadialMappingIsParsedIntoTheEnum) {
+  EXPECT_EQ(parse_scene(kGood, "scene.yaml").options.mapping, contact::RadialMapping::kCube);
+  for (const auto mapping :
+       {contact::RadialMapping::kSpherical, contact::RadialMapping::kCartesian, contact::RadialMapping::kCube}) {
+    const std::string text = kGood + "options: {mapping: " + contact::to_string(mapping) + "}\n";
+    EXPECT_EQ(parse_scene(text, "scene.yaml").options.mapping, mapping);
+  }
+  const std::string message = error_of(kGood + "options: {mapping: polar}\n");
+  EXPECT_NE(message.find("options.mapping"), std::string::npos) << message;
+  EXPECT_NE(message.find("expected spherical, cartesian or cube"), std::string::npos) << message;
+}
+
 TEST(Scene, ParsesAndDerivesTissuesFromOutputs) {
   const Scene scene = parse_scene(kGood, "scene.yaml");
   ASSERT_TRUE(scene.parametric.has_value());

@@ -1,0 +1,114 @@
+#include "core/atomic_file.h"
+
+#include "core/error.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <ostream>
+#include <stdexcept>
+#include <string>
+
+namespace hipfai {
+namespace {
+
+namespace fs = std::filesystem;
+
+class AtomicFileTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::path(HIPFAI_BINARY_DIR) / "test-scratch" / "atomic_file" /
+           ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+
+  std::string contents(const fs::path& path) const {
+    std::ifstream in(path, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  }
+
+  std::size_t files_in_dir() const {
+    return static_cast<std::size_t>(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()));
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(AtomicFileTest, BytesArriveWhole) {
+  // Includes a NUL and a CR LF pair: the content goes out in binary, unchanged.
+  const std::string bytes("a\0b\r\nc", 6);
+  write_file_atomically(dir_ / "out.bin", bytes);
+  EXPECT_EQ(contents(dir_ / "out.bin"), bytes);
+  EXPECT_EQ(files_in_dir(), 1u);
+}
+
+TEST_F(AtomicFileTest, ReplacesAnExistingFile) {
+  write_file_atomically(dir_ / "out.txt", std::string("old"));
+  write_file_atomically(dir_ / "out.txt", [](std::ostream& out) { out << "new " << 42; });
+  EXPECT_EQ(contents(dir_ / "out.txt"), "new 42");
+  EXPECT_EQ(files_in_dir(), 1u);
+}
+
+TEST_F(AtomicFileTest, AWriterThatThrowsLeavesTheOldFileAndNoTemporary) {
+  write_file_atomically(dir_ / "out.txt", std::string("old"));
+  EXPECT_THROW(write_file_atomically(dir_ / "out.txt",
+                                     [](std::ostream& out) {
+                                       out << "half of the new content";
+                                       throw std::runtime_error("interrupted");
+                                     }),
+               std::runtime_error);
+  EXPECT_EQ(contents(dir_ / "out.txt"), "old");
+  EXPECT_EQ(files_in_dir(), 1u);
+}
+
+TEST_F(AtomicFileTest, UncommittedFileIsRemoved) {
+  fs::path partial;
+  {
+    AtomicFile file(dir_ / "never.txt");
+    partial = file.partial_path();
+    std::ofstream(partial) << "abandoned";
+    EXPECT_TRUE(fs::exists(partial));
+  }
+  EXPECT_FALSE(fs::exists(partial));
+  EXPECT_FALSE(fs::exists(dir_ / "never.txt"));
+}
+
+TEST_F(AtomicFileTest, TwoWritesOfOneTargetUseDifferentTemporaries) {
+  // Processes (and threads) sharing a cache may write the same target at once.
+  const AtomicFile first(dir_ / "same.bin");
+  const AtomicFile second(dir_ / "same.bin");
+  EXPECT_NE(first.partial_path(), second.partial_path());
+  EXPECT_EQ(first.partial_path().parent_path(), dir_);
+  EXPECT_EQ(first.partial_path().extension(), ".partial");
+}
+
+TEST_F(AtomicFileTest, MissingFolderIsAOneLineErrorNamingTheTarget) {
+  const fs::path path = dir_ / "no" / "such" / "folder.txt";
+  try {
+    write_file_atomically(path, std::string("x"));
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    const std::string message = e.what();
+    EXPECT_EQ(message.rfind(path.string() + ": cannot write", 0), 0u) << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+  }
+  EXPECT_FALSE(fs::exists(path));
+}
+
+TEST_F(AtomicFileTest, CommitOntoADirectoryFailsAndCleansUp) {
+  fs::create_directories(dir_ / "taken" / "inside");
+  try {
+    write_file_atomically(dir_ / "taken", std::string("x"));
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot move the written file into place"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_EQ(files_in_dir(), 1u);  // the directory only, no temporary beside it
+}
+
+}  // namespace
+}  // namespace hipfai
