@@ -232,7 +232,8 @@ struct VertexQuery {
       for (const int id : scratch.cap_cells) visit(table.cell(id));
     } else if (use_spans) {
       // The packed cells: one record per cell, entries contiguous with their spans inline.
-      const RadialSpans::Cell& cell = spans.cells[static_cast<std::size_t>(cell_of_direction(table.grid, direction))];
+      const int id = spans.cube.dimension > 0 ? spans.cube.cell(direction) : cell_of_direction(table.grid, direction);
+      const RadialSpans::Cell& cell = spans.cells[static_cast<std::size_t>(id)];
       if (outside_span(side, r, cell.lo, cell.hi)) return false;
       for (std::uint32_t k = cell.begin; k < cell.end; ++k) {
         const RadialSpans::Entry& entry = spans.entries[k];

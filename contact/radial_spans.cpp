@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 namespace hipfai::contact {
 
@@ -111,6 +112,24 @@ void compute_radial_spans(RadialTable& table, const geometry::TriMesh& fixed) {
       spans.entries.push_back({t, float_below(lo), float_above(hi)});
     }
     cell.end = static_cast<std::uint32_t>(spans.entries.size());
+  }
+  if (table.grid.mapping == RadialMapping::kCube) {
+    RadialSpans::CubeLocator& cube = spans.cube;
+    const int n = table.grid.dimension;
+    cube.dimension = n;
+    cube.border.resize(static_cast<std::size_t>(n) + 1);
+    for (int i = 0; i <= n; ++i) {
+      cube.border[static_cast<std::size_t>(i)] = std::tan(i * (std::numbers::pi / 2.0) / n - std::numbers::pi / 4.0);
+    }
+    const int bins = 4 * n;
+    cube.bins_per_unit = bins / 2.0;
+    cube.start.resize(static_cast<std::size_t>(bins));
+    for (int bin = 0; bin < bins; ++bin) {
+      const double u = -1.0 + bin / cube.bins_per_unit;
+      int i = 0;
+      while (i + 1 < n && u >= cube.border[static_cast<std::size_t>(i + 1)]) ++i;
+      cube.start[static_cast<std::size_t>(bin)] = i;
+    }
   }
   // The cap: around the mean direction of the vertices used by triangles; every vertex's
   // direction within it. Kept only when clearly narrower than a hemisphere (convex cone).

@@ -34,6 +34,7 @@
 
 #include <Eigen/Core>
 
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -55,6 +56,37 @@ struct RadialSpans {
     std::int32_t triangle = -1;
     float lo = 0.0F, hi = 0.0F;
   };
+  // The cube mapping's cell without atan: the a1 (a2) borders atan(u) + pi/4 = i pi / (2 n) sit at
+  // u = tan(i pi / (2 n) - pi/4); a lookup over u in [-1, 1] (4 n bins) gives the cell of the bin's
+  // lower end, and at most a step or two against the borders finishes. It may differ from
+  // cell_of_direction only for directions within rounding (~1e-15 rad) of a border, where both
+  // cells hold every triangle the ray can meet (the table bins with a 1e-8 rad margin), so the
+  // answers are the same. Empty unless the table uses the cube mapping.
+  struct CubeLocator {
+    int dimension = 0;
+    double bins_per_unit = 0.0;
+    std::vector<double> border;      // dimension + 1
+    std::vector<std::int32_t> start;  // per bin
+    int index(double u) const {
+      const int bins = static_cast<int>(start.size());
+      int bin = static_cast<int>((u + 1.0) * bins_per_unit);
+      bin = bin < 0 ? 0 : (bin >= bins ? bins - 1 : bin);
+      int i = start[static_cast<std::size_t>(bin)];
+      while (i + 1 < dimension && u >= border[static_cast<std::size_t>(i + 1)]) ++i;
+      return i;
+    }
+    // The cell id of a non-zero direction (as cell_of_direction for the cube mapping).
+    int cell(const Eigen::Vector3d& d) const {
+      int k = 0;
+      if (std::abs(d.y()) > std::abs(d[k])) k = 1;
+      if (std::abs(d.z()) > std::abs(d[k])) k = 2;
+      const double along = std::abs(d[k]);
+      const int face = 2 * k + (d[k] < 0.0 ? 1 : 0);
+      const int i = index(d[(k + 1) % 3] / along), j = index(d[(k + 2) % 3] / along);
+      return (face * dimension + j) * dimension + i;
+    }
+  };
+  CubeLocator cube;
   std::vector<Eigen::Vector3d> vertices;  // fixed coordinates the spans are valid for
   std::vector<double> triangle_lo, triangle_hi;  // widened span per fixed triangle
   std::vector<Cell> cells;

@@ -207,6 +207,27 @@ TEST(RadialSpans, OutsideTheCapIsCulledAndTheCapHoldsEveryTriangle) {
   }
 }
 
+TEST(RadialSpans, CubeLocatorFindsTheCellOfCellOfDirection) {
+  // Random directions (never within rounding of a border) and directions on the face's axes and
+  // diagonals, where the borders of an even grid lie: the same cell as the atan mapping.
+  const TriMesh fixed = box_above();
+  for (const std::int64_t size : {6, 600, 6 * 16 * 16, 98304}) {
+    RadialTableOptions options;
+    options.table_size = size;
+    const RadialTable table = build_radial_table(fixed, Vec3::Zero(), options);
+    ASSERT_EQ(table.spans.cube.dimension, table.grid.dimension);
+    std::mt19937_64 rng(static_cast<std::uint64_t>(size));
+    std::normal_distribution<double> g;
+    for (int k = 0; k < 20000; ++k) {
+      const Vec3 d(g(rng), g(rng), g(rng));
+      ASSERT_EQ(table.spans.cube.cell(d), cell_of_direction(table.grid, d)) << d.transpose();
+    }
+    for (const Vec3& d : {Vec3(1, 0, 0), Vec3(0, -1, 0), Vec3(0, 0, 1), Vec3(1, 1, 0.5), Vec3(-1, 1, 1), Vec3(2, 1, -2)}) {
+      EXPECT_EQ(table.spans.cube.cell(d), cell_of_direction(table.grid, d)) << d.transpose();
+    }
+  }
+}
+
 TEST(RadialSpans, DeformedFixedMeshFallsBackToTheFullTest) {
   TriMesh fixed = box_above();
   const RadialTable table = build_radial_table(fixed, Vec3::Zero(), {});
