@@ -353,21 +353,26 @@ RadialPoseQuery::RadialPoseQuery(const RadialTable& table, const geometry::TriMe
   if (!message_.empty()) return;
   status_ = QueryStatus::kOk;
   use_spans_ = options.cull && radial_spans_valid(table.spans, fixed);
-  // Sorted by distance in shells of kShellMm, by index inside a shell: a pose keeps a contiguous
-  // run of shells (found by bisection on the shells' nearest distance) and walks its vertices in
-  // mesh order, which keeps the cell and triangle accesses of neighbouring vertices together.
+  // Sorted by distance in shells of kShellMm, then by the table cell of the rest direction: a pose
+  // keeps a contiguous run of shells (found by bisection) and walks its vertices cell by cell. A
+  // rotation keeps neighbouring directions together, so consecutive vertices read the same or
+  // adjacent cell records and triangles (mesh order, after midpoint subdivision, jumps around).
   struct Key {
     std::int64_t shell;
+    int cell;
     std::int32_t vertex;
     double distance;
   };
   std::vector<Key> order(mobile.num_vertices());
   for (std::size_t v = 0; v < order.size(); ++v) {
-    const double distance = (mobile.vertices[v] - table.centre).norm();
-    order[v] = {static_cast<std::int64_t>(std::floor(distance / kShellMm)), static_cast<std::int32_t>(v), distance};
+    const Vec3 direction = mobile.vertices[v] - table.centre;
+    const double distance = direction.norm();
+    const int cell = direction.isZero(0.0) ? -1 : cell_of_direction(table.grid, direction);
+    order[v] = {static_cast<std::int64_t>(std::floor(distance / kShellMm)), cell, static_cast<std::int32_t>(v), distance};
   }
   std::sort(order.begin(), order.end(), [](const Key& a, const Key& b) {
-    return a.shell != b.shell ? a.shell < b.shell : a.vertex < b.vertex;
+    if (a.shell != b.shell) return a.shell < b.shell;
+    return a.cell != b.cell ? a.cell < b.cell : a.vertex < b.vertex;
   });
   sorted_distance_.reserve(order.size());
   sorted_position_.reserve(order.size());
