@@ -40,6 +40,7 @@ struct CollisionBenchOptions {
 struct TargetVerdict {
   std::string target;
   bool met = false;
+  bool informational = false;  // a measurement without a threshold (met is meaningless)
   std::string measured;  // the ratios / counts behind the verdict
 };
 

@@ -36,6 +36,10 @@
 #include "contact/radial_table.h"
 #include "geometry/tri_mesh.h"
 
+#include <string>
+#include <utility>
+#include <vector>
+
 namespace hipfai::contact {
 
 enum class RadialConfiguration { kMobileInsideFixed, kFixedInsideMobile };
@@ -70,6 +74,10 @@ struct RadialQueryOptions {
   // around its direction, across seams, poles and faces). A fixed triangle whose points have
   // turned by less than that angle since the table was built is still found.
   int neighbour_cells = 0;
+  // Radial spans (radial_spans.h): vertices outside the table's cap, or at a distance from O
+  // where the rule cannot find its crossing, are decided without a triangle test. Same answers
+  // bit for bit; false tests every vertex (equality tests, ablation in the benchmark).
+  bool cull = true;
 };
 
 // The per-pose query. `fixed` must have the triangles the table was built from (coordinates may
@@ -78,6 +86,46 @@ struct RadialQueryOptions {
 PenetrationResult radial_segmenting(const RadialTable& table, const geometry::TriMesh& fixed,
                                     const geometry::TriMesh& mobile,
                                     const RadialQueryOptions& options);
+
+// A rigid body pair prepared for many poses (issue 18): the fixed mesh with its table, and the
+// mobile mesh at rest. Rotation about the centre keeps each mobile vertex's distance from O, so
+// the vertices the radial spans rule out at every pose (radial_spans.h: the rule needs a crossing
+// on a side of v where the fixed mesh has none) are dropped once here; query(pose) poses and
+// tests only the others. A pose that also translates moves that distance by at most |c' - O|
+// (c' = pose^-1 O), which widens the kept range. Same answer as radial_segmenting(table, fixed,
+// pose * mobile, options) bit for bit (each kept vertex is posed as pose * v, like
+// bench::transformed and geometry::apply_transform).
+// `table` and `fixed` are referenced, not copied: they must outlive this object and not change
+// (build a new one after a deformation). status() is kInvalidInput (message()) for the inputs
+// radial_segmenting rejects.
+class RadialPoseQuery {
+ public:
+  RadialPoseQuery(const RadialTable& table, const geometry::TriMesh& fixed, const geometry::TriMesh& mobile,
+                  const RadialQueryOptions& options);
+  QueryStatus status() const { return status_; }
+  const std::string& message() const { return message_; }
+  // Mobile vertices that may penetrate at some pose (the others were dropped once).
+  std::size_t num_kept_vertices() const { return kept_index_.size(); }
+  PenetrationResult query(const Eigen::Isometry3d& pose) const;
+
+ private:
+  // [first, last) of the sorted vertices a pose keeps, when posed distances move by <= shift_mm.
+  std::pair<std::size_t, std::size_t> kept_range(double shift_mm, double scale_mm) const;
+
+  const RadialTable* table_ = nullptr;
+  const geometry::TriMesh* fixed_ = nullptr;
+  RadialQueryOptions options_;
+  QueryStatus status_ = QueryStatus::kInvalidInput;
+  std::string message_;
+  bool use_spans_ = false;
+  static constexpr double kShellMm = 0.5;
+  // Every mobile vertex sorted by its rest distance from O in shells of kShellMm (a pose keeps one
+  // contiguous range), by index within a shell.
+  std::vector<double> sorted_distance_, prefix_max_, suffix_min_;
+  std::vector<Vec3> sorted_position_;
+  std::vector<std::int32_t> sorted_index_;
+  std::vector<std::int32_t> kept_index_;  // vertices kept at a pose about O (for num_kept_vertices)
+};
 
 // Role swap (thesis §3.3.1, §4.3: "repeated by exchanging the role"): the vertices of `fixed`
 // are tested against the triangles of `mobile`, with the configuration swapped (if M slides

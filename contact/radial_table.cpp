@@ -1,5 +1,7 @@
 #include "contact/radial_table.h"
 
+#include "contact/radial_spans.h"
+
 #include "core/error.h"
 
 #include <algorithm>
@@ -12,30 +14,6 @@ namespace hipfai::contact {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-
-// Distance from O to the closed triangle abc (relative to O): the closest point by region
-// (vertex, edge or face region, Ericson 2005 §5.1.5), computed directly.
-double distance_to_origin(const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 ab = b - a, ac = c - a, ap = -a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0.0 && d2 <= 0.0) return a.norm();
-  const Vec3 bp = -b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0.0 && d4 <= d3) return b.norm();
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return (a + d1 / (d1 - d3) * ab).norm();
-  const Vec3 cp = -c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0.0 && d5 <= d6) return c.norm();
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return (a + d2 / (d2 - d6) * ac).norm();
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0) {
-    return (b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b)).norm();
-  }
-  const double denominator = 1.0 / (va + vb + vc);
-  return (a + ab * (vb * denominator) + ac * (vc * denominator)).norm();
-}
 
 // A triangle whose plane passes (nearly) through O: its cone from O degenerates toward a fan in
 // that plane, which cells_of_polygon cannot bin robustly, but every direction it covers lies
@@ -168,6 +146,7 @@ RadialTable build_radial_table(const geometry::TriMesh& fixed, const Vec3& centr
   for (std::size_t t = 0; t < table.num_triangles; ++t) {
     insert_triangle(table, fixed, static_cast<std::int32_t>(t), scratch);
   }
+  compute_radial_spans(table, fixed);
   return table;
 }
 
@@ -205,6 +184,7 @@ void update_triangles(RadialTable& table, const geometry::TriMesh& fixed,
   }
   std::vector<int> scratch;
   for (const std::int32_t t : changed) insert_triangle(table, fixed, t, scratch);
+  compute_radial_spans(table, fixed);
 }
 
 }  // namespace hipfai::contact

@@ -20,6 +20,7 @@
 #pragma once
 
 #include "contact/radial_mapping.h"
+#include "contact/radial_spans.h"
 #include "geometry/tri_mesh.h"
 
 #include <cstdint>
@@ -42,6 +43,7 @@ struct RadialTable {
   std::vector<std::vector<std::int32_t>> triangle_cells;  // triangle -> its cells (for updates)
   std::vector<std::uint8_t> is_always;            // triangle -> in always_candidates?
   std::size_t num_triangles = 0;
+  RadialSpans spans;  // which vertices need no triangle test (radial_spans.h), rebuilt by updates
 
   const std::vector<std::int32_t>& cell(int id) const { return cells[static_cast<std::size_t>(id)]; }
   // Total stored entries (memory measure, thesis §3.3.5).
@@ -55,7 +57,7 @@ RadialTable build_radial_table(const geometry::TriMesh& fixed, const Vec3& centr
 
 // Deformation (§3.3.4): re-bins only the listed triangles of the (deformed) mesh, which must have
 // the same triangles as when the table was built. The result equals a full rebuild up to the
-// order of indices inside a cell. Throws hipfai::Error on an index out of range or a size change.
+// order of indices inside a cell. The spans are recomputed for the whole mesh. Throws hipfai::Error on an index out of range or a size change.
 void update_triangles(RadialTable& table, const geometry::TriMesh& fixed,
                       std::span<const std::int32_t> changed_triangles);
 

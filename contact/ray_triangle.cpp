@@ -92,6 +92,24 @@ double edge_function(const Vec3& direction, const Vec3& p, const Vec3& q) {
   return direction.dot(p.cross(q));
 }
 
+RayCrossing line_crossing_with_facing(const Vec3& direction, const Vec3& a, const Vec3& b, const Vec3& c,
+                                      int facing) {
+  RayCrossing crossing;
+  const Vec3 area_normal = (b - a).cross(c - a);
+  if (area_normal.x() == 0.0 && area_normal.y() == 0.0 && area_normal.z() == 0.0) return crossing;
+  // d . N with the facing's sign: rounding may flip the float sign only for rays grazing the
+  // plane, where the crossing distance is meaningless anyway (treated as no crossing below).
+  const double along_normal = direction.dot(area_normal);
+  if (along_normal == 0.0 || (along_normal > 0.0) != (facing > 0)) return crossing;
+  // det(a, b, c) = a . (b x c) = (A-O).N, so t = (A-O).N / (d.N)  (Eq. 34, unnormalised d).
+  const double t = a.dot(b.cross(c)) / along_normal;
+  if (!(t > 0.0) || !std::isfinite(t)) return crossing;  // at or behind O
+  crossing.hit = true;
+  crossing.t = t;
+  crossing.facing = facing;
+  return crossing;
+}
+
 RayCrossing ray_triangle_crossing(const Vec3& direction, const Vec3& a, const Vec3& b,
                                   const Vec3& c) {
   RayCrossing crossing;
@@ -107,19 +125,9 @@ RayCrossing ray_triangle_crossing(const Vec3& direction, const Vec3& a, const Ve
   if (s_ab >= 0 && s_bc >= 0 && s_ca >= 0 && (s_ab + s_bc + s_ca) > 0) facing = 1;
   if (s_ab <= 0 && s_bc <= 0 && s_ca <= 0 && (s_ab + s_bc + s_ca) < 0) facing = -1;
   if (facing == 0) return crossing;  // outside, or the ray lies in the triangle's plane
-  const Vec3 area_normal = (b - a).cross(c - a);
-  if (area_normal.x() == 0.0 && area_normal.y() == 0.0 && area_normal.z() == 0.0) return crossing;
-  // d . N with the facing's sign: rounding may flip the float sign only for rays grazing the
-  // plane, where the crossing distance is meaningless anyway (treated as no crossing below).
-  const double along_normal = direction.dot(area_normal);
-  if (along_normal == 0.0 || (along_normal > 0.0) != (facing > 0)) return crossing;
-  // det(a, b, c) = a . (b x c) = (A-O).N, so t = (A-O).N / (d.N)  (Eq. 34, unnormalised d).
-  const double t = a.dot(b.cross(c)) / along_normal;
-  if (!(t > 0.0) || !std::isfinite(t)) return crossing;  // at or behind O
+  crossing = line_crossing_with_facing(direction, a, b, c, facing);
+  if (!crossing.hit) return crossing;
   const double sum = e_ab + e_bc + e_ca;
-  crossing.hit = true;
-  crossing.t = t;
-  crossing.facing = facing;
   if (sum != 0.0) {
     crossing.weight_a = e_bc / sum;
     crossing.weight_b = e_ca / sum;

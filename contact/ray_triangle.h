@@ -57,6 +57,12 @@ double edge_function(const Vec3& direction, const Vec3& p, const Vec3& q);
 RayCrossing ray_triangle_crossing(const Vec3& direction, const Vec3& a, const Vec3& b,
                                   const Vec3& c);
 
+// The rest of ray_triangle_crossing once the exact edge signs are known to be all >= 0 (facing
+// +1) or all <= 0 (facing -1), not all zero: hit, t and facing as ray_triangle_crossing reports
+// them (bit for bit), weights left zero. For callers that proved the signs with a filter.
+RayCrossing line_crossing_with_facing(const Vec3& direction, const Vec3& a, const Vec3& b, const Vec3& c,
+                                      int facing);
+
 // Thesis Eq. 34: distance from O to the triangle's plane along the unit direction of `direction`
 // (a, b, c relative to O), or NaN if the line is parallel to the plane or the triangle has zero
 // area. Signed: negative when the plane is met behind O. Kept for documentation and tests; the

@@ -85,6 +85,7 @@ contact::RadialTable radial_table_for(const geometry::TriMesh& fixed, const std:
     if (auto cached = load_radial_table(file);
         cached && cached->num_triangles == fixed.num_triangles()) {
       log.hit(StageKind::kRadialTable);
+      contact::compute_radial_spans(*cached, fixed);  // not stored in the file: derived from `fixed`
       return std::move(*cached);
     }
   }

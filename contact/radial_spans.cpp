@@ -1,0 +1,170 @@
+#include "contact/radial_spans.h"
+
+#include "contact/radial_table.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+namespace hipfai::contact {
+
+using Vec3 = Eigen::Vector3d;
+
+double distance_to_origin(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 ab = b - a, ac = c - a, ap = -a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0.0 && d2 <= 0.0) return a.norm();
+  const Vec3 bp = -b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0.0 && d4 <= d3) return b.norm();
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return (a + d1 / (d1 - d3) * ab).norm();
+  const Vec3 cp = -c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0.0 && d5 <= d6) return c.norm();
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return (a + d2 / (d2 - d6) * ac).norm();
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0) {
+    return (b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b)).norm();
+  }
+  const double denominator = 1.0 / (va + vb + vc);
+  return (a + ab * (vb * denominator) + ac * (vc * denominator)).norm();
+}
+
+void triangle_radial_span(const Vec3& a, const Vec3& b, const Vec3& c, double& lo, double& hi) {
+  constexpr double kEps = 1.2e-16;  // unit roundoff, rounded up
+  const double na = a.norm(), nb = b.norm(), nc = c.norm();
+  const double far = std::max({na, nb, nc});
+  const Vec3 normal = (b - a).cross(c - a);
+  const double area2 = normal.norm();
+  if (normal.x() == 0.0 && normal.y() == 0.0 && normal.z() == 0.0) {
+    lo = RadialSpans::kInfinity;  // zero area: never crossed (ray_triangle_crossing), empty span
+    hi = -RadialSpans::kInfinity;
+    return;
+  }
+  lo = 0.0;
+  hi = RadialSpans::kInfinity;
+  if (!(area2 > 0.0) || !(far > 0.0)) return;
+  const double shape = (b - a).norm() * (c - a).norm() / area2;
+  // Plane distance from O, minus the rounding of a . N (so a lower bound of the true one): a plane
+  // through O up to rounding gets no span (never culled by distance).
+  const double h = (std::abs(a.dot(normal)) - 8.0 * kEps * na * area2 * (1.0 + shape)) / area2;
+  if (!(h > 0.0)) return;
+  const double error = 8.0 * kEps * shape * (far / h) + 8.0 * kEps * na * nb * nc / (h * area2);
+  if (!(error < 1e-3)) return;
+  const double nearest = distance_to_origin(a, b, c);
+  lo = std::max(0.0, (nearest - 1e-14 * far) * (1.0 - error) * (1.0 - 1e-12));
+  hi = far * (1.0 + error) * (1.0 + 1e-12);
+}
+
+namespace {
+
+// Floats rounded outward, so the packed spans still contain the double ones.
+float float_below(double value) {
+  float f = static_cast<float>(value);
+  if (static_cast<double>(f) > value) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+  return f;
+}
+
+float float_above(double value) {
+  float f = static_cast<float>(value);
+  if (static_cast<double>(f) < value) f = std::nextafter(f, std::numeric_limits<float>::infinity());
+  return f;
+}
+
+}  // namespace
+
+void compute_radial_spans(RadialTable& table, const geometry::TriMesh& fixed) {
+  RadialSpans& spans = table.spans;
+  spans = RadialSpans{};
+  spans.vertices = fixed.vertices;
+  const std::size_t num_triangles = fixed.num_triangles();
+  spans.triangle_lo.resize(num_triangles);
+  spans.triangle_hi.resize(num_triangles);
+  for (std::size_t t = 0; t < num_triangles; ++t) {
+    const auto& tri = fixed.triangles[t];
+    triangle_radial_span(fixed.vertices[static_cast<std::size_t>(tri[0])] - table.centre,
+                         fixed.vertices[static_cast<std::size_t>(tri[1])] - table.centre,
+                         fixed.vertices[static_cast<std::size_t>(tri[2])] - table.centre, spans.triangle_lo[t],
+                         spans.triangle_hi[t]);
+    spans.lo = std::min(spans.lo, spans.triangle_lo[t]);
+    spans.hi = std::max(spans.hi, spans.triangle_hi[t]);
+  }
+  double always_lo = RadialSpans::kInfinity, always_hi = -RadialSpans::kInfinity;
+  for (const std::int32_t t : table.always_candidates) {
+    always_lo = std::min(always_lo, spans.triangle_lo[static_cast<std::size_t>(t)]);
+    always_hi = std::max(always_hi, spans.triangle_hi[static_cast<std::size_t>(t)]);
+  }
+  spans.cells.resize(table.cells.size());
+  spans.entries.clear();
+  spans.entries.reserve(table.num_entries());
+  for (std::size_t id = 0; id < table.cells.size(); ++id) {
+    RadialSpans::Cell& cell = spans.cells[id];
+    cell.begin = static_cast<std::uint32_t>(spans.entries.size());
+    cell.lo = always_lo;
+    cell.hi = always_hi;
+    for (const std::int32_t t : table.cells[id]) {
+      const double lo = spans.triangle_lo[static_cast<std::size_t>(t)], hi = spans.triangle_hi[static_cast<std::size_t>(t)];
+      cell.lo = std::min(cell.lo, lo);
+      cell.hi = std::max(cell.hi, hi);
+      spans.entries.push_back({t, float_below(lo), float_above(hi)});
+    }
+    cell.end = static_cast<std::uint32_t>(spans.entries.size());
+  }
+  if (table.grid.mapping == RadialMapping::kCube) {
+    RadialSpans::CubeLocator& cube = spans.cube;
+    const int n = table.grid.dimension;
+    cube.dimension = n;
+    cube.border.resize(static_cast<std::size_t>(n) + 1);
+    for (int i = 0; i <= n; ++i) {
+      cube.border[static_cast<std::size_t>(i)] = std::tan(i * (std::numbers::pi / 2.0) / n - std::numbers::pi / 4.0);
+    }
+    const int bins = 4 * n;
+    cube.bins_per_unit = bins / 2.0;
+    cube.start.resize(static_cast<std::size_t>(bins));
+    for (int bin = 0; bin < bins; ++bin) {
+      const double u = -1.0 + bin / cube.bins_per_unit;
+      int i = 0;
+      while (i + 1 < n && u >= cube.border[static_cast<std::size_t>(i + 1)]) ++i;
+      cube.start[static_cast<std::size_t>(bin)] = i;
+    }
+  }
+  // The cap: around the mean direction of the vertices used by triangles; every vertex's
+  // direction within it. Kept only when clearly narrower than a hemisphere (convex cone).
+  std::vector<std::uint8_t> used(fixed.num_vertices(), 0);
+  for (const auto& tri : fixed.triangles) {
+    for (const auto v : tri) used[static_cast<std::size_t>(v)] = 1;
+  }
+  Vec3 sum = Vec3::Zero();
+  for (std::size_t v = 0; v < used.size(); ++v) {
+    if (!used[v]) continue;
+    const Vec3 d = fixed.vertices[v] - table.centre;
+    const double r = d.norm();
+    if (!(r > 0.0)) return;  // a vertex at O: directions everywhere, no cap
+    sum += d / r;
+  }
+  if (!(sum.norm() > 0.0)) return;
+  const Vec3 axis = sum.normalized();
+  double cos_angle = 1.0;
+  for (std::size_t v = 0; v < used.size(); ++v) {
+    if (!used[v]) continue;
+    const Vec3 d = fixed.vertices[v] - table.centre;
+    cos_angle = std::min(cos_angle, d.dot(axis) / d.norm());
+  }
+  cos_angle -= 1e-12;  // rounding of the unit directions above
+  if (cos_angle > std::cos(89.0 * 3.14159265358979323846 / 180.0)) {
+    spans.cap_axis = axis;
+    spans.cap_cos = cos_angle;
+  }
+}
+
+bool radial_spans_valid(const RadialSpans& spans, const geometry::TriMesh& fixed) {
+  if (spans.vertices.size() != fixed.vertices.size() || spans.triangle_lo.size() != fixed.num_triangles()) {
+    return false;
+  }
+  return std::equal(spans.vertices.begin(), spans.vertices.end(), fixed.vertices.begin());
+}
+
+}  // namespace hipfai::contact

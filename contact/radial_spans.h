@@ -1,0 +1,125 @@
+// hipfai — radial spans of a radial table: which mobile vertices need no triangle test (issue 18).
+//
+// Rotation about the centre O keeps every point's distance r = |v - O|. A ray from O meets a fixed
+// triangle only at a distance within the triangle's radial span [lo, hi] (lo = distance from O to
+// the closed triangle, hi = its largest vertex distance), and only in a direction inside the cone
+// from O over the triangle. So, before any triangle test:
+//   - CAP: every fixed point lies in one cone {x : x . axis >= |x| cos_angle} (a cap of directions,
+//     kept only when narrower than 89 deg, where it is convex and so holds each triangle's cone);
+//     a vertex whose direction is outside it has no crossing at all and never penetrates.
+//   - SPAN of a cell (or of the whole mesh): [lo, hi] over the triangles its ray can meet (the
+//     cell's list and the always-checked list). A vertex at r outside it is decided without a test
+//     whenever the crossing rule needs a crossing on that side of v:
+//       kAdjacent, kMobileInsideFixed   needs a crossing with t < 1: culled when r < lo;
+//       kAdjacent, kFixedInsideMobile   needs a crossing with t > 1: culled when r > hi;
+//       kUnion (either configuration)   needs winding > 0 from crossings with t > 1: culled when r > hi.
+//     A vertex beyond hi in kAdjacent, kMobileInsideFixed is NOT culled: its answer is the facing of
+//     the outermost crossing (the parity of the surfaces behind it), which an open or grazed fixed
+//     surface can make "enter"; it keeps the full test.
+// EXACTNESS: the culled query equals the unculled one bit for bit. The spans are widened by a
+// bound on the rounding of the crossing parameter t = a.(b x c) / (d.N) for rays that hit the
+// triangle (relative error <= 8 eps (|b-a||c-a| / |N|) (hi / h) + 8 eps |a||b||c| / (h |N|), with
+// h the plane's distance from O; for a hit, |d.N| >= |d||N| h / hi), so a float t that the query
+// would compare with 1 lies on the same side as the true distance (h is taken as a lower bound,
+// its rounding subtracted); triangles whose plane passes through O up to that rounding, or whose
+// bound exceeds 1e-3, get the span [0, inf] and are never culled by distance. (Revolved rim faces,
+// planes through O to ~1e-10, keep a span widened by ~1e-6 of it.) Every comparison keeps a further 1e-12 relative slack for |d| and the dot products.
+// VALIDITY: spans depend on the fixed coordinates, which a radial deformation (§3.3.4) may move
+// without updating the table. They are computed for `vertices` (a copy of the fixed coordinates);
+// a query uses them only when the fixed mesh it is given has exactly those coordinates, otherwise
+// it runs unculled (same answers, old speed).
+#pragma once
+
+#include "geometry/tri_mesh.h"
+
+#include <Eigen/Core>
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+namespace hipfai::contact {
+
+struct RadialTable;
+
+struct RadialSpans {
+  static constexpr double kInfinity = std::numeric_limits<double>::infinity();
+  // The cells again, packed for the query (one record per cell, then its entries contiguously, each
+  // with its triangle's span as floats rounded outward): the nested vectors of RadialTable cost a
+  // cache miss per cell and per triangle span, which dominated the culled query.
+  struct Cell {
+    std::uint32_t begin = 0, end = 0;  // entries [begin, end)
+    double lo = kInfinity, hi = -kInfinity;  // always-checked list included
+  };
+  struct Entry {
+    std::int32_t triangle = -1;
+    float lo = 0.0F, hi = 0.0F;
+  };
+  // The cube mapping's cell without atan: the a1 (a2) borders atan(u) + pi/4 = i pi / (2 n) sit at
+  // u = tan(i pi / (2 n) - pi/4); a lookup over u in [-1, 1] (4 n bins) gives the cell of the bin's
+  // lower end, and at most a step or two against the borders finishes. It may differ from
+  // cell_of_direction only for directions within rounding (~1e-15 rad) of a border, where both
+  // cells hold every triangle the ray can meet (the table bins with a 1e-8 rad margin), so the
+  // answers are the same. Empty unless the table uses the cube mapping.
+  struct CubeLocator {
+    int dimension = 0;
+    double bins_per_unit = 0.0;
+    std::vector<double> border;      // dimension + 1
+    std::vector<std::int32_t> start;  // per bin
+    int index(double u) const {
+      const int bins = static_cast<int>(start.size());
+      int bin = static_cast<int>((u + 1.0) * bins_per_unit);
+      bin = bin < 0 ? 0 : (bin >= bins ? bins - 1 : bin);
+      int i = start[static_cast<std::size_t>(bin)];
+      while (i + 1 < dimension && u >= border[static_cast<std::size_t>(i + 1)]) ++i;
+      return i;
+    }
+    // The cell id of a non-zero direction (as cell_of_direction for the cube mapping).
+    int cell(const Eigen::Vector3d& d) const {
+      int k = 0;
+      if (std::abs(d.y()) > std::abs(d[k])) k = 1;
+      if (std::abs(d.z()) > std::abs(d[k])) k = 2;
+      const double along = std::abs(d[k]);
+      const int face = 2 * k + (d[k] < 0.0 ? 1 : 0);
+      const int i = index(d[(k + 1) % 3] / along), j = index(d[(k + 2) % 3] / along);
+      return (face * dimension + j) * dimension + i;
+    }
+  };
+  CubeLocator cube;
+  std::vector<Eigen::Vector3d> vertices;  // fixed coordinates the spans are valid for
+  std::vector<double> triangle_lo, triangle_hi;  // widened span per fixed triangle
+  std::vector<Cell> cells;
+  std::vector<Entry> entries;
+  double lo = kInfinity, hi = -kInfinity;        // whole mesh
+  Eigen::Vector3d cap_axis = Eigen::Vector3d::UnitZ();  // unit
+  double cap_cos = -2.0;                         // <= -1: no cap (never culls)
+};
+
+// Distance from O to the closed triangle abc given relative to O (Ericson 2005 §5.1.5).
+double distance_to_origin(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c);
+
+// The widened radial span of a triangle given relative to O (see EXACTNESS above).
+void triangle_radial_span(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
+                          double& lo, double& hi);
+
+// (Re)computes table.spans for `fixed` (the mesh the table's cells were binned from).
+void compute_radial_spans(RadialTable& table, const geometry::TriMesh& fixed);
+
+// True when the spans were computed for exactly these fixed coordinates.
+bool radial_spans_valid(const RadialSpans& spans, const geometry::TriMesh& fixed);
+
+// Which side of the span a crossing rule needs (see SPAN above).
+enum class SpanCull { kBelowLo, kAboveHi };
+
+// Is a direction d (from O, |d| = r) outside the cap?
+inline bool outside_cap(const RadialSpans& spans, const Eigen::Vector3d& d, double r) {
+  return d.dot(spans.cap_axis) < r * (spans.cap_cos - 1e-12);
+}
+
+// Is a vertex at distance r culled by the span [lo, hi] under the rule's side?
+inline bool outside_span(SpanCull side, double r, double lo, double hi) {
+  return side == SpanCull::kBelowLo ? r < lo * (1.0 - 1e-12) : r > hi * (1.0 + 1e-12);
+}
+
+}  // namespace hipfai::contact

@@ -1,0 +1,330 @@
+// Radial spans (contact/radial_spans.h): every culling rule has a case where it must NOT cull,
+// and the culled query equals the unculled one bit for bit (same vertices, triangles, depths) on
+// random meshes, every rule and configuration, and on a generated hip at several poses.
+#include "contact/radial_segmenting.h"
+#include "contact/radial_spans.h"
+#include "contact/radial_table.h"
+#include "geometry/hip_generator.h"
+#include "geometry/primitive_meshes.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace hipfai::contact {
+namespace {
+
+using geometry::TriMesh;
+
+// Bit-for-bit equality: culling may only skip work.
+void expect_identical(const PenetrationResult& culled, const PenetrationResult& full, const std::string& what) {
+  ASSERT_EQ(culled.status, QueryStatus::kOk) << what << ": " << culled.message;
+  ASSERT_EQ(full.status, QueryStatus::kOk) << what << ": " << full.message;
+  ASSERT_EQ(culled.pairs.size(), full.pairs.size()) << what;
+  for (std::size_t i = 0; i < full.pairs.size(); ++i) {
+    ASSERT_EQ(culled.pairs[i].mobile_vertex, full.pairs[i].mobile_vertex) << what;
+    EXPECT_EQ(culled.pairs[i].fixed_triangle, full.pairs[i].fixed_triangle) << what;
+    EXPECT_EQ(culled.pairs[i].depth_mm, full.pairs[i].depth_mm) << what;
+  }
+}
+
+PenetrationResult query(const RadialTable& table, const TriMesh& fixed, const TriMesh& mobile,
+                        RadialConfiguration configuration, RadialCrossingRule rule, bool cull) {
+  RadialQueryOptions options;
+  options.configuration = configuration;
+  options.rule = rule;
+  options.cull = cull;
+  return radial_segmenting(table, fixed, mobile, options);
+}
+
+// Culled == unculled under every rule and configuration.
+void expect_culling_exact(const RadialTable& table, const TriMesh& fixed, const TriMesh& mobile,
+                          const std::string& what) {
+  for (auto configuration : {RadialConfiguration::kMobileInsideFixed, RadialConfiguration::kFixedInsideMobile}) {
+    for (auto rule : {RadialCrossingRule::kAdjacent, RadialCrossingRule::kUnion}) {
+      const std::string name = what + " " + to_string(configuration) +
+                               (rule == RadialCrossingRule::kUnion ? " union" : " adjacent");
+      expect_identical(query(table, fixed, mobile, configuration, rule, true),
+                       query(table, fixed, mobile, configuration, rule, false), name);
+    }
+  }
+}
+
+// The prepared pair drops vertices once per body pair; at every pose it must equal the unculled
+// query on the posed mesh, also for poses that translate (the kept range widens).
+void expect_pose_query_exact(const RadialTable& table, const TriMesh& fixed, const TriMesh& mobile,
+                             const std::vector<Eigen::Isometry3d>& poses, const std::string& what) {
+  for (auto configuration : {RadialConfiguration::kMobileInsideFixed, RadialConfiguration::kFixedInsideMobile}) {
+    for (auto rule : {RadialCrossingRule::kAdjacent, RadialCrossingRule::kUnion}) {
+      for (int threads : {1, 2}) {
+        RadialQueryOptions options;
+        options.configuration = configuration;
+        options.rule = rule;
+        options.num_threads = threads;
+        const RadialPoseQuery prepared(table, fixed, mobile, options);
+        ASSERT_EQ(prepared.status(), QueryStatus::kOk) << prepared.message();
+        for (std::size_t k = 0; k < poses.size(); ++k) {
+          TriMesh posed = mobile;
+          geometry::apply_transform(posed, poses[k]);
+          expect_identical(prepared.query(poses[k]), query(table, fixed, posed, configuration, rule, false),
+                           what + " pose " + std::to_string(k) + " " + to_string(configuration) + " threads " +
+                               std::to_string(threads));
+        }
+      }
+    }
+  }
+}
+
+Eigen::Isometry3d turn_about(const Vec3& centre, const Vec3& axis, double angle_deg, const Vec3& shift) {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = Eigen::AngleAxisd(angle_deg * 3.14159265358979323846 / 180.0, axis.normalized()).toRotationMatrix();
+  return Eigen::Translation3d(centre + shift) * pose * Eigen::Translation3d(-centre);
+}
+
+TriMesh one_vertex(const Vec3& p) {
+  TriMesh mesh;
+  mesh.vertices = {p};
+  return mesh;
+}
+
+bool reported(const PenetrationResult& result) { return result.pairs.size() == 1; }
+
+// A box above O: its bottom face z = 10 is the nearest surface, so the box's span starts at 10.
+TriMesh box_above() { return geometry::make_box(Vec3(-6, -6, 10), Vec3(6, 6, 22), 4); }
+
+TEST(RadialSpans, SpanOfATriangleContainsEveryCrossingAndTheBorderItself) {
+  double lo = 0.0, hi = 0.0;
+  triangle_radial_span(Vec3(-1, -1, 10), Vec3(3, -1, 10), Vec3(-1, 3, 10), lo, hi);
+  EXPECT_LE(lo, 10.0);
+  EXPECT_GT(lo, 10.0 * (1.0 - 1e-9));
+  EXPECT_GE(hi, std::sqrt(9.0 + 1.0 + 100.0));
+  // A vertex exactly at lo or hi is on the border: never outside.
+  EXPECT_FALSE(outside_span(SpanCull::kBelowLo, lo, lo, hi));
+  EXPECT_FALSE(outside_span(SpanCull::kAboveHi, hi, lo, hi));
+  // A plane through O gets the span [0, inf]: never culled by distance.
+  triangle_radial_span(Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(1, 1, 0), lo, hi);
+  EXPECT_EQ(lo, 0.0);
+  EXPECT_EQ(hi, RadialSpans::kInfinity);
+}
+
+TEST(RadialSpans, VertexJustPastTheSpanBorderIsNotCulled) {
+  const TriMesh fixed = box_above();
+  const RadialTable table = build_radial_table(fixed, Vec3::Zero(), {});
+  ASSERT_LE(table.spans.lo, 10.0);
+  // On the surface (r == 10, t == 1): touching, reported by neither.
+  for (bool cull : {true, false}) {
+    EXPECT_FALSE(reported(query(table, fixed, one_vertex(Vec3(0, 0, 10)), RadialConfiguration::kMobileInsideFixed,
+                                RadialCrossingRule::kAdjacent, cull)));
+  }
+  // One ulp-scale step inside the bottom face: penetrates, so the span must not cull it.
+  const Vec3 just_inside(0, 0, std::nextafter(10.0, 11.0));
+  for (bool cull : {true, false}) {
+    const auto result = query(table, fixed, one_vertex(just_inside), RadialConfiguration::kMobileInsideFixed,
+                              RadialCrossingRule::kAdjacent, cull);
+    ASSERT_TRUE(reported(result)) << "cull " << cull;
+    EXPECT_GT(result.pairs[0].depth_mm, 0.0);
+  }
+  // Just below the border: culled, and indeed outside.
+  EXPECT_TRUE(outside_span(SpanCull::kBelowLo, 9.99, table.spans.lo, table.spans.hi));
+  EXPECT_FALSE(reported(query(table, fixed, one_vertex(Vec3(0, 0, 9.99)), RadialConfiguration::kMobileInsideFixed,
+                              RadialCrossingRule::kAdjacent, true)));
+}
+
+TEST(RadialSpans, VertexOnACellBorderIsNotCulled) {
+  const TriMesh fixed = box_above();
+  RadialTableOptions options;
+  options.table_size = 6 * 16 * 16;  // even dimension: the face centre direction is on four cell borders
+  const RadialTable table = build_radial_table(fixed, Vec3::Zero(), options);
+  ASSERT_EQ(table.grid.dimension % 2, 0);
+  // Directions on cell borders of the +z face: (0, 0, 1) (a1 = a2 = pi/4) and the diagonal.
+  for (const Vec3& p : {Vec3(0, 0, 12), Vec3(0, 2, 12), Vec3(2, 0, 12), Vec3(1.5, 1.5, 12)}) {
+    for (bool cull : {true, false}) {
+      const auto result = query(table, fixed, one_vertex(p), RadialConfiguration::kMobileInsideFixed,
+                                RadialCrossingRule::kAdjacent, cull);
+      ASSERT_TRUE(reported(result)) << p.transpose() << " cull " << cull;
+      EXPECT_NEAR(result.pairs[0].depth_mm, (p.norm() * (1.0 - 10.0 / p.z())), 1e-12);
+    }
+  }
+}
+
+TEST(RadialSpans, VertexDeepInsideIsNotCulled) {
+  const TriMesh fixed = box_above();
+  const RadialTable table = build_radial_table(fixed, Vec3::Zero(), {});
+  for (auto rule : {RadialCrossingRule::kAdjacent, RadialCrossingRule::kUnion}) {
+    const auto result = query(table, fixed, one_vertex(Vec3(0.3, -0.2, 16)), RadialConfiguration::kMobileInsideFixed,
+                              rule, true);
+    ASSERT_TRUE(reported(result));
+    EXPECT_NEAR(result.pairs[0].depth_mm, Vec3(0.3, -0.2, 16).norm() * (1.0 - 10.0 / 16.0), 1e-12);
+  }
+  // The other configuration: O inside a box, a vertex inside it beyond nothing culls.
+  const TriMesh around = geometry::make_box(Vec3(-10, -10, -10), Vec3(10, 10, 10), 3);
+  const RadialTable around_table = build_radial_table(around, Vec3::Zero(), {});
+  EXPECT_TRUE(reported(query(around_table, around, one_vertex(Vec3(1, 2, 3)), RadialConfiguration::kFixedInsideMobile,
+                             RadialCrossingRule::kAdjacent, true)));
+}
+
+TEST(RadialSpans, VertexBeyondTheSpanWithOddParityIsNotCulled) {
+  // An open patch whose normal faces O, like a socket: a ray from O enters it, and a vertex
+  // beyond it, seen from O, is inside by the adjacent rule although it is beyond the patch's
+  // whole span (one crossing: odd parity).
+  TriMesh patch;
+  patch.vertices = {Vec3(-5, -5, 10), Vec3(5, -5, 10), Vec3(5, 5, 10), Vec3(-5, 5, 10)};
+  patch.triangles = {{0, 2, 1}, {0, 3, 2}};  // normal -z: a ray from O enters
+  const RadialTable table = build_radial_table(patch, Vec3::Zero(), {});
+  const Vec3 beyond(0.5, 0.5, 30.0);
+  ASSERT_GT(beyond.norm(), table.spans.hi);
+  for (bool cull : {true, false}) {
+    const auto result = query(table, patch, one_vertex(beyond), RadialConfiguration::kMobileInsideFixed,
+                              RadialCrossingRule::kAdjacent, cull);
+    ASSERT_TRUE(reported(result)) << "cull " << cull;
+    EXPECT_NEAR(result.pairs[0].depth_mm, beyond.norm() * (1.0 - 10.0 / 30.0), 1e-12);
+  }
+  // A closed solid seen from outside: the union rule finds no winding beyond hi (culled, and
+  // the full test agrees).
+  const TriMesh fixed = box_above();
+  const RadialTable box_table = build_radial_table(fixed, Vec3::Zero(), {});
+  for (bool cull : {true, false}) {
+    EXPECT_FALSE(reported(query(box_table, fixed, one_vertex(Vec3(0, 0, 40)), RadialConfiguration::kMobileInsideFixed,
+                                RadialCrossingRule::kUnion, cull)));
+  }
+}
+
+TEST(RadialSpans, OutsideTheCapIsCulledAndTheCapHoldsEveryTriangle) {
+  const TriMesh fixed = box_above();
+  const RadialTable table = build_radial_table(fixed, Vec3::Zero(), {});
+  ASSERT_GT(table.spans.cap_cos, 0.0);
+  EXPECT_TRUE(outside_cap(table.spans, Vec3(0, 0, -1), 1.0));
+  // Every point of every triangle (corners, edge midpoints, centroid) is inside the cap.
+  for (const auto& tri : fixed.triangles) {
+    const Vec3 a = fixed.vertices[static_cast<std::size_t>(tri[0])], b = fixed.vertices[static_cast<std::size_t>(tri[1])],
+               c = fixed.vertices[static_cast<std::size_t>(tri[2])];
+    for (const Vec3& p : {a, b, c, Vec3((a + b) / 2), Vec3((b + c) / 2), Vec3((a + b + c) / 3)}) {
+      EXPECT_FALSE(outside_cap(table.spans, p, p.norm()));
+    }
+  }
+}
+
+TEST(RadialSpans, CubeLocatorFindsTheCellOfCellOfDirection) {
+  // Random directions (never within rounding of a border) and directions on the face's axes and
+  // diagonals, where the borders of an even grid lie: the same cell as the atan mapping.
+  const TriMesh fixed = box_above();
+  for (const std::int64_t size : {6, 600, 6 * 16 * 16, 98304}) {
+    RadialTableOptions options;
+    options.table_size = size;
+    const RadialTable table = build_radial_table(fixed, Vec3::Zero(), options);
+    ASSERT_EQ(table.spans.cube.dimension, table.grid.dimension);
+    std::mt19937_64 rng(static_cast<std::uint64_t>(size));
+    std::normal_distribution<double> g;
+    for (int k = 0; k < 20000; ++k) {
+      const Vec3 d(g(rng), g(rng), g(rng));
+      ASSERT_EQ(table.spans.cube.cell(d), cell_of_direction(table.grid, d)) << d.transpose();
+    }
+    for (const Vec3& d : {Vec3(1, 0, 0), Vec3(0, -1, 0), Vec3(0, 0, 1), Vec3(1, 1, 0.5), Vec3(-1, 1, 1), Vec3(2, 1, -2)}) {
+      EXPECT_EQ(table.spans.cube.cell(d), cell_of_direction(table.grid, d)) << d.transpose();
+    }
+  }
+}
+
+TEST(RadialSpans, DeformedFixedMeshFallsBackToTheFullTest) {
+  TriMesh fixed = box_above();
+  const RadialTable table = build_radial_table(fixed, Vec3::Zero(), {});
+  EXPECT_TRUE(radial_spans_valid(table.spans, fixed));
+  for (auto& v : fixed.vertices) v *= 0.5;  // moved along the rays: the bottom face now at z = 5
+  EXPECT_FALSE(radial_spans_valid(table.spans, fixed));
+  const auto result = query(table, fixed, one_vertex(Vec3(0, 0, 7)), RadialConfiguration::kMobileInsideFixed,
+                            RadialCrossingRule::kAdjacent, true);
+  ASSERT_TRUE(reported(result));
+  EXPECT_NEAR(result.pairs[0].depth_mm, 2.0, 1e-12);
+}
+
+TEST(RadialSpans, CulledEqualsUnculledOnRandomMeshes) {
+  std::mt19937_64 rng(18);
+  std::normal_distribution<double> g;
+  for (int k = 0; k < 6; ++k) {
+    const Vec3 centre(g(rng), g(rng), g(rng));
+    TriMesh fixed = geometry::make_octasphere(centre, 20.0, 3);
+    TriMesh mobile = geometry::make_octasphere(centre + Vec3(g(rng), g(rng), g(rng)), 19.0, 3);
+    std::uniform_real_distribution<double> u(-0.08, 0.08);
+    for (auto& v : fixed.vertices) v = centre + (v - centre) * (1.0 + u(rng));
+    for (auto& v : mobile.vertices) v = centre + (v - centre) * (1.0 + u(rng));
+    // A box beside the spheres gives cells with several layers and empty cells.
+    const TriMesh box = geometry::make_box(centre + Vec3(5, -8, 8), centre + Vec3(25, 8, 30), 3);
+    const TriMesh both = geometry::merge_meshes({&fixed, &box});
+    for (auto mapping : {RadialMapping::kCube, RadialMapping::kSpherical, RadialMapping::kCartesian}) {
+      RadialTableOptions options;
+      options.mapping = mapping;
+      options.table_size = 600;
+      const RadialTable table = build_radial_table(both, centre, options);
+      expect_culling_exact(table, both, mobile, "random " + std::to_string(k) + " " + to_string(mapping));
+    }
+  }
+}
+
+TEST(RadialSpans, CulledEqualsUnculledOnAGeneratedHipAtSeveralPoses) {
+  geometry::HipParameters parameters;
+  parameters.ce_deg = 30.0;
+  parameters.alpha_deg = 60.0;
+  parameters.edge_mm = 5.5;  // the benchmark's coarse hip
+  const geometry::HipModel hip = geometry::generate_hip(parameters).model;
+  const TriMesh socket = geometry::merge_meshes({&hip.tissue("acetabular_cartilage"), &hip.tissue("labrum")});
+  const TriMesh femur = geometry::merge_meshes({&hip.tissue("femur_bone"), &hip.tissue("femoral_cartilage")});
+  const Vec3 centre = hip.hjc_mm;
+  RadialTableOptions options;
+  options.table_size = 2 * static_cast<std::int64_t>(socket.num_triangles());
+  const RadialTable table = build_radial_table(socket, centre, options);
+  const double step = 0.6;
+  for (const double angle_deg : {0.0, 10.0, 25.0, 40.0, 70.0}) {
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.linear() = Eigen::AngleAxisd(angle_deg * 3.14159265358979323846 / 180.0,
+                                      hip.axes.flexion_axis.normalized()).toRotationMatrix();
+    pose = Eigen::Translation3d(centre + step * hip.superior.normalized()) * pose * Eigen::Translation3d(-centre);
+    TriMesh posed = femur;
+    geometry::apply_transform(posed, pose);
+    expect_culling_exact(table, socket, posed, "hip " + std::to_string(angle_deg) + " deg");
+    expect_pose_query_exact(table, socket, femur, {pose}, "hip " + std::to_string(angle_deg) + " deg");
+    // At least the sliding pose must penetrate, or the test would prove nothing.
+    if (angle_deg == 0.0) {
+      EXPECT_FALSE(query(table, socket, posed, RadialConfiguration::kMobileInsideFixed, RadialCrossingRule::kUnion, true)
+                       .pairs.empty());
+    }
+  }
+}
+
+TEST(RadialSpans, PoseQueryEqualsTheUnculledQueryOnThePosedMesh) {
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> g;
+  const Vec3 centre(0.3, -0.2, 0.1);
+  TriMesh inner = geometry::make_octasphere(centre, 24.0, 3);
+  for (auto& t : inner.triangles) std::swap(t[1], t[2]);  // a shell: inner surface faces O
+  const TriMesh outer = geometry::make_octasphere(centre, 28.0, 2);
+  const TriMesh socket = geometry::merge_meshes({&inner, &outer});
+  TriMesh ball = geometry::make_octasphere(centre, 24.2, 3);
+  // A second, smaller ball inside: vertices that can never reach the socket (dropped once).
+  const TriMesh core = geometry::make_octasphere(centre, 10.0, 2);
+  const TriMesh mobile = geometry::merge_meshes({&ball, &core});
+  const RadialTable table = build_radial_table(socket, centre, {});
+  std::vector<Eigen::Isometry3d> poses;
+  for (int k = 0; k < 5; ++k) {
+    poses.push_back(turn_about(centre, Vec3(g(rng), g(rng), g(rng)), 40.0 * g(rng), k < 3 ? Vec3::Zero() : Vec3(0.5 * g(rng), 0.5 * g(rng), 0.5 * g(rng))));
+  }
+  expect_pose_query_exact(table, socket, mobile, poses, "shell");
+  RadialQueryOptions options;
+  const RadialPoseQuery prepared(table, socket, mobile, options);
+  EXPECT_LE(prepared.num_kept_vertices(), ball.num_vertices());  // the core is dropped
+}
+
+TEST(RadialSpans, PoseQueryRejectsANonFinitePose) {
+  const TriMesh fixed = box_above();
+  const RadialTable table = build_radial_table(fixed, Vec3::Zero(), {});
+  const RadialPoseQuery prepared(table, fixed, one_vertex(Vec3(0, 0, 12)), {});
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.translation().x() = std::nan("");
+  EXPECT_EQ(prepared.query(pose).status, QueryStatus::kInvalidInput);
+  EXPECT_EQ(prepared.query(Eigen::Isometry3d::Identity()).pairs.size(), 1u);
+}
+
+}  // namespace
+}  // namespace hipfai::contact
