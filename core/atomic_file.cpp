@@ -51,6 +51,37 @@ void write_file_atomically(const std::filesystem::path& path,
   file.commit();
 }
 
+AtomicDirectory::AtomicDirectory(std::filesystem::path target)
+    : target_(std::move(target)), partial_(partial_path_for(target_)) {
+  std::error_code error;
+  std::filesystem::create_directories(partial_, error);
+  if (error) throw_error(target_.string(), ": cannot create the folder to fill (", error.message(), ")");
+}
+
+AtomicDirectory::~AtomicDirectory() {
+  if (committed_ || kept_) return;
+  std::error_code ignored;  // nothing may be thrown here
+  std::filesystem::remove_all(partial_, ignored);
+}
+
+bool AtomicDirectory::commit(const std::function<bool(const std::filesystem::path&)>& is_complete) {
+  std::error_code error;
+  std::filesystem::rename(partial_, target_, error);  // fails on an existing non-empty folder
+  if (!error) {
+    committed_ = true;
+    return true;
+  }
+  if (std::filesystem::exists(target_) && is_complete(target_)) return false;  // the destructor drops ours
+  std::error_code ignored;
+  std::filesystem::remove_all(target_, ignored);
+  std::filesystem::rename(partial_, target_, error);
+  if (error) {
+    throw_error(target_.string(), ": cannot move the finished folder into place (", error.message(), ")");
+  }
+  committed_ = true;
+  return true;
+}
+
 void write_file_atomically(const std::filesystem::path& path, std::string_view bytes) {
   write_file_atomically(path, [bytes](std::ostream& out) {
     out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
