@@ -51,7 +51,8 @@ void write_file_atomically(const std::filesystem::path& path, std::string_view b
 // A folder filled under a temporary name beside `target` (same naming as AtomicFile) and renamed
 // into place by commit(), for cache entries made of several files (a generated hip, a finished
 // FE run): a folder under the target's name is always whole. Destroyed without commit() or
-// keep(), the temporary folder is removed with its content.
+// keep(), the temporary folder is removed with its content; the folders of processes that died
+// before that (killed) are removed by the next AtomicDirectory of the same target.
 class AtomicDirectory {
  public:
   // Creates the empty temporary folder. Throws hipfai::Error "<target>: cannot create ...".

@@ -10,6 +10,7 @@
 #include <ostream>
 #include <stdexcept>
 #include <string>
+#include <unistd.h>
 
 namespace hipfai {
 namespace {
@@ -148,6 +149,18 @@ TEST_F(AtomicFileTest, FolderFinishedFirstElsewhereIsKeptAndAnIncompleteOneRepla
   EXPECT_TRUE(fresh.commit(has_done_file));
   EXPECT_EQ(contents(dir_ / "broken" / "done"), "new");
   EXPECT_FALSE(fs::exists(dir_ / "broken" / "half"));
+}
+
+TEST_F(AtomicFileTest, FoldersOfDeadProcessesAreRemovedByTheNextRun) {
+  // 2147483646 exceeds Linux's largest pid (2^22), so no process has it.
+  const fs::path dead = dir_ / "entry.2147483646-0.partial";
+  const fs::path live = dir_ / ("entry." + std::to_string(::getpid()) + "-999.partial");
+  const fs::path other = dir_ / "other.2147483646-0.partial";
+  for (const fs::path& folder : {dead, live, other}) fs::create_directories(folder / "sub");
+  const AtomicDirectory next(dir_ / "entry");
+  EXPECT_FALSE(fs::exists(dead));
+  EXPECT_TRUE(fs::exists(live));   // this process's own
+  EXPECT_TRUE(fs::exists(other));  // another target's
 }
 
 TEST_F(AtomicFileTest, KeptFolderStaysForItsLog) {
