@@ -3,11 +3,14 @@
 #include "core/error.h"
 
 #include <atomic>
+#include <charconv>
+#include <csignal>
 #include <cerrno>
 #include <cstring>
 #include <fstream>
 #include <string>
 #include <system_error>
+#include <vector>
 #include <unistd.h>
 
 namespace hipfai {
@@ -16,6 +19,29 @@ namespace {
 std::filesystem::path partial_path_for(const std::filesystem::path& target) {
   static std::atomic<unsigned long> counter{0};
   return target.string() + "." + std::to_string(::getpid()) + "-" + std::to_string(counter++) + ".partial";
+}
+
+// Removes the temporary folders of `target` left by processes that no longer exist (killed before
+// they could clean up), as the next run used to remove a fixed "<target>.partial". Folders of
+// live processes, including this one, are theirs.
+void remove_orphaned_folders(const std::filesystem::path& target) {
+  const std::string prefix = target.filename().string() + ".";
+  const std::string suffix = ".partial";
+  const std::filesystem::path parent = target.has_parent_path() ? target.parent_path() : ".";
+  std::vector<std::filesystem::path> orphans;
+  std::error_code error;
+  for (std::filesystem::directory_iterator it(parent, error), end; !error && it != end; it.increment(error)) {
+    const std::string name = it->path().filename().string();
+    if (name.size() <= prefix.size() + suffix.size() || name.rfind(prefix, 0) != 0 || !name.ends_with(suffix)) continue;
+    const std::string_view middle(name.data() + prefix.size(), name.size() - prefix.size() - suffix.size());
+    long pid = 0;  // "<pid>-<n>"
+    const auto [end_of_pid, parsed] = std::from_chars(middle.data(), middle.data() + middle.size(), pid);
+    if (parsed != std::errc() || end_of_pid == middle.data() + middle.size() || *end_of_pid != '-') continue;
+    if (pid <= 0 || pid == ::getpid()) continue;
+    if (::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;  // alive, or not ours to judge
+    orphans.push_back(it->path());
+  }
+  for (const auto& orphan : orphans) std::filesystem::remove_all(orphan, error);
 }
 
 }  // namespace
@@ -49,6 +75,38 @@ void write_file_atomically(const std::filesystem::path& path,
     if (!out) throw_error(path.string(), ": write failed");
   }
   file.commit();
+}
+
+AtomicDirectory::AtomicDirectory(std::filesystem::path target)
+    : target_(std::move(target)), partial_(partial_path_for(target_)) {
+  remove_orphaned_folders(target_);
+  std::error_code error;
+  std::filesystem::create_directories(partial_, error);
+  if (error) throw_error(target_.string(), ": cannot create the folder to fill (", error.message(), ")");
+}
+
+AtomicDirectory::~AtomicDirectory() {
+  if (committed_ || kept_) return;
+  std::error_code ignored;  // nothing may be thrown here
+  std::filesystem::remove_all(partial_, ignored);
+}
+
+bool AtomicDirectory::commit(const std::function<bool(const std::filesystem::path&)>& is_complete) {
+  std::error_code error;
+  std::filesystem::rename(partial_, target_, error);  // fails on an existing non-empty folder
+  if (!error) {
+    committed_ = true;
+    return true;
+  }
+  if (std::filesystem::exists(target_) && is_complete(target_)) return false;  // the destructor drops ours
+  std::error_code ignored;
+  std::filesystem::remove_all(target_, ignored);
+  std::filesystem::rename(partial_, target_, error);
+  if (error) {
+    throw_error(target_.string(), ": cannot move the finished folder into place (", error.message(), ")");
+  }
+  committed_ = true;
+  return true;
 }
 
 void write_file_atomically(const std::filesystem::path& path, std::string_view bytes) {

@@ -48,4 +48,36 @@ void write_file_atomically(const std::filesystem::path& path,
 // The same for content already in memory.
 void write_file_atomically(const std::filesystem::path& path, std::string_view bytes);
 
+// A folder filled under a temporary name beside `target` (same naming as AtomicFile) and renamed
+// into place by commit(), for cache entries made of several files (a generated hip, a finished
+// FE run): a folder under the target's name is always whole. Destroyed without commit() or
+// keep(), the temporary folder is removed with its content; the folders of processes that died
+// before that (killed) are removed by the next AtomicDirectory of the same target.
+class AtomicDirectory {
+ public:
+  // Creates the empty temporary folder. Throws hipfai::Error "<target>: cannot create ...".
+  explicit AtomicDirectory(std::filesystem::path target);
+  ~AtomicDirectory();
+  AtomicDirectory(const AtomicDirectory&) = delete;
+  AtomicDirectory& operator=(const AtomicDirectory&) = delete;
+
+  const std::filesystem::path& target() const { return target_; }
+  const std::filesystem::path& partial_path() const { return partial_; }
+
+  // Leaves the temporary folder on disk (a failed run whose log an error message points to).
+  void keep() { kept_ = true; }
+
+  // Moves the folder into place and returns true. When `target` exists already and
+  // `is_complete(target)`, another process made the same entry first (entries are named by a
+  // hash of their inputs): theirs stays, this folder is dropped, and false is returned. An
+  // incomplete `target` is replaced. Throws hipfai::Error when the move fails.
+  bool commit(const std::function<bool(const std::filesystem::path&)>& is_complete);
+
+ private:
+  std::filesystem::path target_;
+  std::filesystem::path partial_;
+  bool committed_ = false;
+  bool kept_ = false;
+};
+
 }  // namespace hipfai

@@ -2,8 +2,8 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
-#include "geometry/hip_volume_mesh.h"
 #include "geometry/hip_measure.h"
+#include "geometry/hip_volume_mesh.h"
 #include "geometry/mesh_io.h"
 
 #include <nlohmann/json.hpp>

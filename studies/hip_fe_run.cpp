@@ -280,32 +280,24 @@ CachedHipFe run_hip_fe_cached(HipFeRunOptions options, const std::filesystem::pa
     cached.table = read_hip_fe_csv(cached.entry / "fe.csv");
     cached.reused = true;
   } else {
-    const std::filesystem::path partial = cached.entry.string() + ".partial";
-    std::filesystem::remove_all(partial);
-    std::filesystem::create_directories(partial);
-    options.out_file = (partial / "results.h5").string();
-    options.csv_file = (partial / "fe.csv").string();
+    AtomicDirectory staging(cached.entry);
+    options.out_file = (staging.partial_path() / "results.h5").string();
+    options.csv_file = (staging.partial_path() / "fe.csv").string();
     options.results_location = (cached.entry / "results.h5").string();
     (void)run_hip_fe(options, false);
-    commit_hip_fe_entry(partial, cached.entry);
+    commit_hip_fe_entry(staging);
     cached.table = read_hip_fe_csv(cached.entry / "fe.csv");
   }
   cached.seconds = seconds_since(start);
   return cached;
 }
 
-void commit_hip_fe_entry(const std::filesystem::path& partial, const std::filesystem::path& entry) {
-  if (!std::filesystem::exists(partial / "fe.csv")) {
-    throw_error(partial.string(), ": the FE run left no table (fe.csv); see its run.log");
+void commit_hip_fe_entry(AtomicDirectory& run) {
+  if (!std::filesystem::exists(run.partial_path() / "fe.csv")) {
+    run.keep();  // its run.log says why
+    throw_error(run.partial_path().string(), ": the FE run left no table (fe.csv); see its run.log");
   }
-  std::error_code error;
-  std::filesystem::rename(partial, entry, error);
-  if (error) {
-    if (!std::filesystem::exists(entry / "fe.csv")) {
-      throw_error(entry.string(), ": cannot move the finished FE run into the cache: ", error.message());
-    }
-    std::filesystem::remove_all(partial);
-  }
+  run.commit([](const std::filesystem::path& entry) { return std::filesystem::exists(entry / "fe.csv"); });
 }
 
 std::vector<std::string> hip_fe_command_arguments(const HipFeRunOptions& options) {

@@ -14,11 +14,13 @@
 // joint force, the peak-average radius, the solver and a content hash of the sources behind
 // FE results (kFeSourceHash: core/, geometry/, fem/, this driver; a commit elsewhere keeps the cache) — and stored under
 // <cache>/fe/<key>/ (fe.csv, results.h5, run.log). An entry exists only when complete: it is
-// computed in <key>.partial/ and renamed when the motion has finished.
+// computed in a temporary folder beside it (core/atomic_file.h, AtomicDirectory) and renamed
+// when the motion has finished.
 #pragma once
 
 #ifdef HIPFAI_WITH_FEM
 
+#include "core/atomic_file.h"
 #include "fem/hip_fe_model.h"
 #include "studies/motion.h"
 
@@ -109,9 +111,10 @@ struct CachedHipFe {
 };
 CachedHipFe run_hip_fe_cached(HipFeRunOptions options, const std::filesystem::path& cache_dir);
 
-// Moves a finished run's folder (<entry>.partial) into place as the entry `entry`; when another
-// process finished the same entry first, the partial folder is dropped.
-void commit_hip_fe_entry(const std::filesystem::path& partial, const std::filesystem::path& entry);
+// Moves a finished run's folder (filled at run.partial_path()) into place as its cache entry;
+// when another process finished the same entry first, this one is dropped. A run that left no
+// fe.csv is an error, and its folder is kept for its run.log.
+void commit_hip_fe_entry(AtomicDirectory& run);
 
 // The command line of `hipfai fem run` that computes `options` (out/csv/vtu as set in them), for
 // running a hip in its own process. Only standing-to-sitting or a motion file can be passed.

@@ -1,5 +1,6 @@
 #include "studies/hip_source.h"
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/hash.h"
 #include "core/source_hashes.h"
@@ -65,11 +66,9 @@ LoadedHip acquire_hip(const Scene& scene, const std::set<std::string>& tissues,
     } else {
       const auto generated = geometry::generate_hip(parameters_of(*scene.parametric));
       // Written beside the final folder and renamed, so an interrupted run leaves no half model.
-      const std::filesystem::path partial = hip.dir.string() + ".partial";
-      std::filesystem::remove_all(partial);
-      geometry::write_hip_model(generated.model, partial, "ply");
-      std::filesystem::remove_all(hip.dir);
-      std::filesystem::rename(partial, hip.dir);
+      AtomicDirectory staging(hip.dir);
+      geometry::write_hip_model(generated.model, staging.partial_path(), "ply");
+      staging.commit([](const std::filesystem::path& dir) { return std::filesystem::exists(dir / "model.json"); });
       log.ran(StageKind::kGenerateHip);
     }
   } else {

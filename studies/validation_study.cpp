@@ -237,9 +237,8 @@ struct FeJob {
 // Solves the FE of one hip into its cache entry (in this process or a worker process); writes the
 // run's wall time beside its table.
 void solve_fe(const FeJob& job, const ValidationOptions& options) {
-  const std::filesystem::path partial = job.entry.string() + ".partial";
-  std::filesystem::remove_all(partial);
-  std::filesystem::create_directories(partial);
+  AtomicDirectory staging(job.entry);
+  const std::filesystem::path& partial = staging.partial_path();
   HipFeRunOptions run = job.run;
   run.out_file = (partial / "results.h5").string();
   run.csv_file = (partial / "fe.csv").string();
@@ -253,12 +252,13 @@ void solve_fe(const FeJob& job, const ValidationOptions& options) {
     const int status = run_process(options.program, hip_fe_command_arguments(run), partial / "run.log");
     // Exit status 1 with a complete table: some steps did not converge (kept, with their status).
     if (status != 0 && !std::filesystem::exists(partial / "fe.csv")) {
+      staging.keep();  // the log the message points to
       throw_error("FE of ", job.run.model_dir, " failed (exit status ", status, "); see ",
                   (partial / "run.log").string());
     }
   }
   write_file_atomically(partial / "timing.txt", "wall_s " + number(seconds_since(start)) + "\n");
-  commit_hip_fe_entry(partial, job.entry);
+  commit_hip_fe_entry(staging);
 }
 
 void run_fe_stage(std::vector<HipRun>& hips, const Motion& motion, const ValidationOptions& options) {

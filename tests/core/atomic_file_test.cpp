@@ -10,6 +10,7 @@
 #include <ostream>
 #include <stdexcept>
 #include <string>
+#include <unistd.h>
 
 namespace hipfai {
 namespace {
@@ -108,6 +109,71 @@ TEST_F(AtomicFileTest, CommitOntoADirectoryFailsAndCleansUp) {
         << e.what();
   }
   EXPECT_EQ(files_in_dir(), 1u);  // the directory only, no temporary beside it
+}
+
+
+// ---- folders
+
+bool has_done_file(const fs::path& dir) { return fs::exists(dir / "done"); }
+
+TEST_F(AtomicFileTest, FolderArrivesWholeAndUncommittedOneIsRemoved) {
+  {
+    AtomicDirectory folder(dir_ / "entry");
+    write_file_atomically(folder.partial_path() / "done", std::string("1"));
+    EXPECT_FALSE(fs::exists(dir_ / "entry"));  // nothing under the target's name until commit
+    EXPECT_TRUE(folder.commit(has_done_file));
+  }
+  EXPECT_EQ(contents(dir_ / "entry" / "done"), "1");
+  {
+    AtomicDirectory abandoned(dir_ / "other");
+    std::ofstream(abandoned.partial_path() / "half") << "interrupted";
+  }
+  EXPECT_EQ(files_in_dir(), 1u);  // "entry" only: the abandoned folder went with its content
+}
+
+TEST_F(AtomicFileTest, FolderFinishedFirstElsewhereIsKeptAndAnIncompleteOneReplaced) {
+  fs::create_directories(dir_ / "entry");
+  write_file_atomically(dir_ / "entry" / "done", std::string("theirs"));
+  {
+    AtomicDirectory late(dir_ / "entry");
+    write_file_atomically(late.partial_path() / "done", std::string("ours"));
+    EXPECT_FALSE(late.commit(has_done_file));
+  }
+  EXPECT_EQ(contents(dir_ / "entry" / "done"), "theirs");
+  EXPECT_EQ(files_in_dir(), 1u);
+
+  fs::create_directories(dir_ / "broken");
+  std::ofstream(dir_ / "broken" / "half") << "left by a killed run";
+  AtomicDirectory fresh(dir_ / "broken");
+  write_file_atomically(fresh.partial_path() / "done", std::string("new"));
+  EXPECT_TRUE(fresh.commit(has_done_file));
+  EXPECT_EQ(contents(dir_ / "broken" / "done"), "new");
+  EXPECT_FALSE(fs::exists(dir_ / "broken" / "half"));
+}
+
+TEST_F(AtomicFileTest, FoldersOfDeadProcessesAreRemovedByTheNextRun) {
+  // 2147483646 exceeds Linux's largest pid (2^22), so no process has it.
+  const fs::path dead = dir_ / "entry.2147483646-0.partial";
+  const fs::path live = dir_ / ("entry." + std::to_string(::getpid()) + "-999.partial");
+  const fs::path other = dir_ / "other.2147483646-0.partial";
+  for (const fs::path& folder : {dead, live, other}) fs::create_directories(folder / "sub");
+  const AtomicDirectory next(dir_ / "entry");
+  EXPECT_FALSE(fs::exists(dead));
+  EXPECT_TRUE(fs::exists(live));   // this process's own
+  EXPECT_TRUE(fs::exists(other));  // another target's
+}
+
+TEST_F(AtomicFileTest, KeptFolderStaysForItsLog) {
+  fs::path partial;
+  {
+    AtomicDirectory failed(dir_ / "entry");
+    partial = failed.partial_path();
+    std::ofstream(partial / "run.log") << "why it failed";
+    failed.keep();
+  }
+  EXPECT_EQ(contents(partial / "run.log"), "why it failed");
+  EXPECT_FALSE(fs::exists(dir_ / "entry"));
+  fs::remove_all(partial);
 }
 
 }  // namespace
