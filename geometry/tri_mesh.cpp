@@ -89,7 +89,8 @@ TriMesh merge_meshes(const std::vector<const TriMesh*>& parts) {
     }
   }
   if (parts.empty()) return out;
-  for (const auto& [name, values] : parts.front()->vertex_fields) {
+  for (const auto& field_of_first : parts.front()->vertex_fields) {
+    const std::string& name = field_of_first.first;  // not a structured binding: lambdas capture it (clang 14)
     const bool everywhere = std::all_of(parts.begin(), parts.end(), [&](const TriMesh* part) {
       return part->vertex_fields.count(name) != 0;
     });
