@@ -24,6 +24,20 @@ std::filesystem::path partial_path_for(const std::filesystem::path& target) {
 // Removes the temporary folders of `target` left by processes that no longer exist (killed before
 // they could clean up), as the next run used to remove a fixed "<target>.partial". Folders of
 // live processes, including this one, are theirs.
+// A process that exists and has not terminated. A killed process whose parent died too can stay a
+// zombie (state Z in /proc/<pid>/stat) where PID 1 does not reap, e.g. in containers: kill(pid, 0)
+// still succeeds for it, but it will never finish its folder.
+bool process_is_running(pid_t pid) {
+  if (::kill(pid, 0) != 0 && errno == ESRCH) return false;
+  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+  std::string line;
+  if (!stat || !std::getline(stat, line)) return true;  // cannot tell: assume it runs
+  const std::size_t close = line.rfind(')');            // the command name may hold spaces and ')'
+  if (close == std::string::npos || close + 2 >= line.size()) return true;
+  const char state = line[close + 2];
+  return state != 'Z' && state != 'X';
+}
+
 void remove_orphaned_folders(const std::filesystem::path& target) {
   const std::string prefix = target.filename().string() + ".";
   const std::string suffix = ".partial";
@@ -38,7 +52,7 @@ void remove_orphaned_folders(const std::filesystem::path& target) {
     const auto [end_of_pid, parsed] = std::from_chars(middle.data(), middle.data() + middle.size(), pid);
     if (parsed != std::errc() || end_of_pid == middle.data() + middle.size() || *end_of_pid != '-') continue;
     if (pid <= 0 || pid == ::getpid()) continue;
-    if (::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;  // alive, or not ours to judge
+    if (process_is_running(static_cast<pid_t>(pid))) continue;
     orphans.push_back(it->path());
   }
   for (const auto& orphan : orphans) std::filesystem::remove_all(orphan, error);

@@ -10,6 +10,7 @@
 #include <ostream>
 #include <stdexcept>
 #include <string>
+#include <sys/wait.h>
 #include <unistd.h>
 
 namespace hipfai {
@@ -161,6 +162,27 @@ TEST_F(AtomicFileTest, FoldersOfDeadProcessesAreRemovedByTheNextRun) {
   EXPECT_FALSE(fs::exists(dead));
   EXPECT_TRUE(fs::exists(live));   // this process's own
   EXPECT_TRUE(fs::exists(other));  // another target's
+}
+
+// A process killed with its parent can stay a zombie where nothing reaps it (PID 1 of a container):
+// it exists for kill(pid, 0) but will never finish its folder, which the next run must remove.
+TEST_F(AtomicFileTest, FoldersOfZombieProcessesAreRemovedByTheNextRun) {
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) ::_exit(0);
+  // Not reaped yet: a zombie once it has exited.
+  for (int wait_ms = 0; wait_ms < 5000; wait_ms += 10) {
+    std::ifstream stat("/proc/" + std::to_string(child) + "/stat");
+    std::string line;
+    std::getline(stat, line);
+    if (line.find(") Z") != std::string::npos) break;
+    ::usleep(10000);
+  }
+  const fs::path zombie = dir_ / ("entry." + std::to_string(child) + "-0.partial");
+  fs::create_directories(zombie);
+  const AtomicDirectory next(dir_ / "entry");
+  EXPECT_FALSE(fs::exists(zombie));
+  ::waitpid(child, nullptr, 0);
 }
 
 TEST_F(AtomicFileTest, KeptFolderStaysForItsLog) {
