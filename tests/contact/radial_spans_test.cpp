@@ -263,7 +263,7 @@ TEST(RadialSpans, CulledEqualsUnculledOnRandomMeshes) {
   }
 }
 
-TEST(RadialSpans, CulledEqualsUnculledOnAGeneratedHipAtSeveralPoses) {
+TEST(RadialSpansOnGeneratedHip, CulledEqualsUnculledAtSeveralPoses) {
   geometry::HipParameters parameters;
   parameters.ce_deg = 30.0;
   parameters.alpha_deg = 60.0;
