@@ -21,9 +21,6 @@ std::filesystem::path partial_path_for(const std::filesystem::path& target) {
   return target.string() + "." + std::to_string(::getpid()) + "-" + std::to_string(counter++) + ".partial";
 }
 
-// Removes the temporary folders of `target` left by processes that no longer exist (killed before
-// they could clean up), as the next run used to remove a fixed "<target>.partial". Folders of
-// live processes, including this one, are theirs.
 // A process that exists and has not terminated. A killed process whose parent died too can stay a
 // zombie (state Z in /proc/<pid>/stat) where PID 1 does not reap, e.g. in containers: kill(pid, 0)
 // still succeeds for it, but it will never finish its folder.
@@ -38,7 +35,9 @@ bool process_is_running(pid_t pid) {
   return state != 'Z' && state != 'X';
 }
 
-void remove_orphaned_folders(const std::filesystem::path& target) {
+// Removes the temporary files or folders of `target` left by processes that no longer exist
+// (killed before they could clean up). Those of live processes, including this one, are theirs.
+void remove_orphaned_partials(const std::filesystem::path& target) {
   const std::string prefix = target.filename().string() + ".";
   const std::string suffix = ".partial";
   const std::filesystem::path parent = target.has_parent_path() ? target.parent_path() : ".";
@@ -61,7 +60,9 @@ void remove_orphaned_folders(const std::filesystem::path& target) {
 }  // namespace
 
 AtomicFile::AtomicFile(std::filesystem::path target)
-    : target_(std::move(target)), partial_(partial_path_for(target_)) {}
+    : target_(std::move(target)), partial_(partial_path_for(target_)) {
+  remove_orphaned_partials(target_);
+}
 
 AtomicFile::~AtomicFile() {
   if (committed_) return;
@@ -93,7 +94,7 @@ void write_file_atomically(const std::filesystem::path& path,
 
 AtomicDirectory::AtomicDirectory(std::filesystem::path target)
     : target_(std::move(target)), partial_(partial_path_for(target_)) {
-  remove_orphaned_folders(target_);
+  remove_orphaned_partials(target_);
   std::error_code error;
   std::filesystem::create_directories(partial_, error);
   if (error) throw_error(target_.string(), ": cannot create the folder to fill (", error.message(), ")");

@@ -10,6 +10,7 @@
 #include <ostream>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -159,6 +160,20 @@ TEST_F(AtomicFileTest, FoldersOfDeadProcessesAreRemovedByTheNextRun) {
   const fs::path other = dir_ / "other.2147483646-0.partial";
   for (const fs::path& folder : {dead, live, other}) fs::create_directories(folder / "sub");
   const AtomicDirectory next(dir_ / "entry");
+  EXPECT_FALSE(fs::exists(dead));
+  EXPECT_TRUE(fs::exists(live));   // this process's own
+  EXPECT_TRUE(fs::exists(other));  // another target's
+}
+
+// A writer killed mid-write leaves "<target>.<pid>-<n>.partial" beside the target (a generated hip's
+// folder is written file by file); the next write of that target removes it, and only it.
+TEST_F(AtomicFileTest, FilesOfDeadProcessesAreRemovedByTheNextWrite) {
+  const fs::path dead = dir_ / "mesh.ply.2147483646-3.partial";
+  const fs::path live = dir_ / ("mesh.ply." + std::to_string(::getpid()) + "-999.partial");
+  const fs::path other = dir_ / "mesh.ply.json.2147483646-0.partial";
+  for (const fs::path& file : {dead, live, other}) std::ofstream(file) << "half";
+  write_file_atomically(dir_ / "mesh.ply", std::string_view("whole"));
+  EXPECT_EQ(contents(dir_ / "mesh.ply"), "whole");
   EXPECT_FALSE(fs::exists(dead));
   EXPECT_TRUE(fs::exists(live));   // this process's own
   EXPECT_TRUE(fs::exists(other));  // another target's
