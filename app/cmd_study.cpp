@@ -39,6 +39,11 @@ const CommandRegistrar registrar("study", [](CLI::App& parent) {
       ->delimiter(',');
   fai->add_option("--mapping", *mapping, "Radial mapping")->capture_default_str()
       ->check(CLI::IsMember({"spherical", "cartesian", "cube"}));
+  auto radial_rule = std::make_shared<std::string>(contact::to_string(options->radial_rule));
+  fai->add_option("--radial-rule", *radial_rule,
+                  "Radial penetration: 'union' (femur inside the acetabular soft tissues) or 'beyond' (the "
+                  "thesis' rule: femur beyond the socket's surface along the ray from the HJC)")
+      ->capture_default_str()->check(CLI::IsMember({"union", "beyond"}));
   fai->add_option("--table-size", options->table_size, "Radial table cells")->capture_default_str()
       ->check(CLI::Range(6LL, 100000000LL));
   fai->add_option("--threads", options->threads, "Threads for the per-pose queries")->capture_default_str()
@@ -53,6 +58,8 @@ const CommandRegistrar registrar("study", [](CLI::App& parent) {
     run.cache_dir = *cache;
     run.resolution_edges_mm = *resolutions;
     run.mapping = *studies::radial_mapping_from_name(*mapping);  // a member: checked by IsMember
+    run.radial_rule = *radial_rule == "beyond" ? contact::RadialCrossingRule::kBeyond
+                                               : contact::RadialCrossingRule::kUnion;
     if (*quick) {
       run.edge_mm = 3.0;
       run.sub_motions = 10;

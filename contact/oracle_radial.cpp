@@ -11,6 +11,39 @@ namespace hipfai::contact {
 
 namespace {
 
+struct Hit {
+  double t;
+  int facing;
+  std::int32_t triangle;
+};
+
+// Every crossing of the ray from `centre` along `direction` with every fixed triangle, in
+// triangle order.
+std::vector<Hit> all_crossings(const geometry::TriMesh& fixed, const Vec3& centre, const Vec3& direction) {
+  std::vector<Hit> hits;
+  for (std::size_t t = 0; t < fixed.num_triangles(); ++t) {
+    const auto& tri = fixed.triangles[t];
+    const RayCrossing crossing = ray_triangle_crossing(
+        direction, fixed.vertices[static_cast<std::size_t>(tri[0])] - centre,
+        fixed.vertices[static_cast<std::size_t>(tri[1])] - centre,
+        fixed.vertices[static_cast<std::size_t>(tri[2])] - centre);
+    if (crossing.hit) hits.push_back({crossing.t, crossing.facing, static_cast<std::int32_t>(t)});
+  }
+  return hits;
+}
+
+// The accepted hit with the smallest t (`smallest`) or the largest; equal t keeps the lowest
+// triangle index (hits come in triangle order). Null when no hit is accepted.
+template <typename Accept>
+const Hit* pick(const std::vector<Hit>& hits, bool smallest, Accept accept) {
+  const Hit* best = nullptr;
+  for (const Hit& h : hits) {
+    if (!accept(h.t)) continue;
+    if (best == nullptr || (smallest ? h.t < best->t : h.t > best->t)) best = &h;
+  }
+  return best;
+}
+
 // kUnion by brute force: every crossing of every triangle, then the winding number evaluated
 // directly at the midpoint between consecutive distinct crossing distances.
 PenetrationResult oracle_radial_union(const geometry::TriMesh& fixed, const geometry::TriMesh& mobile,
@@ -20,20 +53,10 @@ PenetrationResult oracle_radial_union(const geometry::TriMesh& fixed, const geom
   for (std::size_t v = 0; v < mobile.num_vertices(); ++v) {
     const Vec3 direction = mobile.vertices[v] - centre;
     if (direction.isZero(0.0)) continue;
-    struct Hit {
-      double t;
-      int facing;
-      std::int32_t triangle;
-    };
+    // One geometric crossing split over triangles sharing an edge or vertex counts once.
     std::vector<Hit> hits;
-    for (std::size_t t = 0; t < fixed.num_triangles(); ++t) {
-      const auto& tri = fixed.triangles[t];
-      const RayCrossing crossing = ray_triangle_crossing(
-          direction, fixed.vertices[static_cast<std::size_t>(tri[0])] - centre,
-          fixed.vertices[static_cast<std::size_t>(tri[1])] - centre,
-          fixed.vertices[static_cast<std::size_t>(tri[2])] - centre);
-      if (!crossing.hit) continue;
-      // One geometric crossing split over triangles sharing an edge or vertex counts once.
+    for (const Hit& crossing : all_crossings(fixed, centre, direction)) {
+      const auto& tri = fixed.triangles[static_cast<std::size_t>(crossing.triangle)];
       bool duplicate = false;
       for (const Hit& h : hits) {
         if (h.facing != crossing.facing || std::abs(h.t - crossing.t) > 1e-12 * crossing.t) continue;
@@ -41,7 +64,7 @@ PenetrationResult oracle_radial_union(const geometry::TriMesh& fixed, const geom
           for (auto j : tri) duplicate = duplicate || i == j;
         }
       }
-      if (!duplicate) hits.push_back({crossing.t, crossing.facing, static_cast<std::int32_t>(t)});
+      if (!duplicate) hits.push_back(crossing);
     }
     auto winding_at = [&](double s) {
       int w = 0;
@@ -109,33 +132,20 @@ PenetrationResult oracle_radial(const geometry::TriMesh& fixed, const geometry::
   for (std::size_t v = 0; v < mobile.num_vertices(); ++v) {
     const Vec3 direction = mobile.vertices[v] - centre;
     if (direction.isZero(0.0)) continue;
-    // Collect the adjacent crossing by a full scan; the lowest index wins ties because the scan
-    // goes upward and only a strictly closer crossing replaces the current one.
-    bool found = false;
-    double best_t = 0.0;
-    int best_facing = 0;
-    std::int32_t best_triangle = -1;
-    for (std::size_t t = 0; t < fixed.num_triangles(); ++t) {
-      const auto& tri = fixed.triangles[t];
-      const RayCrossing crossing = ray_triangle_crossing(
-          direction, fixed.vertices[static_cast<std::size_t>(tri[0])] - centre,
-          fixed.vertices[static_cast<std::size_t>(tri[1])] - centre,
-          fixed.vertices[static_cast<std::size_t>(tri[2])] - centre);
-      if (!crossing.hit) continue;
-      const bool on_side = inside_fixed ? crossing.t <= 1.0 : crossing.t >= 1.0;
-      if (!on_side) continue;
-      const bool closer = inside_fixed ? crossing.t > best_t : crossing.t < best_t;
-      if (!found || closer) {
-        found = true;
-        best_t = crossing.t;
-        best_facing = crossing.facing;
-        best_triangle = static_cast<std::int32_t>(t);
-      }
+    const auto hits = all_crossings(fixed, centre, direction);
+    const Hit* best = nullptr;
+    if (rule == RadialCrossingRule::kBeyond) {
+      // The crossing farthest from v on its side: towards O (smallest t in (0, 1)) or away (largest t > 1).
+      best = pick(hits, inside_fixed, [&](double t) { return inside_fixed ? t > 0.0 && t < 1.0 : t > 1.0; });
+      if (best == nullptr) continue;
+    } else {
+      // The adjacent crossing: nearest v on its side (largest t <= 1, or smallest t >= 1); the
+      // normals decide, and a vertex on the surface does not penetrate.
+      best = pick(hits, !inside_fixed, [&](double t) { return inside_fixed ? t <= 1.0 : t >= 1.0; });
+      if (best == nullptr || best->t == 1.0 || best->facing != (inside_fixed ? -1 : 1)) continue;
     }
-    if (!found || best_t == 1.0) continue;
-    if (best_facing != (inside_fixed ? -1 : 1)) continue;
-    const double depth = (inside_fixed ? 1.0 - best_t : best_t - 1.0) * direction.norm();
-    result.pairs.push_back({static_cast<std::int32_t>(v), best_triangle, depth});
+    const double depth = (inside_fixed ? 1.0 - best->t : best->t - 1.0) * direction.norm();
+    result.pairs.push_back({static_cast<std::int32_t>(v), best->triangle, depth});
   }
   return result;
 }

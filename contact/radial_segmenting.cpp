@@ -169,7 +169,8 @@ bool resolve_union(const geometry::TriMesh& fixed, std::vector<Crossing>& crossi
 // Which side of a radial span the crossing rule needs (radial_spans.h).
 SpanCull span_side(const RadialQueryOptions& options) {
   const bool inside_fixed = options.configuration == RadialConfiguration::kMobileInsideFixed;
-  return options.rule == RadialCrossingRule::kAdjacent && inside_fixed ? SpanCull::kBelowLo : SpanCull::kAboveHi;
+  // kAdjacent and kBeyond need a crossing on one side of v only; kUnion needs those beyond v.
+  return options.rule != RadialCrossingRule::kUnion && inside_fixed ? SpanCull::kBelowLo : SpanCull::kAboveHi;
 }
 
 // What a query needs for every vertex, fixed for one query.
@@ -178,16 +179,17 @@ struct VertexQuery {
               bool use_spans_in)
       : table(table_in), fixed(fixed_in), options(options_in), spans(table_in.spans), use_spans(use_spans_in),
         inside_fixed(options_in.configuration == RadialConfiguration::kMobileInsideFixed),
-        union_rule(options_in.rule == RadialCrossingRule::kUnion), side(span_side(options_in)),
-        // Per-triangle skipping only where the rule looks at crossings on one side of v (kAdjacent).
-        skip_triangles(use_spans_in && options_in.rule == RadialCrossingRule::kAdjacent),
+        union_rule(options_in.rule == RadialCrossingRule::kUnion),
+        beyond_rule(options_in.rule == RadialCrossingRule::kBeyond), side(span_side(options_in)),
+        // Per-triangle skipping only where the rule looks at crossings on one side of v.
+        skip_triangles(use_spans_in && options_in.rule != RadialCrossingRule::kUnion),
         cap_radius(options_in.neighbour_cells * table_in.grid.nominal_cell_angle_rad()) {}
 
   const RadialTable& table;
   const geometry::TriMesh& fixed;
   const RadialQueryOptions& options;
   const RadialSpans& spans;
-  bool use_spans, inside_fixed, union_rule;
+  bool use_spans, inside_fixed, union_rule, beyond_rule;
   SpanCull side;
   bool skip_triangles;
   double cap_radius;
@@ -210,7 +212,7 @@ struct VertexQuery {
     scratch.crossings.clear();
     const double m_d = max_abs(direction);
     auto offer_triangle = [&](std::int32_t t) {
-      if (union_rule) {
+      if (union_rule || beyond_rule) {
         const RayCrossing crossing = crossing_of(fixed, table.centre, direction, m_d, t);
         if (crossing.hit) scratch.crossings.push_back({crossing.t, crossing.facing, t});
       } else {
@@ -250,6 +252,21 @@ struct VertexQuery {
       if (!resolve_union(fixed, scratch.crossings, inside_fixed, t_union, triangle)) return false;
       const double depth = (inside_fixed ? 1.0 - t_union : t_union - 1.0) * direction.norm();
       out = PenetrationPair{index, triangle, depth};
+      return true;
+    }
+    if (beyond_rule) {
+      // The crossing farthest from v on its side (ties: the lowest triangle index).
+      const Crossing* chosen = nullptr;
+      for (const Crossing& c : scratch.crossings) {
+        if (inside_fixed ? !(c.t > 0.0 && c.t < 1.0) : !(c.t > 1.0)) continue;
+        if (chosen == nullptr || (inside_fixed ? c.t < chosen->t : c.t > chosen->t) ||
+            (c.t == chosen->t && c.triangle < chosen->triangle)) {
+          chosen = &c;
+        }
+      }
+      if (chosen == nullptr) return false;
+      const double depth = (inside_fixed ? 1.0 - chosen->t : chosen->t - 1.0) * direction.norm();
+      out = PenetrationPair{index, chosen->triangle, depth};
       return true;
     }
     if (!adjacent.found || adjacent.t == 1.0) return false;
@@ -299,6 +316,15 @@ std::string check_inputs(const RadialTable& table, const geometry::TriMesh& fixe
 const char* to_string(RadialConfiguration configuration) {
   return configuration == RadialConfiguration::kMobileInsideFixed ? "mobile_inside_fixed"
                                                                   : "fixed_inside_mobile";
+}
+
+const char* to_string(RadialCrossingRule rule) {
+  switch (rule) {
+    case RadialCrossingRule::kAdjacent: return "adjacent";
+    case RadialCrossingRule::kUnion: return "union";
+    case RadialCrossingRule::kBeyond: return "beyond";
+  }
+  return "unknown";
 }
 
 RadialConfiguration swapped(RadialConfiguration configuration) {

@@ -62,7 +62,20 @@ RadialConfiguration swapped(RadialConfiguration configuration);
 //              ray: sum over crossings beyond v of +1 (exit) / -1 (enter); the crossings of
 //              one ray through a shared edge or vertex (equal t and facing, triangles sharing a
 //              vertex) count once. If the union reaches O (kMobileInsideFixed) the depth is |v - O|.
-enum class RadialCrossingRule { kAdjacent, kUnion };
+//   kBeyond    the thesis' rule read literally (§3.3.2, Fig. 27 without its normals; §4.3.2.1: "If
+//              the radial distance of a femur vertex to the center was more than the radial
+//              distance of its corresponding acetabular soft tissues polygon, the femur vertex was
+//              returned as a penetrated vertex"): for kMobileInsideFixed v penetrates iff some fixed
+//              triangle lies between O and v on its ray (a crossing with 0 < t < 1), whatever its
+//              facing, and the depth is measured to the crossing nearest O (the socket's articular
+//              surface): (1 - t_min) |v - O|. For kFixedInsideMobile: a crossing with t > 1, depth
+//              (t_max - 1) |v - O|. It measures how far v stands beyond the fixed surface in the
+//              fixed mesh's directions, also when v has passed through a thin layer (the labrum)
+//              and is no longer inside any fixed solid.
+enum class RadialCrossingRule { kAdjacent, kUnion, kBeyond };
+
+// "adjacent", "union", "beyond": the names users write (study options) and reports print.
+const char* to_string(RadialCrossingRule rule);
 
 struct RadialQueryOptions {
   RadialConfiguration configuration = RadialConfiguration::kMobileInsideFixed;

@@ -13,6 +13,8 @@
 //       kAdjacent, kMobileInsideFixed   needs a crossing with t < 1: culled when r < lo;
 //       kAdjacent, kFixedInsideMobile   needs a crossing with t > 1: culled when r > hi;
 //       kUnion (either configuration)   needs winding > 0 from crossings with t > 1: culled when r > hi.
+//       kBeyond, kMobileInsideFixed     needs a crossing with 0 < t < 1: culled when r < lo;
+//       kBeyond, kFixedInsideMobile     needs a crossing with t > 1: culled when r > hi.
 //     A vertex beyond hi in kAdjacent, kMobileInsideFixed is NOT culled: its answer is the facing of
 //     the outermost crossing (the parity of the surfaces behind it), which an open or grazed fixed
 //     surface can make "enter"; it keeps the full test.

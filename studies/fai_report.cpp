@@ -233,8 +233,12 @@ void write_report_md(const FaiStudyResult& result, const FaiStudyOptions& option
      << " equal sub-motions to (flexion, adduction, internal rotation) = (59.6, 13.6, 10.9) deg "
      << "(thesis §4.3.2.3). Surface edge " << options.edge_mm << " mm; radial mapping " << contact::to_string(options.mapping)
      << ", " << options.table_size << " cells. Curvilinear: femur bone vs labrum, cylindrical segmenting; "
-     << "radial: femoral cartilage vs acetabular cartilage + labrum, radial segmenting; both with the role "
-     << "swap (§4.3.2.1). Total run time " << fixed(result.total_seconds, 1) << " s.\n\n";
+     << "radial: femur bone and cartilage vs acetabular cartilage + labrum, radial segmenting, crossing rule '"
+     << contact::to_string(options.radial_rule)
+     << (options.radial_rule == contact::RadialCrossingRule::kBeyond
+             ? "' (the thesis' rule: femur vertices beyond the socket's surface along their ray from the HJC)"
+             : "' (femur vertices inside the acetabular soft tissues)")
+     << "; both with the role swap (§4.3.2.1). Total run time " << fixed(result.total_seconds, 1) << " s.\n\n";
   // A CE x alpha table whose cells `cell` formats from a model ("-" where there is none).
   auto grid_table = [&](const std::function<std::string(const FaiModelSummary&)>& cell) {
     md << "| CE \\ alpha |";

@@ -41,6 +41,7 @@ FaiModelRun run_model(double ce, double alpha, double edge_mm, const Motion& mot
   model.summary.generate_s = seconds_since(start);
   PenetrationOptions penetration;
   penetration.mapping = options.mapping;
+  penetration.radial_rule = options.radial_rule;
   penetration.table_size = options.table_size;
   penetration.threads = options.threads;
   penetration.cache_dir = options.cache_dir;

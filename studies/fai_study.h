@@ -38,6 +38,7 @@ struct FaiStudyOptions {
   int sub_motions = 30;
   std::vector<double> resolution_edges_mm;     // extra runs for the accuracy-vs-time table
   contact::RadialMapping mapping = contact::RadialMapping::kCube;
+  contact::RadialCrossingRule radial_rule = contact::RadialCrossingRule::kUnion;  // penetration_run.h
   std::int64_t table_size = 20000;
   int threads = 2;
   // Contact tolerance (mm) of the penetration method; negative: max(sagitta bound, sphericity)

@@ -242,7 +242,7 @@ PenetrationRun compute_penetration(const LoadedHip& hip, const Motion& motion,
     run.radial_preprocessing_ms = ms_since(start);
     contact::RadialQueryOptions inside;
     inside.configuration = contact::RadialConfiguration::kMobileInsideFixed;
-    inside.rule = contact::RadialCrossingRule::kUnion;
+    inside.rule = options.radial_rule;
     inside.num_threads = options.threads;
     contact::RadialQueryOptions outside = inside;
     outside.configuration = contact::RadialConfiguration::kFixedInsideMobile;

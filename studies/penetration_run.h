@@ -24,6 +24,7 @@
 #pragma once
 
 #include "contact/radial_mapping.h"
+#include "contact/radial_segmenting.h"
 #include "contact/range_finder.h"
 #include "contact/start_pose.h"
 #include "studies/hip_source.h"
@@ -42,6 +43,11 @@ struct PenetrationOptions {
   bool rom = false;
   bool swap_roles = true;
   contact::RadialMapping mapping = contact::RadialMapping::kCube;
+  // Which femur vertices count as radially penetrating (contact/radial_segmenting.h): kUnion,
+  // inside the acetabular soft tissues (depth to their boundary towards the HJC); kBeyond, the
+  // thesis' rule read literally: beyond the socket's surface along the ray from the HJC, also
+  // after passing through the labrum (depth to the articular surface). kAdjacent is not offered.
+  contact::RadialCrossingRule radial_rule = contact::RadialCrossingRule::kUnion;
   std::int64_t table_size = 20000;
   int threads = 2;
   std::filesystem::path cache_dir;  // radial tables are cached here when not empty

@@ -44,9 +44,8 @@ PenetrationResult query(const RadialTable& table, const TriMesh& fixed, const Tr
 void expect_culling_exact(const RadialTable& table, const TriMesh& fixed, const TriMesh& mobile,
                           const std::string& what) {
   for (auto configuration : {RadialConfiguration::kMobileInsideFixed, RadialConfiguration::kFixedInsideMobile}) {
-    for (auto rule : {RadialCrossingRule::kAdjacent, RadialCrossingRule::kUnion}) {
-      const std::string name = what + " " + to_string(configuration) +
-                               (rule == RadialCrossingRule::kUnion ? " union" : " adjacent");
+    for (auto rule : {RadialCrossingRule::kAdjacent, RadialCrossingRule::kUnion, RadialCrossingRule::kBeyond}) {
+      const std::string name = what + " " + to_string(configuration) + " " + to_string(rule);
       expect_identical(query(table, fixed, mobile, configuration, rule, true),
                        query(table, fixed, mobile, configuration, rule, false), name);
     }
@@ -58,7 +57,7 @@ void expect_culling_exact(const RadialTable& table, const TriMesh& fixed, const 
 void expect_pose_query_exact(const RadialTable& table, const TriMesh& fixed, const TriMesh& mobile,
                              const std::vector<Eigen::Isometry3d>& poses, const std::string& what) {
   for (auto configuration : {RadialConfiguration::kMobileInsideFixed, RadialConfiguration::kFixedInsideMobile}) {
-    for (auto rule : {RadialCrossingRule::kAdjacent, RadialCrossingRule::kUnion}) {
+    for (auto rule : {RadialCrossingRule::kAdjacent, RadialCrossingRule::kUnion, RadialCrossingRule::kBeyond}) {
       for (int threads : {1, 2}) {
         RadialQueryOptions options;
         options.configuration = configuration;
@@ -153,7 +152,7 @@ TEST(RadialSpans, VertexOnACellBorderIsNotCulled) {
 TEST(RadialSpans, VertexDeepInsideIsNotCulled) {
   const TriMesh fixed = box_above();
   const RadialTable table = build_radial_table(fixed, Vec3::Zero(), {});
-  for (auto rule : {RadialCrossingRule::kAdjacent, RadialCrossingRule::kUnion}) {
+  for (auto rule : {RadialCrossingRule::kAdjacent, RadialCrossingRule::kUnion, RadialCrossingRule::kBeyond}) {
     const auto result = query(table, fixed, one_vertex(Vec3(0.3, -0.2, 16)), RadialConfiguration::kMobileInsideFixed,
                               rule, true);
     ASSERT_TRUE(reported(result));
