@@ -1,5 +1,10 @@
 #include "bench/collision_bench.h"
 
+#include "bench/bench_format.h"
+#include "bench/collision_bench_report.h"
+#include "bench/collision_bench_results.h"
+#include "bench/collision_bench_targets.h"
+
 #include "bench/peer_cgal.h"
 #include "bench/peer_embree.h"
 #include "bench/peer_fcl.h"
@@ -15,18 +20,13 @@
 #include "contact/radial_table.h"
 #include "contact/range_finder.h"
 #include "contact/ray_sampling.h"
-#include "core/atomic_file.h"
 #include "core/error.h"
-#include "core/version.h"
-#include "studies/svg_plot.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <functional>
-#include <iostream>
 #include <limits>
 #include <map>
 #include <memory>
@@ -34,7 +34,6 @@
 #include <optional>
 #include <random>
 #include <set>
-#include <sstream>
 #include <thread>
 
 namespace hipfai::bench {
@@ -72,11 +71,6 @@ struct Reference {
   double ms = 0.0;                       // wall time of the oracle run (2 threads)
 };
 
-struct Exactness {
-  long false_negatives = -1, false_positives = -1;
-  double max_depth_error_mm = kNaN;
-  std::size_t reported = 0;
-};
 
 Exactness compare(const Reference& reference, const std::vector<std::int32_t>& vertices,
                   const std::vector<double>* depths) {
@@ -177,35 +171,7 @@ Reference make_reference(const Scenario& s, const TriMesh& posed, const std::vec
 
 // ------------------------------------------------------------------ result rows
 
-struct Row {
-  std::string family, scenario;
-  int level = 0;
-  std::size_t vertices = 0, mobile_vertices = 0, fixed_triangles = 0;
-  std::string method;
-  int threads = 1;
-  TimingStats pre, query;
-  MemoryUse memory;  // of the pre-processing
-  double ratio_query = kNaN, ratio_total = kNaN;  // this method / ours, same threads, same run
-  Exactness exact;
-  std::string reference, note;
-  double total_ms() const { return pre.median_ms + query.median_ms; }
-};
 
-std::string fmt(double value, int precision = 3) {
-  if (std::isnan(value)) return "";
-  char buffer[64];
-  std::snprintf(buffer, sizeof(buffer), "%.*g", precision, value);
-  return buffer;
-}
-
-// A false-negative / false-positive count, empty when the row was not compared with a reference
-// (the oracle's own row): -1 would read as a count.
-std::string fmt_count(long count) { return count < 0 ? std::string() : std::to_string(count); }
-
-std::string fmt_ms(const TimingStats& t) {
-  if (t.repeats == 0) return "-";
-  return fmt(t.median_ms) + " [" + fmt(t.min_ms) + "–" + fmt(t.max_ms) + "]";
-}
 
 class Bench {
  public:
@@ -228,8 +194,8 @@ class Bench {
   TimingStats time_pre(const std::function<void()>& fn) const {
     return time_repeated(fn, 1, 3, budget_.pre_budget_ms);
   }
-  Row base_row(const Scenario& s, const std::string& method, int threads) const {
-    Row row;
+  BenchRow base_row(const Scenario& s, const std::string& method, int threads) const {
+    BenchRow row;
     row.family = s.family;
     row.scenario = s.name;
     row.level = s.level;
@@ -248,25 +214,10 @@ class Bench {
   void sweep_cylindrical_resolution(const Scenario& s);
   void stepping(const Scenario& s, bool full_sweep);
   void fill_ratios();
-  void write_outputs(CollisionBenchReport& report);
 
   CollisionBenchOptions options_;
   Budget budget_;
-  std::vector<Row> rows_;
-  std::vector<std::string> sweep_radial_csv_, sweep_cyl_csv_, sweep_step_csv_, table7_csv_;
-  std::map<std::string, std::vector<std::pair<double, double>>> radial_sweep_query_, radial_sweep_pre_;
-  std::vector<std::pair<double, double>> maciel_miss_, maciel_query_;
-  std::map<std::string, std::vector<std::pair<double, double>>> cyl_sweep_;
-  std::map<std::string, std::vector<std::pair<double, double>>> step_sweep_;  // time vs error
-  struct Table7 {
-    std::string scenario;
-    std::size_t vertices;
-    double finder_ms, fcl_ms, hash_ms;
-    double exact_ccw, exact_cw, fcl_ccw, fcl_cw, hash_ccw, hash_cw;
-    std::string finder_exact;
-  };
-  std::vector<Table7> table7_;
-  std::vector<std::string> notes_;
+  CollisionBenchResults measured_;  // what the run measured, filled stage by stage
   std::map<std::string, contact::PenetrationResult> results_;  // per scenario, for exactness
   std::map<std::string, std::pair<std::shared_ptr<TetMesh>, double>> tet_cache_;  // mesh hash -> tets, gmsh ms
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
@@ -291,7 +242,7 @@ void Bench::bench_striking(const Scenario& s) {
   std::vector<std::int32_t> ours_vertices;
   // Ours: ring table (pre-processing) + one pass over the posed mesh (query).
   for (int threads : options_.thread_counts) {
-    Row row = base_row(s, "cylindrical", threads);
+    BenchRow row = base_row(s, "cylindrical", threads);
     contact::CylindricalTable table;
     row.memory = measure_memory([&] { table = contact::CylindricalTable::build(s.fixed, s.centre, s.axis, {}, &s.mobile); });
     row.pre = time_pre([&] { table = contact::CylindricalTable::build(s.fixed, s.centre, s.axis, {}, &s.mobile); });
@@ -302,9 +253,9 @@ void Bench::bench_striking(const Scenario& s) {
     if (ours_vertices.empty()) {
       for (const auto& p : result.pairs) ours_vertices.push_back(p.mobile_vertex);
     }
-    rows_.push_back(row);
+    measured_.rows.push_back(row);
     // The pose cache (§3.2.3.2): crossings pre-computed per axis, the query is a pass over them.
-    Row cache_row = base_row(s, "cylindrical_pose_cache", threads);
+    BenchRow cache_row = base_row(s, "cylindrical_pose_cache", threads);
     std::unique_ptr<contact::CylindricalPoseCache> cache;
     cache_row.memory = measure_memory([&] { cache = std::make_unique<contact::CylindricalPoseCache>(table, s.mobile, q); });
     cache_row.memory.peak_rss_growth_mib += row.memory.peak_rss_growth_mib;  // table + cache
@@ -316,7 +267,7 @@ void Bench::bench_striking(const Scenario& s) {
     cache_row.pre.max_ms += cache_pre.max_ms;
     contact::PenetrationResult cached;
     cache_row.query = time_query([&] { cached = cache->query(s.angle_deg); });
-    rows_.push_back(cache_row);
+    measured_.rows.push_back(cache_row);
     // Exactness is filled below for every row of this scenario.
     results_[s.name + "/cylindrical/" + std::to_string(threads)] = result;
     results_[s.name + "/cylindrical_pose_cache/" + std::to_string(threads)] = cached;
@@ -325,7 +276,7 @@ void Bench::bench_striking(const Scenario& s) {
   const Reference reference = make_reference(s, posed, ours_vertices, budget_);
   // FCL, both bounding volumes, all contacts with contact data (the issue's configuration).
   for (auto bv : {FclBoundingVolume::kObbRss, FclBoundingVolume::kObb}) {
-    Row row = base_row(s, std::string("fcl_") + to_string(bv), 1);
+    BenchRow row = base_row(s, std::string("fcl_") + to_string(bv), 1);
     FclModel fixed_model, mobile_model;
     row.memory = measure_memory([&] {
       fixed_model = FclModel(s.fixed, bv);
@@ -340,7 +291,7 @@ void Bench::bench_striking(const Scenario& s) {
     row.exact = compare(reference, implied_mobile_vertices(s.mobile, result), nullptr);
     row.reference = reference.kind;
     row.note = std::to_string(result.triangle_pairs.size()) + " triangle pairs; vertices of the mobile triangles";
-    rows_.push_back(row);
+    measured_.rows.push_back(row);
   }
   // Spatial hashing on gmsh tetrahedra of the fixed solid.
   if (s.fixed.num_triangles() <= budget_.tet_max_triangles) {
@@ -349,7 +300,7 @@ void Bench::bench_striking(const Scenario& s) {
       const TetMesh& tets = *tet_mesh;
       const std::size_t num_tets = tets.tets.size();
       for (int threads : options_.thread_counts) {
-        Row row = base_row(s, "spatial_hash_tets", threads);
+        BenchRow row = base_row(s, "spatial_hash_tets", threads);
         std::unique_ptr<TetSpatialHash> hash;
         row.memory = measure_memory([&] { hash = std::make_unique<TetSpatialHash>(tets); });
         row.pre = time_pre([&] { hash = std::make_unique<TetSpatialHash>(tets); });
@@ -358,14 +309,14 @@ void Bench::bench_striking(const Scenario& s) {
         row.exact = compare(reference, found, nullptr);
         row.reference = reference.kind;
         row.note = std::to_string(num_tets) + " tets (gmsh " + fmt(tet_ms) + " ms, not in pre); no depth";
-        rows_.push_back(row);
+        measured_.rows.push_back(row);
       }
     } catch (const Error& error) {
-      notes_.push_back(s.name + ": spatial hashing on tetrahedra skipped: " + error.what());
+      measured_.notes.push_back(s.name + ": spatial hashing on tetrahedra skipped: " + error.what());
     }
   }
   // Exactness of our rows.
-  for (auto& row : rows_) {
+  for (auto& row : measured_.rows) {
     if (row.scenario != s.name) continue;
     const auto found = results_.find(s.name + "/" + row.method + "/" + std::to_string(row.threads));
     if (found == results_.end()) continue;
@@ -374,10 +325,10 @@ void Bench::bench_striking(const Scenario& s) {
   }
   // The oracle itself (one run), where it is exhaustive.
   if (reference.kind == "oracle") {
-    Row row = base_row(s, "oracle", 2);
+    BenchRow row = base_row(s, "oracle", 2);
     row.query = summarise({reference.ms});
     row.note = "exhaustive, every vertex x every triangle (one run)";
-    rows_.push_back(row);
+    measured_.rows.push_back(row);
   }
   results_.clear();
 }
@@ -387,7 +338,7 @@ void Bench::bench_striking(const Scenario& s) {
 // The time to stream the mobile vertex positions once (a sum over their coordinates): no per-pose
 // query that looks at every vertex can be faster, so ours / floor says how far from it we are.
 void Bench::bench_bandwidth_floor(const Scenario& s) {
-  Row row = base_row(s, "bandwidth_floor", 1);
+  BenchRow row = base_row(s, "bandwidth_floor", 1);
   const TriMesh posed = s.posed_mobile();
   volatile double sink = 0.0;
   row.query = time_query([&] {
@@ -398,7 +349,7 @@ void Bench::bench_bandwidth_floor(const Scenario& s) {
   (void)sink;
   row.note = "streaming the " + std::to_string(posed.num_vertices()) + " mobile vertex positions once (" +
              fmt(static_cast<double>(posed.num_vertices()) * 24.0 / 1048576.0) + " MiB)";
-  rows_.push_back(row);
+  measured_.rows.push_back(row);
 }
 
 // ------------------------------------------------------------------ sliding (radial)
@@ -419,7 +370,7 @@ void Bench::bench_radial(const Scenario& s) {
                                                      contact::RadialMapping::kSpherical};
   for (auto mapping : mappings) {
     for (int threads : options_.thread_counts) {
-      Row row = base_row(s, std::string("radial_") + contact::to_string(mapping), threads);
+      BenchRow row = base_row(s, std::string("radial_") + contact::to_string(mapping), threads);
       contact::RadialTable table;
       const auto table_options = radial_table_options(s, mapping);
       row.memory = measure_memory([&] { table = contact::build_radial_table(s.fixed, s.centre, table_options); });
@@ -435,13 +386,13 @@ void Bench::bench_radial(const Scenario& s) {
       row.note = "table " + std::to_string(table.grid.num_cells()) + " cells, " +
                  std::to_string(table.always_candidates.size()) + " always-checked triangles (plane through O)";
       results_[s.name + "/" + row.method + "/" + std::to_string(threads)] = result;
-      rows_.push_back(row);
+      measured_.rows.push_back(row);
     }
   }
   // The same query prepared once per body pair (RadialPoseQuery): vertices the radial spans rule
   // out at every pose are dropped once; the query takes the pose, like FCL, and poses the rest.
   for (int threads : options_.thread_counts) {
-    Row row = base_row(s, "radial_cube_pose", threads);
+    BenchRow row = base_row(s, "radial_cube_pose", threads);
     contact::RadialTable table = contact::build_radial_table(s.fixed, s.centre, radial_table_options(s, contact::RadialMapping::kCube));
     contact::RadialQueryOptions q;
     q.configuration = s.configuration;
@@ -459,12 +410,12 @@ void Bench::bench_radial(const Scenario& s) {
     row.note = std::to_string(prepared->num_kept_vertices()) + " of " + std::to_string(s.mobile.num_vertices()) +
                " mobile vertices kept for the body pair";
     results_[s.name + "/" + row.method + "/" + std::to_string(threads)] = result;
-    rows_.push_back(row);
+    measured_.rows.push_back(row);
   }
   bench_bandwidth_floor(s);
   const Reference reference = make_reference(s, posed, ours_vertices, budget_);
   for (int threads : options_.thread_counts) {
-    Row row = base_row(s, "embree", threads);
+    BenchRow row = base_row(s, "embree", threads);
     std::unique_ptr<EmbreeRadialCaster> caster;
     row.memory = measure_memory([&] { caster = std::make_unique<EmbreeRadialCaster>(s.fixed, s.centre, threads); });
     row.pre = time_pre([&] { caster = std::make_unique<EmbreeRadialCaster>(s.fixed, s.centre, threads); });
@@ -472,20 +423,20 @@ void Bench::bench_radial(const Scenario& s) {
     row.query = time_query([&] { result = caster->query(s.posed_mobile(), s.configuration, threads); });
     results_[s.name + "/embree/" + std::to_string(threads)] = result;
     row.note = "single precision";
-    rows_.push_back(row);
+    measured_.rows.push_back(row);
   }
   for (int threads : options_.thread_counts) {
-    Row row = base_row(s, "cgal_aabb", threads);
+    BenchRow row = base_row(s, "cgal_aabb", threads);
     std::unique_ptr<CgalRadialCaster> caster;
     row.memory = measure_memory([&] { caster = std::make_unique<CgalRadialCaster>(s.fixed, s.centre); });
     row.pre = time_pre([&] { caster = std::make_unique<CgalRadialCaster>(s.fixed, s.centre); });
     contact::PenetrationResult result;
     row.query = time_query([&] { result = caster->query(s.posed_mobile(), s.configuration, threads); });
     results_[s.name + "/cgal_aabb/" + std::to_string(threads)] = result;
-    rows_.push_back(row);
+    measured_.rows.push_back(row);
   }
   for (int threads : options_.thread_counts) {
-    Row row = base_row(s, "spatial_hash_surface", threads);
+    BenchRow row = base_row(s, "spatial_hash_surface", threads);
     std::unique_ptr<SurfaceSpatialHash> hash;
     row.memory = measure_memory([&] { hash = std::make_unique<SurfaceSpatialHash>(s.fixed); });
     row.pre = time_pre([&] { hash = std::make_unique<SurfaceSpatialHash>(s.fixed); });
@@ -493,7 +444,7 @@ void Bench::bench_radial(const Scenario& s) {
     row.query = time_query([&] { result = hash->radial_query(s.posed_mobile(), s.centre, s.configuration, threads); });
     results_[s.name + "/spatial_hash_surface/" + std::to_string(threads)] = result;
     row.note = "cells walked along each ray";
-    rows_.push_back(row);
+    measured_.rows.push_back(row);
   }
   if (s.family == "sphere_cube" && s.fixed.num_triangles() <= budget_.tet_max_triangles) {
     try {
@@ -501,7 +452,7 @@ void Bench::bench_radial(const Scenario& s) {
       const TetMesh& tets = *tet_mesh;
       const std::size_t num_tets = tets.tets.size();
       for (int threads : options_.thread_counts) {
-        Row row = base_row(s, "spatial_hash_tets", threads);
+        BenchRow row = base_row(s, "spatial_hash_tets", threads);
         std::unique_ptr<TetSpatialHash> hash;
         row.memory = measure_memory([&] { hash = std::make_unique<TetSpatialHash>(tets); });
         row.pre = time_pre([&] { hash = std::make_unique<TetSpatialHash>(tets); });
@@ -510,14 +461,14 @@ void Bench::bench_radial(const Scenario& s) {
         row.exact = compare(reference, found, nullptr);
         row.reference = reference.kind;
         row.note = std::to_string(num_tets) + " tets (gmsh " + fmt(tet_ms) + " ms, not in pre); no depth";
-        rows_.push_back(row);
+        measured_.rows.push_back(row);
       }
     } catch (const Error& error) {
-      notes_.push_back(s.name + ": spatial hashing on tetrahedra skipped: " + error.what());
+      measured_.notes.push_back(s.name + ": spatial hashing on tetrahedra skipped: " + error.what());
     }
   }
   {
-    Row row = base_row(s, "fcl_OBBRSS", 1);
+    BenchRow row = base_row(s, "fcl_OBBRSS", 1);
     FclModel fixed_model, mobile_model;
     row.memory = measure_memory([&] {
       fixed_model = FclModel(s.fixed, FclBoundingVolume::kObbRss);
@@ -532,10 +483,10 @@ void Bench::bench_radial(const Scenario& s) {
     row.exact = compare(reference, implied_mobile_vertices(s.mobile, result), nullptr);
     row.reference = reference.kind;
     row.note = std::to_string(result.triangle_pairs.size()) + " triangle pairs; vertices of the mobile triangles";
-    rows_.push_back(row);
+    measured_.rows.push_back(row);
   }
   {
-    Row row = base_row(s, "maciel_ray_sampling", 1);
+    BenchRow row = base_row(s, "maciel_ray_sampling", 1);
     const auto table_options = radial_table_options(s, contact::RadialMapping::kCube);
     contact::RaySamplingTable table;
     row.memory = measure_memory([&] { table = contact::build_ray_sampling_table(s.fixed, s.centre, table_options, s.configuration); });
@@ -544,9 +495,9 @@ void Bench::bench_radial(const Scenario& s) {
     row.query = time_query([&] { result = contact::ray_sampling(table, s.fixed, s.posed_mobile()); });
     results_[s.name + "/maciel_ray_sampling/1"] = result;
     row.note = "cube mapping, same table size; pre uses the exact table as accelerator";
-    rows_.push_back(row);
+    measured_.rows.push_back(row);
   }
-  for (auto& row : rows_) {
+  for (auto& row : measured_.rows) {
     if (row.scenario != s.name) continue;
     const auto found = results_.find(s.name + "/" + row.method + "/" + std::to_string(row.threads));
     if (found == results_.end()) continue;
@@ -558,10 +509,10 @@ void Bench::bench_radial(const Scenario& s) {
     }
   }
   if (reference.kind == "oracle") {
-    Row row = base_row(s, "oracle", 2);
+    BenchRow row = base_row(s, "oracle", 2);
     row.query = summarise({reference.ms});
     row.note = "exhaustive, every vertex x every triangle (one run)";
-    rows_.push_back(row);
+    measured_.rows.push_back(row);
   }
   results_.clear();
 }
@@ -577,7 +528,7 @@ void Bench::sweep_radial_table(const Scenario& s) {
     sizes.push_back(262144);
     sizes.push_back(1048576);
   }
-  sweep_radial_csv_.push_back("scenario,method,table_size,cells,pre_ms,query_ms,false_negatives,false_positives,miss_rate_pct,reference");
+  measured_.sweep_radial_table_csv.push_back("scenario,method,table_size,cells,pre_ms,query_ms,false_negatives,false_positives,miss_rate_pct,reference");
   for (auto mapping : {contact::RadialMapping::kCube, contact::RadialMapping::kCartesian, contact::RadialMapping::kSpherical}) {
     for (auto size : sizes) {
       contact::RadialTableOptions table_options;
@@ -591,12 +542,12 @@ void Bench::sweep_radial_table(const Scenario& s) {
       const TimingStats query = time_query([&] { result = contact::radial_segmenting(table, s.fixed, s.posed_mobile(), q); });
       const Exactness e = compare(reference, result);
       const std::string method = std::string("radial_") + contact::to_string(mapping);
-      sweep_radial_csv_.push_back(s.name + "," + method + "," + std::to_string(size) + "," +
+      measured_.sweep_radial_table_csv.push_back(s.name + "," + method + "," + std::to_string(size) + "," +
                                   std::to_string(table.grid.num_cells()) + "," + fmt(pre.median_ms, 6) + "," +
                                   fmt(query.median_ms, 6) + "," + std::to_string(e.false_negatives) + "," +
                                   std::to_string(e.false_positives) + ",0," + reference.kind);
-      radial_sweep_query_[method].emplace_back(static_cast<double>(table.grid.num_cells()), query.median_ms);
-      radial_sweep_pre_[method].emplace_back(static_cast<double>(table.grid.num_cells()), pre.median_ms);
+      measured_.radial_sweep_query[method].emplace_back(static_cast<double>(table.grid.num_cells()), query.median_ms);
+      measured_.radial_sweep_pre[method].emplace_back(static_cast<double>(table.grid.num_cells()), pre.median_ms);
     }
   }
   for (auto size : sizes) {
@@ -609,12 +560,12 @@ void Bench::sweep_radial_table(const Scenario& s) {
     const TimingStats query = time_query([&] { result = contact::ray_sampling(table, s.fixed, s.posed_mobile()); });
     const Exactness e = compare(reference, result);
     const double miss = reference.depth.empty() ? 0.0 : 100.0 * static_cast<double>(e.false_negatives) / static_cast<double>(reference.depth.size());
-    sweep_radial_csv_.push_back(s.name + ",maciel_ray_sampling," + std::to_string(size) + "," +
+    measured_.sweep_radial_table_csv.push_back(s.name + ",maciel_ray_sampling," + std::to_string(size) + "," +
                                 std::to_string(table.grid.num_cells()) + "," + fmt(pre.median_ms, 6) + "," +
                                 fmt(query.median_ms, 6) + "," + std::to_string(e.false_negatives) + "," +
                                 std::to_string(e.false_positives) + "," + fmt(miss, 6) + "," + reference.kind);
-    maciel_miss_.emplace_back(static_cast<double>(table.grid.num_cells()), miss);
-    maciel_query_.emplace_back(static_cast<double>(table.grid.num_cells()), query.median_ms);
+    measured_.maciel_miss.emplace_back(static_cast<double>(table.grid.num_cells()), miss);
+    measured_.maciel_query.emplace_back(static_cast<double>(table.grid.num_cells()), query.median_ms);
   }
 }
 
@@ -623,7 +574,7 @@ void Bench::sweep_cylindrical_resolution(const Scenario& s) {
   const TriMesh posed = s.posed_mobile();
   const Reference reference = make_reference(s, posed, {}, budget_);
   const double edge = geometry::mean_edge_length(s.fixed);
-  sweep_cyl_csv_.push_back("scenario,resolution_factor,resolution_mm,cells,pre_ms,query_ms,false_negatives,false_positives,reference");
+  measured_.sweep_cylindrical_csv.push_back("scenario,resolution_factor,resolution_mm,cells,pre_ms,query_ms,false_negatives,false_positives,reference");
   for (double factor : {0.25, 0.5, 1.0, 2.0, 4.0, 8.0}) {
     contact::CylindricalTableOptions table_options;
     table_options.resolution_r_mm = table_options.resolution_z_mm = factor * edge;
@@ -634,12 +585,12 @@ void Bench::sweep_cylindrical_resolution(const Scenario& s) {
     contact::PenetrationResult result;
     const TimingStats query = time_query([&] { result = contact::cylindrical_segmenting(table, s.posed_mobile(), q); });
     const Exactness e = compare(reference, result);
-    sweep_cyl_csv_.push_back(s.name + "," + fmt(factor) + "," + fmt(factor * edge, 6) + "," +
+    measured_.sweep_cylindrical_csv.push_back(s.name + "," + fmt(factor) + "," + fmt(factor * edge, 6) + "," +
                              std::to_string(table.num_r_cells() * table.num_z_cells()) + "," + fmt(pre.median_ms, 6) +
                              "," + fmt(query.median_ms, 6) + "," + std::to_string(e.false_negatives) + "," +
                              std::to_string(e.false_positives) + "," + reference.kind);
-    cyl_sweep_["query"].emplace_back(factor * edge, query.median_ms);
-    cyl_sweep_["pre-processing"].emplace_back(factor * edge, pre.median_ms);
+    measured_.cylindrical_sweep["query"].emplace_back(factor * edge, query.median_ms);
+    measured_.cylindrical_sweep["pre-processing"].emplace_back(factor * edge, pre.median_ms);
   }
 }
 
@@ -702,39 +653,39 @@ void Bench::stepping(const Scenario& s, bool full_sweep) {
   finder_exact += (within_step(exact_ccw, hash_rom.anticlockwise_deg) && within_step(exact_cw, hash_rom.clockwise_deg))
                       ? "; within the 1 deg step of triangle-triangle stepping"
                       : "; NOT within the 1 deg step of triangle-triangle stepping";
-  table7_.push_back({s.name, s.total_vertices(), finder.median_ms, fcl_time.median_ms, hash_time.median_ms, exact_ccw,
+  measured_.rom_table.push_back({s.name, s.total_vertices(), finder.median_ms, fcl_time.median_ms, hash_time.median_ms, exact_ccw,
                      exact_cw, fcl_rom.anticlockwise_deg, fcl_rom.clockwise_deg, hash_rom.anticlockwise_deg,
                      hash_rom.clockwise_deg, finder_exact});
   if (!full_sweep) return;
-  sweep_step_csv_.push_back("scenario,detector,step_deg,time_ms,detections,anticlockwise_deg,clockwise_deg,exact_anticlockwise_deg,exact_clockwise_deg,max_error_deg");
-  sweep_step_csv_.push_back(s.name + ",range_finder,0," + fmt(finder.median_ms, 6) + ",1," + fmt(exact_ccw, 10) + "," +
+  measured_.sweep_stepping_csv.push_back("scenario,detector,step_deg,time_ms,detections,anticlockwise_deg,clockwise_deg,exact_anticlockwise_deg,exact_clockwise_deg,max_error_deg");
+  measured_.sweep_stepping_csv.push_back(s.name + ",range_finder,0," + fmt(finder.median_ms, 6) + ",1," + fmt(exact_ccw, 10) + "," +
                             fmt(exact_cw, 10) + "," + fmt(exact_ccw, 10) + "," + fmt(exact_cw, 10) + ",0");
   for (double step : {10.0, 5.0, 2.0, 1.0, 0.5, 0.2, 0.1}) {
     for (int detector = 0; detector < 2; ++detector) {
       SteppingRom rom;
       const TimingStats t = time_repeated([&] { detector == 0 ? run_fcl(step, rom) : run_hash(step, rom); }, 1, 3, budget_.pre_budget_ms);
       const std::string name = detector == 0 ? "fcl_OBBRSS" : "spatial_hash_surface";
-      sweep_step_csv_.push_back(s.name + "," + name + "," + fmt(step) + "," + fmt(t.median_ms, 6) + "," +
+      measured_.sweep_stepping_csv.push_back(s.name + "," + name + "," + fmt(step) + "," + fmt(t.median_ms, 6) + "," +
                                 std::to_string(rom.detections) + "," + fmt(rom.anticlockwise_deg, 10) + "," +
                                 fmt(rom.clockwise_deg, 10) + "," + fmt(exact_ccw, 10) + "," + fmt(exact_cw, 10) + "," +
                                 fmt(error_of(rom), 6));
-      step_sweep_[name].emplace_back(t.median_ms, std::max(error_of(rom), 1e-6));
+      measured_.stepping_sweep[name].emplace_back(t.median_ms, std::max(error_of(rom), 1e-6));
     }
   }
-  step_sweep_["range_finder (one pass)"].emplace_back(finder.median_ms, 1e-6);
+  measured_.stepping_sweep["range_finder (one pass)"].emplace_back(finder.median_ms, 1e-6);
 }
 
 // ------------------------------------------------------------------ ratios, outputs
 
 void Bench::fill_ratios() {
-  for (auto& row : rows_) {
+  for (auto& row : measured_.rows) {
     // Ours: the pose cache where the scenario is cylindrical (striking, lever and stone, torus).
-    const bool cylindrical = std::any_of(rows_.begin(), rows_.end(), [&](const Row& other) {
+    const bool cylindrical = std::any_of(measured_.rows.begin(), measured_.rows.end(), [&](const BenchRow& other) {
       return other.scenario == row.scenario && other.method == "cylindrical_pose_cache";
     });
     const std::string ours = cylindrical ? "cylindrical_pose_cache" : "radial_cube";
     const int threads = row.threads > 2 ? 2 : row.threads;
-    for (const auto& other : rows_) {
+    for (const auto& other : measured_.rows) {
       if (other.scenario != row.scenario || other.method != ours || other.threads != threads) continue;
       if (other.query.median_ms > 0.0) row.ratio_query = row.query.median_ms / other.query.median_ms;
       if (other.total_ms() > 0.0) row.ratio_total = row.total_ms() / other.total_ms();
@@ -742,368 +693,7 @@ void Bench::fill_ratios() {
   }
 }
 
-const Row* find_row(const std::vector<Row>& rows, const std::string& scenario, const std::string& method, int threads) {
-  for (const auto& row : rows) {
-    if (row.scenario == scenario && row.method == method && row.threads == threads) return &row;
-  }
-  return nullptr;
-}
 
-double fit_exponent(const std::vector<std::pair<double, double>>& points) {
-  std::vector<std::pair<double, double>> logs;
-  for (const auto& [x, y] : points) {
-    if (x > 0.0 && y > 0.0) logs.emplace_back(std::log10(x), std::log10(y));
-  }
-  if (logs.size() < 2) return kNaN;
-  double mx = 0.0, my = 0.0;
-  for (const auto& [x, y] : logs) {
-    mx += x;
-    my += y;
-  }
-  mx /= static_cast<double>(logs.size());
-  my /= static_cast<double>(logs.size());
-  double sxy = 0.0, sxx = 0.0;
-  for (const auto& [x, y] : logs) {
-    sxy += (x - mx) * (y - my);
-    sxx += (x - mx) * (x - mx);
-  }
-  return sxx > 0.0 ? sxy / sxx : kNaN;
-}
-
-void write_lines(const std::filesystem::path& path, const std::vector<std::string>& lines) {
-  write_file_atomically(path, [&lines](std::ostream& out) {
-    for (const auto& line : lines) out << line << '\n';
-  });
-}
-
-studies::Series series_of(const std::string& name, const std::vector<std::pair<double, double>>& points, bool dashed = false) {
-  studies::Series s;
-  s.name = name;
-  s.dashed = dashed;
-  for (const auto& [x, y] : points) {
-    s.x.push_back(x);
-    s.y.push_back(y);
-  }
-  return s;
-}
-
-void Bench::write_outputs(CollisionBenchReport& report) {
-  const auto& dir = options_.out_dir;
-  // results.csv
-  std::vector<std::string> csv{
-      "family,scenario,level,total_vertices,mobile_vertices,fixed_triangles,method,threads,"
-      "pre_median_ms,pre_min_ms,pre_max_ms,query_median_ms,query_min_ms,query_max_ms,query_repeats,total_ms,"
-      "peak_rss_growth_mib,heap_growth_mib,ratio_query_to_ours,ratio_total_to_ours,reported_vertices,false_negatives,false_positives,"
-      "max_depth_error_mm,reference,note"};
-  for (const auto& r : rows_) {
-    std::ostringstream line;
-    line << r.family << ',' << r.scenario << ',' << r.level << ',' << r.vertices << ',' << r.mobile_vertices << ','
-         << r.fixed_triangles << ',' << r.method << ',' << r.threads << ',' << fmt(r.pre.median_ms, 6) << ','
-         << fmt(r.pre.min_ms, 6) << ',' << fmt(r.pre.max_ms, 6) << ',' << fmt(r.query.median_ms, 6) << ','
-         << fmt(r.query.min_ms, 6) << ',' << fmt(r.query.max_ms, 6) << ',' << r.query.repeats << ','
-         << fmt(r.total_ms(), 6) << ',' << fmt(r.memory.peak_rss_growth_mib, 4) << ','
-         << fmt(r.memory.heap_growth_mib, 4) << ',' << fmt(r.ratio_query, 4) << ','
-         << fmt(r.ratio_total, 4) << ',' << r.exact.reported << ',' << fmt_count(r.exact.false_negatives) << ','
-         << fmt_count(r.exact.false_positives) << ',' << fmt(r.exact.max_depth_error_mm, 3) << ",\"" << r.reference << "\",\""
-         << r.note << '"';
-    csv.push_back(line.str());
-  }
-  write_lines(dir / "results.csv", csv);
-  if (!sweep_radial_csv_.empty()) write_lines(dir / "sweep_radial_table.csv", sweep_radial_csv_);
-  if (!sweep_cyl_csv_.empty()) write_lines(dir / "sweep_cylindrical_resolution.csv", sweep_cyl_csv_);
-  if (!sweep_step_csv_.empty()) write_lines(dir / "sweep_stepping.csv", sweep_step_csv_);
-  {
-    std::vector<std::string> lines{"scenario,total_vertices,range_finder_ms,fcl_1deg_ms,spatial_hash_1deg_ms,ratio_fcl,ratio_hash,"
-                                   "exact_anticlockwise_deg,exact_clockwise_deg,fcl_anticlockwise_deg,fcl_clockwise_deg,"
-                                   "hash_anticlockwise_deg,hash_clockwise_deg,finder_vs_oracle"};
-    for (const auto& t : table7_) {
-      lines.push_back(t.scenario + "," + std::to_string(t.vertices) + "," + fmt(t.finder_ms, 6) + "," + fmt(t.fcl_ms, 6) + "," +
-                      fmt(t.hash_ms, 6) + "," + fmt(t.fcl_ms / t.finder_ms, 4) + "," + fmt(t.hash_ms / t.finder_ms, 4) + "," +
-                      fmt(t.exact_ccw, 8) + "," + fmt(t.exact_cw, 8) + "," + fmt(t.fcl_ccw, 8) + "," + fmt(t.fcl_cw, 8) + "," +
-                      fmt(t.hash_ccw, 8) + "," + fmt(t.hash_cw, 8) + ",\"" + t.finder_exact + "\"");
-    }
-    write_lines(dir / "rom_table7.csv", lines);
-  }
-
-  // Scaling: query (and pre-processing) time vs total vertex count per family / method / threads.
-  std::vector<std::string> scaling{"family,method,threads,stage,exponent,points"};
-  std::vector<std::string> scaling_md;
-  std::vector<std::string> plots;
-  for (const std::string family : {"striking_hip", "sphere_cube", "cartilage"}) {
-    std::map<std::pair<std::string, int>, std::vector<const Row*>> by_method;
-    for (const auto& r : rows_) {
-      if (r.family == family && r.method != "oracle") by_method[{r.method, r.threads}].push_back(&r);
-    }
-    studies::LineChart chart;
-    chart.title = family + ": per-pose query time vs vertices (1 thread)";
-    chart.x_label = "total vertices";
-    chart.y_label = "query time (ms)";
-    chart.log_x = chart.log_y = true;
-    for (const auto& [key, list] : by_method) {
-      std::vector<std::pair<double, double>> query, pre;
-      for (const Row* r : list) {
-        query.emplace_back(static_cast<double>(r->vertices), r->query.median_ms);
-        pre.emplace_back(static_cast<double>(r->vertices), r->pre.median_ms);
-      }
-      const double eq = fit_exponent(query), ep = fit_exponent(pre);
-      scaling.push_back(family + "," + key.first + "," + std::to_string(key.second) + ",query," + fmt(eq, 4) + "," + std::to_string(query.size()));
-      scaling.push_back(family + "," + key.first + "," + std::to_string(key.second) + ",pre," + fmt(ep, 4) + "," + std::to_string(pre.size()));
-      scaling_md.push_back("| " + family + " | " + key.first + " | " + std::to_string(key.second) + " | " + fmt(eq) + " | " + fmt(ep) + " | " + std::to_string(query.size()) + " |");
-      if (key.second == 1) chart.series.push_back(series_of(key.first + " (n^" + fmt(eq, 2) + ")", query));
-    }
-    if (!chart.series.empty()) {
-      const std::string file = "scaling_" + family + ".svg";
-      studies::write_svg(chart, dir / file);
-      plots.push_back(file);
-    }
-  }
-  write_lines(dir / "scaling.csv", scaling);
-  if (!radial_sweep_query_.empty()) {
-    studies::LineChart chart;
-    chart.title = "Radial table size vs time (sphere-cube)";
-    chart.x_label = "table cells";
-    chart.y_label = "time (ms)";
-    chart.log_x = chart.log_y = true;
-    for (const auto& [method, points] : radial_sweep_query_) chart.series.push_back(series_of(method + " query", points));
-    for (const auto& [method, points] : radial_sweep_pre_) chart.series.push_back(series_of(method + " pre-processing", points, true));
-    chart.series.push_back(series_of("maciel query", maciel_query_));
-    studies::write_svg(chart, dir / "sweep_radial_table.svg");
-    plots.push_back("sweep_radial_table.svg");
-    studies::LineChart miss;
-    miss.title = "Maciel ray-based sampling: miss rate vs table size";
-    miss.x_label = "table cells";
-    miss.y_label = "missed penetrating vertices (%)";
-    miss.log_x = true;
-    miss.series.push_back(series_of("maciel miss rate", maciel_miss_));
-    studies::write_svg(miss, dir / "sweep_maciel_miss_rate.svg");
-    plots.push_back("sweep_maciel_miss_rate.svg");
-  }
-  if (!cyl_sweep_.empty()) {
-    studies::LineChart chart;
-    chart.title = "Cylindrical ring resolution vs time (exact at every resolution)";
-    chart.x_label = "ring resolution (mm)";
-    chart.y_label = "time (ms)";
-    chart.log_x = chart.log_y = true;
-    for (const auto& [name, points] : cyl_sweep_) chart.series.push_back(series_of(name, points, name != "query"));
-    studies::write_svg(chart, dir / "sweep_cylindrical_resolution.svg");
-    plots.push_back("sweep_cylindrical_resolution.svg");
-  }
-  if (!step_sweep_.empty()) {
-    studies::LineChart chart;
-    chart.title = "Range of motion: error vs time (stepping 10..0.1 deg vs one pass)";
-    chart.x_label = "time (ms)";
-    chart.y_label = "max ROM error (deg; 1e-6 = exact)";
-    chart.log_x = chart.log_y = true;
-    for (const auto& [name, points] : step_sweep_) chart.series.push_back(series_of(name, points));
-    studies::write_svg(chart, dir / "sweep_stepping.svg");
-    plots.push_back("sweep_stepping.svg");
-  }
-
-  // ---- targets
-  auto largest = [&](const std::string& family) {
-    const Row* best = nullptr;
-    for (const auto& r : rows_) {
-      if (r.family == family && (best == nullptr || r.vertices > best->vertices)) best = &r;
-    }
-    return best == nullptr ? std::string() : best->scenario;
-  };
-  auto query_ratio = [&](const std::string& scenario, const std::string& peer, const std::string& ours, int threads) {
-    const Row* p = find_row(rows_, scenario, peer, threads == 2 && peer.rfind("fcl", 0) == 0 ? 1 : threads);
-    const Row* o = find_row(rows_, scenario, ours, threads);
-    if (p == nullptr || o == nullptr || !(o->query.median_ms > 0.0)) return kNaN;
-    return p->query.median_ms / o->query.median_ms;
-  };
-  const std::string size_note = options_.quick ? " (quick sizes: indicative only, the targets are for ~100 k+ vertices)" : "";
-  {
-    TargetVerdict t;
-    t.target = "Per-pose query >= 50x faster than FCL collide-with-all-contacts (largest sizes)" + size_note;
-    bool met = true;
-    std::ostringstream m;
-    for (const std::string family : {"striking_hip", "striking_real_ct", "sphere_cube", "cartilage"}) {
-      const std::string sc = largest(family);
-      if (sc.empty()) continue;
-      const std::string ours = family.rfind("striking", 0) == 0 ? "cylindrical_pose_cache" : "radial_cube";
-      const double obbrss = query_ratio(sc, "fcl_OBBRSS", ours, 1);
-      const double obb = query_ratio(sc, "fcl_OBB", ours, 1);
-      const double worst = std::isnan(obb) ? obbrss : std::min(obbrss, obb);
-      const double two = query_ratio(sc, "fcl_OBBRSS", ours, 2);
-      met = met && worst >= 50.0;
-      m << sc << " (" << find_row(rows_, sc, ours, 1)->vertices << " v): " << fmt(worst) << "x (1 thread), FCL/ours-2-threads "
-        << fmt(two) << "x";
-      if (family.rfind("striking", 0) == 0) {
-        m << ", vs the one-pass query on the posed mesh " << fmt(query_ratio(sc, "fcl_OBBRSS", "cylindrical", 1)) << "x";
-      }
-      m << "; ";
-    }
-    t.met = met;
-    t.measured = m.str();
-    report.targets.push_back(t);
-  }
-  {
-    TargetVerdict t;
-    t.target = "Radial query >= 10x faster than Embree radial ray casting, identical results" + size_note;
-    bool met = true;
-    std::ostringstream m;
-    for (const std::string family : {"sphere_cube", "cartilage"}) {
-      const std::string sc = largest(family);
-      if (sc.empty()) continue;
-      const double r1 = query_ratio(sc, "embree", "radial_cube", 1), r2 = query_ratio(sc, "embree", "radial_cube", 2);
-      const Row* e = find_row(rows_, sc, "embree", 1);
-      const bool identical = e != nullptr && e->exact.false_negatives == 0 && e->exact.false_positives == 0;
-      met = met && r1 >= 10.0 && identical;
-      m << sc << ": " << fmt(r1) << "x (1 thread), " << fmt(r2) << "x (2 threads), Embree FN/FP vs oracle "
-        << (e ? std::to_string(e->exact.false_negatives) + "/" + std::to_string(e->exact.false_positives) : "?")
-        << ", max depth diff " << (e ? fmt(e->exact.max_depth_error_mm) : "?") << " mm; ";
-    }
-    t.met = met;
-    t.measured = m.str();
-    report.targets.push_back(t);
-  }
-  {
-    TargetVerdict t;
-    t.target = "Radial query >= 100x faster than spatial hashing's main stage (largest sphere-cube)" + size_note;
-    const std::string sc = largest("sphere_cube");
-    const double tets = query_ratio(sc, "spatial_hash_tets", "radial_cube", 1);
-    const double surface = query_ratio(sc, "spatial_hash_surface", "radial_cube", 1);
-    t.met = tets >= 100.0;
-    t.measured = sc + ": tetrahedra " + fmt(tets) + "x, surface (exact radial depth) " + fmt(surface) + "x (1 thread); 2 threads: " +
-                 fmt(query_ratio(sc, "spatial_hash_tets", "radial_cube", 2)) + "x / " +
-                 fmt(query_ratio(sc, "spatial_hash_surface", "radial_cube", 2)) + "x";
-    report.targets.push_back(t);
-  }
-  {
-    TargetVerdict t;
-    t.target = "One-pass ROM >= 10x faster than 1 degree stepping with either detector, and exact";
-    bool met = !table7_.empty();
-    std::ostringstream m;
-    for (const auto& row : table7_) {
-      const double rf = row.fcl_ms / row.finder_ms, rh = row.hash_ms / row.finder_ms;
-      met = met && rf >= 10.0 && rh >= 10.0 && row.finder_exact.find("NOT within") == std::string::npos;
-      m << row.scenario << " (" << row.vertices << " v): FCL " << fmt(rf) << "x, hashing " << fmt(rh) << "x, " << row.finder_exact << "; ";
-    }
-    t.met = met;
-    t.measured = m.str();
-    report.targets.push_back(t);
-  }
-  {
-    // Issue 18: radial >= 3x Embree on the hip (cartilage) and >= 1.5x on sphere_cube, 1 thread;
-    // 2 threads >= 1.7x faster than 1. Ours = the faster of the posed-mesh query and the pose query.
-    TargetVerdict t;
-    t.target = "Issue 18: radial query >= 3x Embree (cartilage), >= 1.5x (sphere_cube), 1 thread; 2 threads >= 1.7x faster than 1" + size_note;
-    bool met = true;
-    std::ostringstream m;
-    for (const std::string family : {"sphere_cube", "cartilage"}) {
-      const std::string sc = largest(family);
-      if (sc.empty()) continue;
-      const double goal = family == "cartilage" ? 3.0 : 1.5;
-      const double posed = query_ratio(sc, "embree", "radial_cube", 1);
-      const double prepared = query_ratio(sc, "embree", "radial_cube_pose", 1);
-      const Row* one = find_row(rows_, sc, "radial_cube_pose", 1);
-      const Row* two = find_row(rows_, sc, "radial_cube_pose", 2);
-      const double speedup = one && two && two->query.median_ms > 0.0 ? one->query.median_ms / two->query.median_ms : kNaN;
-      met = met && std::max(posed, prepared) >= goal && speedup >= 1.7;
-      m << sc << ": radial_cube " << fmt(posed) << "x, radial_cube_pose " << fmt(prepared) << "x (goal " << fmt(goal)
-        << "x); 2 threads / 1 thread (pose query) " << fmt(speedup) << "x; ";
-    }
-    t.met = met;
-    t.measured = m.str();
-    report.targets.push_back(t);
-  }
-  {
-    // Not a target with a threshold: how far each largest scenario's query is from streaming its
-    // mobile vertices once (issue 18).
-    TargetVerdict t;
-    t.target = "Bandwidth floor (stream the mobile vertex positions once): ours / floor, 1 thread";
-    std::ostringstream m;
-    for (const std::string family : {"striking_hip", "striking_real_ct", "sphere_cube", "cartilage"}) {
-      const std::string sc = largest(family);
-      if (sc.empty()) continue;
-      const Row* floor = find_row(rows_, sc, "bandwidth_floor", 1);
-      if (floor == nullptr || !(floor->query.median_ms > 0.0)) continue;
-      m << sc << ": floor " << fmt(floor->query.median_ms) << " ms";
-      for (const std::string ours : {"cylindrical_pose_cache", "cylindrical", "radial_cube", "radial_cube_pose", "embree"}) {
-        const Row* o = find_row(rows_, sc, ours, 1);
-        if (o != nullptr) m << ", " << ours << " " << fmt(o->query.median_ms / floor->query.median_ms) << "x";
-      }
-      m << "; ";
-    }
-    t.informational = true;
-    t.measured = m.str();
-    report.targets.push_back(t);
-  }
-  {
-    TargetVerdict t;
-    t.target = "Zero false negatives and false positives vs the oracle, both thesis methods, every size";
-    long fn = 0, fp = 0;
-    std::size_t rows = 0, sampled = 0;
-    for (const auto& r : rows_) {
-      if (r.method.rfind("cylindrical", 0) != 0 && r.method.rfind("radial_", 0) != 0) continue;
-      ++rows;
-      fn += std::max(0L, r.exact.false_negatives);
-      fp += std::max(0L, r.exact.false_positives);
-      if (r.reference != "oracle") ++sampled;
-    }
-    t.met = rows > 0 && fn == 0 && fp == 0;
-    t.measured = std::to_string(rows) + " rows: " + std::to_string(fn) + " FN, " + std::to_string(fp) + " FP (" +
-                 std::to_string(sampled) + " rows checked on an oracle sample)";
-    report.targets.push_back(t);
-  }
-
-  // ---- report.md
-  std::ostringstream md;
-  md << "# hipfai collision benchmark\n\n";
-  md << "`hipfai bench collision" << (options_.quick ? " --quick" : "") << "`, hipfai " << kVersion << " (" << kGitSha << "), "
-     << std::thread::hardware_concurrency() << " hardware threads. Every ratio is measured in this run, same process.\n"
-     << "Times: median of repeated runs [min–max], ms. *pre* = pre-processing (tables, BVHs, hash grids), *query* = one pose "
-        "(posing the mobile mesh included where the method needs a posed mesh). Ratio = method / ours (striking: cylindrical_pose_cache, the thesis' main stage of §3.2.3.2 with the crossings pre-computed per axis — the one-pass query on the posed mesh, cylindrical, is listed too; sliding: radial_cube) with the same thread count (FCL and Maciel are single-threaded: compared with ours on 1 thread). "
-        "Memory of the pre-processing: peak RSS growth while building / heap retained by the built structure (MiB; "
-        "the first misses heap pages malloc reuses, the second misses transient peaks). FN / FP = false negatives / positives vs the oracle; for FCL and "
-        "spatial hashing on tetrahedra the vertex set is compared (FCL: vertices of the mobile triangles it reports), "
-        "depth error only where the method returns depths; FN, FP and depth error are empty in rows not compared with a "
-        "reference (the oracle's own row).\n\n";
-  md << "## Targets of issue 4\n\n| target | met | measured |\n|---|---|---|\n";
-  for (const auto& t : report.targets) md << "| " << t.target << " | " << (t.informational ? "(measure)" : t.met ? "**met**" : "not met") << " | " << t.measured << " |\n";
-  md << "\n## Results\n\n";
-  std::string current;
-  for (const auto& r : rows_) {
-    if (r.scenario != current) {
-      current = r.scenario;
-      md << "\n### " << r.scenario << " — " << r.vertices << " vertices (mobile " << r.mobile_vertices << ", fixed triangles "
-         << r.fixed_triangles << ")\n\n";
-      md << "| method | threads | pre ms | query ms | total ms | peak RSS / heap MiB | query ratio | total ratio | reported | FN | FP | max depth err mm | reference | note |\n";
-      md << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
-    }
-    md << "| " << r.method << " | " << r.threads << " | " << fmt_ms(r.pre) << " | " << fmt_ms(r.query) << " | " << fmt(r.total_ms())
-       << " | " << fmt(r.memory.peak_rss_growth_mib) << " / " << fmt(r.memory.heap_growth_mib) << " | " << fmt(r.ratio_query) << " | " << fmt(r.ratio_total) << " | " << r.exact.reported
-       << " | " << fmt_count(r.exact.false_negatives) << " | " << fmt_count(r.exact.false_positives) << " | " << fmt(r.exact.max_depth_error_mm) << " | "
-       << r.reference << " | " << r.note << " |\n";
-  }
-  md << "\n## Range of motion: one pass vs stepping (thesis Table 7)\n\n"
-     << "| scenario | vertices | range finder ms | FCL 1° ms | hashing 1° ms | FCL / finder | hashing / finder | exact ccw / cw ° | FCL ccw / cw ° | hashing ccw / cw ° | finder vs oracle |\n"
-     << "|---|---|---|---|---|---|---|---|---|---|---|\n";
-  for (const auto& t : table7_) {
-    md << "| " << t.scenario << " | " << t.vertices << " | " << fmt(t.finder_ms) << " | " << fmt(t.fcl_ms) << " | " << fmt(t.hash_ms)
-       << " | " << fmt(t.fcl_ms / t.finder_ms) << " | " << fmt(t.hash_ms / t.finder_ms) << " | " << fmt(t.exact_ccw, 6) << " / "
-       << fmt(t.exact_cw, 6) << " | " << fmt(t.fcl_ccw) << " / " << fmt(t.fcl_cw) << " | " << fmt(t.hash_ccw) << " / " << fmt(t.hash_cw)
-       << " | " << t.finder_exact << " |\n";
-  }
-  md << "\nStepping detectors: FCL OBBRSS boolean collide (num_max_contacts 1) and spatial hashing of the fixed surface "
-        "triangles stopping at the first triangle-triangle intersection (the thesis' Table 7 setup); both include their "
-        "pre-processing. Ranges capped at 180°.\n";
-  md << "\n## Scaling (fitted exponent of time vs total vertices, log-log least squares)\n\n"
-     << "| family | method | threads | query exponent | pre exponent | points |\n|---|---|---|---|---|---|\n";
-  for (const auto& line : scaling_md) md << line << '\n';
-  md << "\nThe thesis claims O(p) + O(v) for its methods (exponent 1).\n\n## Figures\n\n";
-  for (const auto& p : plots) md << "![" << p << "](" << p << ")\n\n";
-  md << "## CSV files\n\nresults.csv, sweep_radial_table.csv (with Maciel miss rates), sweep_cylindrical_resolution.csv, "
-        "sweep_stepping.csv, rom_table7.csv, scaling.csv.\n";
-  if (!notes_.empty()) {
-    md << "\n## Notes\n\n";
-    for (const auto& n : notes_) md << "- " << n << '\n';
-  }
-  write_file_atomically(dir / "report.md", md.str());
-  report.report_path = dir / "report.md";
-}
 
 CollisionBenchReport Bench::run() {
   const auto start = std::chrono::steady_clock::now();
@@ -1120,7 +710,7 @@ CollisionBenchReport Bench::run() {
       real = make_striking_real_ct(options_.lhdl_dir);
       bench_striking(*real);
     } catch (const Error& error) {
-      notes_.push_back(std::string("real CT scenario skipped: ") + error.what());
+      measured_.notes.push_back(std::string("real CT scenario skipped: ") + error.what());
     }
   }
   // The non-medical examples of thesis §3.7.2: a lever turning about its fulcrum against a stone
@@ -1137,8 +727,11 @@ CollisionBenchReport Bench::run() {
   if (real) stepping(*real, false);
   stepping(lever, false);
   fill_ratios();
+  measured_.quick = options_.quick;
   CollisionBenchReport report;
-  write_outputs(report);
+  report.targets = evaluate_targets(measured_);
+  log("writing the tables, figures and report");
+  report.report_path = write_collision_bench_report(measured_, report.targets, options_.out_dir);
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return report;
 }
@@ -1149,6 +742,14 @@ CollisionBenchReport run_collision_bench(const CollisionBenchOptions& options) {
   if (options.thread_counts.empty()) throw_error("bench: at least one thread count is needed");
   Bench bench(options);
   return bench.run();
+}
+
+const BenchRow* find_row(const std::vector<BenchRow>& rows, const std::string& scenario, const std::string& method,
+                         int threads) {
+  for (const auto& row : rows) {
+    if (row.scenario == scenario && row.method == method && row.threads == threads) return &row;
+  }
+  return nullptr;
 }
 
 }  // namespace hipfai::bench
