@@ -102,7 +102,7 @@ SectionSvg frontal_panel(const HipModel& model, const CeMeasurement& ce) {
   SectionSvg svg(hjc, model.lateral, model.superior, kHalfMm);
   for (const auto& [name, mesh] : model.tissues) svg.section(mesh, name);
   svg.line(hjc, hjc + 45.0 * model.superior, kConstruction);
-  if (ce.status == MeasureStatus::ok) {
+  if (ce.status == MeasureStatus::kOk) {
     const Vec3 towards = (ce.rim_point_mm - hjc).normalized();
     svg.line(hjc, hjc + 45.0 * towards, kConstruction);
     svg.circle(ce.rim_point_mm, 0.8, "fill='black'");
@@ -113,12 +113,12 @@ SectionSvg frontal_panel(const HipModel& model, const CeMeasurement& ce) {
 }
 
 SectionSvg notzli_panel(const HipModel& model, const AlphaMeasurement& alpha) {
-  const Vec3 u = alpha.status == MeasureStatus::ok ? alpha.plane_direction : model.superior;
-  const Vec3 centre = alpha.status == MeasureStatus::ok ? alpha.head_centre_mm : model.hjc_mm;
+  const Vec3 u = alpha.status == MeasureStatus::kOk ? alpha.plane_direction : model.superior;
+  const Vec3 centre = alpha.status == MeasureStatus::kOk ? alpha.head_centre_mm : model.hjc_mm;
   SectionSvg svg(centre, model.neck_axis, u, kHalfMm);
   for (const auto& [name, mesh] : model.tissues) svg.section(mesh, name);
   svg.line(centre - 30.0 * model.neck_axis, centre + 60.0 * model.neck_axis, kConstruction);
-  if (alpha.status == MeasureStatus::ok) {
+  if (alpha.status == MeasureStatus::kOk) {
     svg.circle(centre, alpha.head_radius_mm, "fill='none' stroke='black' stroke-width='0.2'");
     const Vec3 towards = (alpha.departure_point_mm - centre).normalized();
     svg.line(centre, centre + 40.0 * towards, kConstruction);

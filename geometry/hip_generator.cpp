@@ -621,15 +621,15 @@ HipGeneratorResult generate_hip(const HipParameters& parameters) {
                                    model.hjc_mm, model.lateral, model.superior);
   const auto alpha = measure_alpha_angle({&model.tissue("femur_bone"), &model.tissue("femoral_cartilage")},
                                          model.hjc_mm, model.neck_axis, model.superior, Vec3::UnitY());
-  if (ce.status == MeasureStatus::ok) model.measured_ce_deg = ce.ce_deg;
-  if (alpha.status == MeasureStatus::ok) model.measured_alpha_notzli_deg = alpha.alpha_deg;
+  if (ce.status == MeasureStatus::kOk) model.measured_ce_deg = ce.ce_deg;
+  if (alpha.status == MeasureStatus::kOk) model.measured_alpha_notzli_deg = alpha.alpha_deg;
   if (alpha.max_alpha_deg >= 0.0) {
     model.measured_alpha_max_deg = alpha.max_alpha_deg;
     model.measured_alpha_max_clock_deg = alpha.max_plane_deg;
   }
   model.alpha_profile = alpha.profile;
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  result.status = HipGeneratorResult::Status::ok;
+  result.status = HipGeneratorResult::Status::kOk;
   return result;
 }
 

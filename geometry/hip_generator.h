@@ -31,8 +31,8 @@
 namespace hipfai::geometry {
 
 struct HipGeneratorResult {
-  enum class Status { ok, failed };
-  Status status = Status::failed;
+  enum class Status { kOk, kFailed };
+  Status status = Status::kFailed;
   HipModel model;
   double seconds = 0.0;   // wall-clock time of construction + meshing
 };

@@ -65,7 +65,7 @@ CeMeasurement measure_ce_angle(const std::vector<const TriMesh*>& acetabulum, co
   }
   if (!std::isfinite(best)) return result;
   result.ce_deg = best * kRadToDeg;
-  result.status = MeasureStatus::ok;
+  result.status = MeasureStatus::kOk;
   return result;
 }
 
@@ -229,7 +229,7 @@ AlphaMeasurement measure_alpha_angle(const std::vector<const TriMesh*>& femur, c
   result.alpha_deg = alpha_in_plane(femur, centre, radius, n, result.plane_direction, result.tolerance_mm,
                                     &result.departure_point_mm);
   if (!std::isfinite(result.alpha_deg)) return result;
-  result.status = MeasureStatus::ok;
+  result.status = MeasureStatus::kOk;
   return result;
 }
 

@@ -39,10 +39,10 @@ struct PlaneSegment {
 // Intersection of a mesh with the plane through `point` with normal `normal` (unit), as segments.
 std::vector<PlaneSegment> plane_section(const TriMesh& mesh, const Vec3& point, const Vec3& normal);
 
-enum class MeasureStatus { ok, no_section };
+enum class MeasureStatus { kOk, kNoSection };
 
 struct CeMeasurement {
-  MeasureStatus status = MeasureStatus::no_section;
+  MeasureStatus status = MeasureStatus::kNoSection;
   double ce_deg = 0.0;
   Vec3 rim_point_mm = Vec3::Zero();  // the lateral rim point used
 };
@@ -66,7 +66,7 @@ struct AlphaOptions {
 std::string clock_label(double clock_deg);
 
 struct AlphaMeasurement {
-  MeasureStatus status = MeasureStatus::no_section;
+  MeasureStatus status = MeasureStatus::kNoSection;
   double alpha_deg = 0.0;          // in Nötzli's plane (options.notzli_clock_deg)
   double plane_deg = 0.0;          // that plane's clock angle
   double max_alpha_deg = 0.0;      // largest over the anterosuperior sector ...

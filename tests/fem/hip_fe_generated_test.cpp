@@ -78,7 +78,7 @@ std::vector<ContactResult> run_coarse_motion(const geometry::HipGeneratorResult&
 std::pair<std::vector<ContactResult>, std::vector<ContactResult>> six_normal_hip_steps(
     const ContactOptions& first, const ContactOptions& second) {
   const geometry::HipGeneratorResult hip = generated_hip({20.0, 40.0});
-  if (hip.status != geometry::HipGeneratorResult::Status::ok) throw std::runtime_error("hip generation failed");
+  if (hip.status != geometry::HipGeneratorResult::Status::kOk) throw std::runtime_error("hip generation failed");
   std::vector<MotionStep> steps = sitting_down_steps();
   steps.resize(6);
   return {run_coarse_motion(hip, steps, first), run_coarse_motion(hip, steps, second)};
@@ -87,7 +87,7 @@ std::pair<std::vector<ContactResult>, std::vector<ContactResult>> six_normal_hip
 
 TEST_P(HipFeGenerated, CompletesStandingToSittingAtTheCoarseLevel) {
   const geometry::HipGeneratorResult hip = generated_hip(GetParam());
-  ASSERT_EQ(hip.status, geometry::HipGeneratorResult::Status::ok);
+  ASSERT_EQ(hip.status, geometry::HipGeneratorResult::Status::kOk);
   const std::vector<MotionStep> steps = sitting_down_steps();
   const std::vector<ContactResult> results = run_coarse_motion(hip, steps, ContactOptions());
   ASSERT_EQ(results.size(), steps.size());
@@ -139,7 +139,7 @@ TEST_P(HipFeGenerated, CompletesStandingToSittingAtTheCoarseLevel) {
 // alone (the frictionless solution is unique) to round-off.
 TEST(HipFeCellMatrices, AStepAfterOthersEqualsTheSameStepSolvedAlone) {
   const geometry::HipGeneratorResult hip = generated_hip({20.0, 40.0});
-  ASSERT_EQ(hip.status, geometry::HipGeneratorResult::Status::ok);
+  ASSERT_EQ(hip.status, geometry::HipGeneratorResult::Status::kOk);
   std::vector<MotionStep> steps = sitting_down_steps();
   steps.resize(4);
   const std::vector<ContactResult> sequence = run_coarse_motion(hip, steps, ContactOptions());

@@ -28,7 +28,7 @@ TEST(CeAngle, BlockWithTiltedOpeningFace) {
     // Right-hand rotation about +Y by ce moves +Z towards +X (lateral).
     rotate_about_axis(block, Vec3::Zero(), Vec3::UnitY(), ce * kDegToRad);
     const auto result = measure_ce_angle({&block}, Vec3::Zero(), Vec3::UnitX(), Vec3::UnitZ());
-    ASSERT_EQ(result.status, MeasureStatus::ok);
+    ASSERT_EQ(result.status, MeasureStatus::kOk);
     EXPECT_NEAR(result.ce_deg, ce, 1e-6);  // the face is planar: only rounding error
   }
 }
@@ -60,7 +60,7 @@ TEST(AlphaAngle, SyntheticHeadsWithKnownDeparture) {
   for (const auto& [inward, cam] : std::vector<std::pair<double, double>>{{40, 0}, {40, 65}, {35, 80}}) {
     const TriMesh head = synthetic_head(n, inward, cam);
     const auto result = measure_alpha_angle({&head}, Vec3::Zero(), n, Vec3::UnitZ(), Vec3::UnitY());
-    ASSERT_EQ(result.status, MeasureStatus::ok);
+    ASSERT_EQ(result.status, MeasureStatus::kOk);
     EXPECT_NEAR(result.alpha_deg, cam > 0 ? cam : inward, 0.5) << inward << " " << cam;
     EXPECT_NEAR(result.head_radius_mm, 25.0, 0.01);
     // Every plane the bump reaches departs at cam_deg, so the plane itself is not identified.
@@ -73,8 +73,8 @@ TEST(StudyGrid, ExtremeAndNormalHipsAtDefaultEdge) {
   const double edge = HipParameters{}.edge_mm;
   for (const auto& [ce, alpha] : std::vector<std::pair<double, double>>{{0, 40}, {40, 80}, {20, 40}}) {
     const auto m = test_support::measure_study_angles(test_support::study_hip(ce, alpha, edge));
-    ASSERT_EQ(m.ce.status, MeasureStatus::ok);
-    ASSERT_EQ(m.alpha.status, MeasureStatus::ok);
+    ASSERT_EQ(m.ce.status, MeasureStatus::kOk);
+    ASSERT_EQ(m.alpha.status, MeasureStatus::kOk);
     EXPECT_NEAR(m.ce.ce_deg, ce, 1.0);
     EXPECT_NEAR(m.alpha.alpha_deg, alpha, 1.0);
   }

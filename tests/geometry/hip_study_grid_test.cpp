@@ -100,8 +100,8 @@ TEST(StudyGrid, All25HipsCleanWithinOneDegreeAndApartInNeutral) {
             << label << " " << name;
       }
       const MeasuredAngles m = measure_study_angles(model);
-      ASSERT_EQ(m.ce.status, MeasureStatus::ok) << label;
-      ASSERT_EQ(m.alpha.status, MeasureStatus::ok) << label;
+      ASSERT_EQ(m.ce.status, MeasureStatus::kOk) << label;
+      ASSERT_EQ(m.alpha.status, MeasureStatus::kOk) << label;
       EXPECT_NEAR(m.ce.ce_deg, ce, 1.0) << label;
       EXPECT_NEAR(m.alpha.alpha_deg, alpha, 1.0) << label;
       // Clock profile: the cam holds alpha from 3:00 (Nötzli's plane, above) to 1:30; the
