@@ -21,6 +21,7 @@
 #include "contact/range_finder.h"
 #include "contact/ray_sampling.h"
 #include "core/error.h"
+#include "core/parallel.h"
 
 #include <algorithm>
 #include <chrono>
@@ -34,7 +35,6 @@
 #include <optional>
 #include <random>
 #include <set>
-#include <thread>
 
 namespace hipfai::bench {
 
@@ -148,20 +148,14 @@ Reference make_reference(const Scenario& s, const TriMesh& posed, const std::vec
   const auto start = std::chrono::steady_clock::now();
   const int threads = 2;
   std::vector<contact::PenetrationResult> parts(threads);
-  std::vector<std::thread> workers;
-  for (int k = 0; k < threads; ++k) {
-    workers.emplace_back([&, k] {
-      TriMesh subset;
-      const std::size_t begin = chosen.size() * static_cast<std::size_t>(k) / threads;
-      const std::size_t end = chosen.size() * static_cast<std::size_t>(k + 1) / threads;
-      for (std::size_t i = begin; i < end; ++i) subset.vertices.push_back(posed.vertices[static_cast<std::size_t>(chosen[i])]);
-      auto result = s.radial ? contact::oracle_radial(s.fixed, subset, s.centre, s.configuration)
-                             : contact::oracle_cylindrical(s.fixed, subset, s.centre, s.axis);
-      for (auto& p : result.pairs) p.mobile_vertex = chosen[begin + static_cast<std::size_t>(p.mobile_vertex)];
-      parts[static_cast<std::size_t>(k)] = std::move(result);
-    });
-  }
-  for (auto& w : workers) w.join();
+  parallel_chunks(chosen.size(), threads, [&](std::size_t begin, std::size_t end, int chunk) {
+    TriMesh subset;
+    for (std::size_t i = begin; i < end; ++i) subset.vertices.push_back(posed.vertices[static_cast<std::size_t>(chosen[i])]);
+    auto result = s.radial ? contact::oracle_radial(s.fixed, subset, s.centre, s.configuration)
+                           : contact::oracle_cylindrical(s.fixed, subset, s.centre, s.axis);
+    for (auto& p : result.pairs) p.mobile_vertex = chosen[begin + static_cast<std::size_t>(p.mobile_vertex)];
+    parts[static_cast<std::size_t>(chunk)] = std::move(result);
+  });
   for (const auto& part : parts) {
     for (const auto& p : part.pairs) ref.depth[p.mobile_vertex] = p.depth_mm;
   }

@@ -1,6 +1,6 @@
 #include "bench/peer_cgal.h"
 
-#include "contact/cylindrical_table.h"  // detail::parallel_chunks
+#include "core/parallel.h"
 
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
@@ -59,7 +59,7 @@ contact::PenetrationResult CgalRadialCaster::query(const geometry::TriMesh& pose
   const bool mobile_inside = configuration == contact::RadialConfiguration::kMobileInsideFixed;
   const int threads = num_threads < 1 ? 1 : num_threads;
   std::vector<std::vector<contact::PenetrationPair>> per_chunk(static_cast<std::size_t>(threads));
-  contact::detail::parallel_chunks(
+  parallel_chunks(
       posed_mobile.vertices.size(), threads, [&](std::size_t begin, std::size_t end, int chunk) {
         auto& pairs = per_chunk[static_cast<std::size_t>(chunk)];
         for (std::size_t v = begin; v < end; ++v) {

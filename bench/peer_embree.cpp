@@ -1,7 +1,7 @@
 #include "bench/peer_embree.h"
 
-#include "contact/cylindrical_table.h"  // detail::parallel_chunks
 #include "core/error.h"
+#include "core/parallel.h"
 
 #include <embree3/rtcore.h>
 
@@ -62,7 +62,7 @@ contact::PenetrationResult EmbreeRadialCaster::query(const geometry::TriMesh& po
   const bool mobile_inside = configuration == contact::RadialConfiguration::kMobileInsideFixed;
   const int threads = num_threads < 1 ? 1 : num_threads;
   std::vector<std::vector<contact::PenetrationPair>> per_chunk(static_cast<std::size_t>(threads));
-  contact::detail::parallel_chunks(
+  parallel_chunks(
       posed_mobile.vertices.size(), threads, [&](std::size_t begin, std::size_t end, int chunk) {
         auto& pairs = per_chunk[static_cast<std::size_t>(chunk)];
         RTCIntersectContext context;

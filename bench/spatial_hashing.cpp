@@ -1,8 +1,8 @@
 #include "bench/spatial_hashing.h"
 
-#include "contact/cylindrical_table.h"  // detail::parallel_chunks
 #include "contact/ray_triangle.h"
 #include "core/error.h"
+#include "core/parallel.h"
 #include "geometry/gmsh_runtime.h"
 
 #include <gmsh.h>
@@ -200,7 +200,7 @@ std::vector<std::int32_t> TetSpatialHash::penetrating_vertices(const geometry::T
                                                                int num_threads) const {
   const int threads = num_threads < 1 ? 1 : num_threads;
   std::vector<std::vector<std::int32_t>> per_chunk(static_cast<std::size_t>(threads));
-  contact::detail::parallel_chunks(
+  parallel_chunks(
       posed_mobile.vertices.size(), threads, [&](std::size_t begin, std::size_t end, int chunk) {
         auto& found = per_chunk[static_cast<std::size_t>(chunk)];
         for (std::size_t v = begin; v < end; ++v) {
@@ -256,7 +256,7 @@ contact::PenetrationResult SurfaceSpatialHash::radial_query(const geometry::TriM
   const Vector3d pad = Vector3d::Constant(1e-9 * cell);
   const Vector3d lo_box = box_min_ - pad, hi_box = box_max_ + pad;
   std::vector<std::vector<contact::PenetrationPair>> per_chunk(static_cast<std::size_t>(threads));
-  contact::detail::parallel_chunks(
+  parallel_chunks(
       posed_mobile.vertices.size(), threads, [&](std::size_t begin, std::size_t end, int chunk) {
         auto& pairs = per_chunk[static_cast<std::size_t>(chunk)];
         std::vector<std::uint32_t> seen(fixed_.triangles.size(), 0);

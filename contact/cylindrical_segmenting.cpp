@@ -1,5 +1,7 @@
 #include "contact/cylindrical_segmenting.h"
 
+#include "core/parallel.h"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -45,9 +47,9 @@ PenetrationResult cylindrical_segmenting(const CylindricalTable& table,
     return result;
   }
   const AxisFrame& frame = table.frame();
-  const int threads = detail::resolve_threads(options.num_threads);
+  const int threads = resolve_threads(options.num_threads);
   std::vector<std::vector<PenetrationPair>> chunks(static_cast<std::size_t>(threads));
-  detail::parallel_chunks(posed_mobile.vertices.size(), threads,
+  parallel_chunks(posed_mobile.vertices.size(), threads,
                           [&](std::size_t begin, std::size_t end, int chunk) {
     auto& out = chunks[static_cast<std::size_t>(chunk)];
     std::array<double, 2> angles{};
@@ -109,14 +111,14 @@ CylindricalPoseCache::CylindricalPoseCache(const CylindricalTable& table,
   if (status_ == QueryStatus::kNoOverlap) return;
 
   const AxisFrame& frame = table.frame();
-  const int threads = detail::resolve_threads(options.num_threads);
+  const int threads = resolve_threads(options.num_threads);
   struct Chunk {
     std::vector<TrackedVertex> tracked;
     std::vector<double> theta;
     std::vector<std::int32_t> triangle;
   };
   std::vector<Chunk> chunks(static_cast<std::size_t>(threads));
-  detail::parallel_chunks(mobile.vertices.size(), threads,
+  parallel_chunks(mobile.vertices.size(), threads,
                           [&](std::size_t begin, std::size_t end, int chunk_id) {
     Chunk& chunk = chunks[static_cast<std::size_t>(chunk_id)];
     std::array<double, 2> angles{};
@@ -167,9 +169,9 @@ PenetrationResult CylindricalPoseCache::query(double angle_deg) const {
     return result;
   }
   const double angle_rad = angle_deg / kDegPerRad;
-  const int threads = detail::resolve_threads(options_.num_threads);
+  const int threads = resolve_threads(options_.num_threads);
   std::vector<std::vector<PenetrationPair>> chunks(static_cast<std::size_t>(threads));
-  detail::parallel_chunks(tracked_.size(), threads,
+  parallel_chunks(tracked_.size(), threads,
                           [&](std::size_t begin, std::size_t end, int chunk) {
     auto& out = chunks[static_cast<std::size_t>(chunk)];
     for (std::size_t i = begin; i < end; ++i) {

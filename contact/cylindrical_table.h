@@ -172,17 +172,4 @@ void update_triangles(CylindricalTable& table, const geometry::TriMesh& fixed_no
                       std::span<const std::int32_t> changed_triangles,
                       TableUpdate mode = TableUpdate::kRebin);
 
-namespace detail {
-// Number of worker threads for `requested` (0 = all hardware threads, at least 1).
-int resolve_threads(int requested);
-// Runs fn(begin, end, chunk) over [0, n) split in `threads` contiguous chunks, in parallel, on a
-// persistent pool (TBB task arena of that many threads, created once per thread count).
-void parallel_chunks(std::size_t n, int threads,
-                     const std::function<void(std::size_t, std::size_t, int)>& fn);
-// Runs fn(begin, end) over [0, n) in blocks of about `grain` items taken dynamically by `threads`
-// workers of the same pool (for uneven work per item; fn must not depend on which worker runs it).
-void parallel_blocks(std::size_t n, int threads, std::size_t grain,
-                     const std::function<void(std::size_t, std::size_t)>& fn);
-}  // namespace detail
-
 }  // namespace hipfai::contact

@@ -1,8 +1,8 @@
 #include "contact/radial_segmenting.h"
 
-#include "contact/cylindrical_table.h"  // detail::parallel_blocks
 #include "contact/ray_triangle.h"
 #include "core/error.h"
+#include "core/parallel.h"
 
 #include <algorithm>
 #include <atomic>
@@ -349,7 +349,7 @@ PenetrationResult radial_segmenting(const RadialTable& table, const geometry::Tr
   // Each block writes its own slots: no sharing, and the output order is fixed afterwards. Blocks
   // are taken dynamically: culled vertices cost almost nothing, so the work is uneven.
   const VertexQuery query(table, fixed, options, use_spans);
-  detail::parallel_blocks(count, options.num_threads, 2048, [&](std::size_t begin, std::size_t end) {
+  parallel_blocks(count, options.num_threads, 2048, [&](std::size_t begin, std::size_t end) {
     query_range(query, mobile, begin, end, slots, hits);
   });
   for (std::size_t v = 0; v < count; ++v) {
@@ -465,7 +465,7 @@ PenetrationResult RadialPoseQuery::query(const Eigen::Isometry3d& pose) const {
   std::vector<std::uint8_t> hits(count, 0);
   std::atomic<bool> finite{true};
   const VertexQuery query(*table_, *fixed_, options_, use_spans_);
-  detail::parallel_blocks(count, options_.num_threads, 2048, [&](std::size_t begin, std::size_t end) {
+  parallel_blocks(count, options_.num_threads, 2048, [&](std::size_t begin, std::size_t end) {
     VertexQuery::Scratch scratch;
     for (std::size_t k = begin; k < end; ++k) {
       const Vec3 position = pose * sorted_position_[first + k];

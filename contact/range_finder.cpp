@@ -1,5 +1,7 @@
 #include "contact/range_finder.h"
 
+#include "core/parallel.h"
+
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -28,11 +30,11 @@ struct DirectionBest {
 void scan(const CylindricalPoseCache& cache, ContactKind kind, int num_threads,
           DirectionBest& forward, DirectionBest& backward) {
   const auto& tracked = cache.tracked();
-  const int threads = detail::resolve_threads(num_threads);
+  const int threads = resolve_threads(num_threads);
   std::vector<DirectionBest> chunk_forward(static_cast<std::size_t>(threads));
   std::vector<DirectionBest> chunk_backward(static_cast<std::size_t>(threads));
   const double touching_mm = cache.touching_mm();
-  detail::parallel_chunks(tracked.size(), threads, [&](std::size_t begin, std::size_t end, int c) {
+  parallel_chunks(tracked.size(), threads, [&](std::size_t begin, std::size_t end, int c) {
     DirectionBest& fwd = chunk_forward[static_cast<std::size_t>(c)];
     DirectionBest& bwd = chunk_backward[static_cast<std::size_t>(c)];
     for (std::size_t i = begin; i < end; ++i) {
@@ -233,10 +235,10 @@ void scan_edges(const geometry::TriMesh& fixed, const geometry::TriMesh& mobile,
   const EdgeRingGrid grid = bin_edges(fixed_edges);
   std::vector<Vec3> g(fixed_edges.size());
   for (std::size_t i = 0; i < fixed_edges.size(); ++i) g[i] = fixed_edges[i].d.cross(fixed_edges[i].p);
-  const int threads = detail::resolve_threads(num_threads);
+  const int threads = resolve_threads(num_threads);
   std::vector<DirectionBest> chunk_forward(static_cast<std::size_t>(threads), forward);
   std::vector<DirectionBest> chunk_backward(static_cast<std::size_t>(threads), backward);
-  detail::parallel_chunks(mobile_edges.size(), threads, [&](std::size_t begin, std::size_t end, int chunk) {
+  parallel_chunks(mobile_edges.size(), threads, [&](std::size_t begin, std::size_t end, int chunk) {
     DirectionBest& fwd = chunk_forward[static_cast<std::size_t>(chunk)];
     DirectionBest& bwd = chunk_backward[static_cast<std::size_t>(chunk)];
     for (std::size_t i = begin; i < end; ++i) {
