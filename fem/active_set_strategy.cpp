@@ -133,7 +133,8 @@ std::vector<bool> ActiveSetStrategy::next(unsigned int iteration, bool load_cont
   }
   one_constraint_per_node(nodes, next_set, gap, &active);
   tried_.insert(active);
-  if (!least_index_rule_ && tried_.count(next_set) > 0) {
+  // A set the plain rule returns to is a cycle; the set just solved again is convergence.
+  if (!least_index_rule_ && next_set != active && tried_.count(next_set) > 0) {
     least_index_rule_ = true;
     log << "fem: active-set cycle detected at iteration " << iteration
         << "; one change per iteration from here" << std::endl;

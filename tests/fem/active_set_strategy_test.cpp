@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <iostream>
+#include <sstream>
 
 namespace hipfai::fem {
 namespace {
@@ -91,6 +92,18 @@ TEST(FemActiveSet, DetectsACycleAndChangesOneNodeAtATime) {
   // From {0, 1} both are tensile: the plain rule returns to {}, a set already solved.
   const std::vector<bool> second = strategy.next(2, false, nodes, first, {-1, -1}, {0, 0}, log);
   EXPECT_EQ(second, (std::vector<bool>{false, true}));  // the least-index rule: one change
+}
+
+TEST(FemActiveSet, ConvergenceIsNoCycle) {
+  ActiveSetStrategy strategy;
+  strategy.begin_run({}, 1e-12);
+  const std::vector<SlaveNode> nodes = {node(0, 0, 0), node(0, 1, 0)};
+  std::ostringstream text;
+  dealii::ConditionalOStream log(text, true);
+  const std::vector<bool> active = {true, false};
+  // Node 0 compressive, node 1 open: the set just solved comes back, unchanged and unflagged.
+  EXPECT_EQ(strategy.next(1, false, nodes, active, {1, 0}, {0, 1}, log), active);
+  EXPECT_EQ(text.str(), "");
 }
 
 TEST(FemActiveSet, WarmStartFromTheLastConvergedRun) {

@@ -1,16 +1,11 @@
 // fem::summarize_contact, summarize_stress and make_finite on synthetic nodes and samples, and
-// the result's status names; fem::write_contact_vtu on the small layer.
+// the result's status names.
 #include "fem/contact_summary.h"
-#include "fem/contact_output.h"
-#include "layer_fixture.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 #include <limits>
-#include <sstream>
 
 namespace hipfai::fem {
 namespace {
@@ -89,26 +84,6 @@ TEST(FemContactSummary, MakeFiniteZeroesNonFiniteNumbers) {
   EXPECT_EQ(displacement[1], 0.0);
   EXPECT_STREQ(to_string(ContactStatus::kNonFinite), "non-finite numbers");
   EXPECT_STREQ(to_string(ContactStatus::kConverged), "converged");
-}
-
-TEST(FemContactOutput, WritesTheFieldsToVtu) {
-  const ContactModel model = testing::layer_model(0.0);
-  const auto system = testing::layer_system(model, 1);
-  const std::vector<SlaveNode> nodes = {node_at(0, Point<3>(0, 0, 2), 1.0, 0.0)};
-  ContactFields fields{{1.5}, {-0.01}, {true}};
-  const dealii::Vector<double> displacement(system->dof_handler().n_dofs());
-  dealii::Vector<float> von_mises(system->triangulation().n_active_cells());
-  const std::filesystem::path file =
-      std::filesystem::temp_directory_path() / "hipfai_fem_contact_output.vtu";
-  write_contact_vtu(file.string(), *system, displacement, von_mises, nodes, fields);
-  std::ifstream in(file);
-  std::stringstream text;
-  text << in.rdbuf();
-  for (const char* name : {"displacement_mm", "material_id", "von_mises_cell_max_mpa",
-                           "contact_pressure_mpa", "contact_gap_mm", "contact_active"}) {
-    EXPECT_NE(text.str().find(name), std::string::npos) << name;
-  }
-  std::filesystem::remove(file);
 }
 
 }  // namespace
