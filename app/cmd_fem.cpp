@@ -84,9 +84,9 @@ void run_fem_verify(const FemVerifyOptions& options) {
     const fem::ContactResult& s = result.solve;
     std::printf("== %s (%s): %u cells, %lu dofs, Q%u, %u rank(s), %u active-set iterations, "
                 "%u linear solves, %u CG iterations, max penetration %.3g mm, %.2f s\n",
-                name.c_str(), fem::to_string(s.status), s.n_cells, s.n_dofs, options.degree,
-                s.n_ranks, s.active_set_iterations, s.linear_solves, s.linear_iterations,
-                s.max_penetration_mm, s.wall_time_s);
+                name.c_str(), fem::to_string(s.status), s.statistics.n_cells, s.statistics.n_dofs, options.degree,
+                s.statistics.n_ranks, s.statistics.active_set_iterations, s.statistics.linear_solves, s.statistics.linear_iterations,
+                s.peaks.max_penetration_mm, s.statistics.wall_time_s);
     std::printf("   inputs:");
     for (const auto& [key, value] : result.inputs) std::printf(" %s=%.6g", key.c_str(), value);
     std::printf("\n");
@@ -97,10 +97,10 @@ void run_fem_verify(const FemVerifyOptions& options) {
       if (csv) {
         *csv << name << ',' << q.name << ',' << q.unit << ',' << q.computed << ','
              << q.closed_form << ',' << q.relative_error() << ',' << q.tolerance << ','
-             << (q.passed() ? 1 : 0) << ',' << fem::to_string(s.status) << ',' << s.n_cells
-             << ',' << s.n_dofs << ',' << s.n_ranks << ',' << s.active_set_iterations << ','
-             << s.linear_solves << ',' << s.linear_iterations << ',' << s.max_penetration_mm
-             << ',' << s.wall_time_s << '\n';
+             << (q.passed() ? 1 : 0) << ',' << fem::to_string(s.status) << ',' << s.statistics.n_cells
+             << ',' << s.statistics.n_dofs << ',' << s.statistics.n_ranks << ',' << s.statistics.active_set_iterations << ','
+             << s.statistics.linear_solves << ',' << s.statistics.linear_iterations << ',' << s.peaks.max_penetration_mm
+             << ',' << s.statistics.wall_time_s << '\n';
       }
     }
     std::fflush(stdout);

@@ -1,9 +1,11 @@
 // hipfai — closest-point projection onto a deformable boundary of a finite-element mesh.
 //
-// Used for node-to-surface contact on non-matching meshes: a slave node is projected onto the
-// closest point of the master boundary (the faces with one boundary id, curved as the mapping
-// makes them), and the projection reports the master normal there and the interpolation weights
-// of the master degrees of freedom, so the gap can be written as a linear constraint.
+// Used by the mortar contact on non-matching meshes (fem/mortar_coupling.h): a slave node is
+// projected onto the closest point of the master boundary (the faces with one boundary id,
+// curved as the mapping makes them); the projection tells whether anything lies opposite the
+// node and gives the master normal there, along which the mortar gap is measured. It also
+// reports the interpolation weights of the master degrees of freedom at that point. The master
+// faces, as polynomial patches, are what the mortar segments are cut from (faces()).
 #pragma once
 
 #include "fem/face_patch.h"

@@ -78,14 +78,14 @@ void FemResultsWriter::write() const {
   for (std::size_t k = 0; k < results_.size(); ++k) {
     const ContactResult& r = results_[k];
     status.push_back(static_cast<int>(r.status));
-    newton.push_back(static_cast<int>(r.active_set_iterations));
-    solves.push_back(static_cast<int>(r.linear_solves));
-    cg.push_back(static_cast<int>(r.linear_iterations));
-    sub_steps.push_back(static_cast<int>(r.sub_steps));
-    cutbacks.push_back(static_cast<int>(r.cutbacks));
-    cells.push_back(static_cast<int>(r.n_cells));
-    dofs.push_back(static_cast<double>(r.n_dofs));
-    wall.push_back(r.wall_time_s);
+    newton.push_back(static_cast<int>(r.statistics.active_set_iterations));
+    solves.push_back(static_cast<int>(r.statistics.linear_solves));
+    cg.push_back(static_cast<int>(r.statistics.linear_iterations));
+    sub_steps.push_back(static_cast<int>(r.statistics.sub_steps));
+    cutbacks.push_back(static_cast<int>(r.statistics.cutbacks));
+    cells.push_back(static_cast<int>(r.statistics.n_cells));
+    dofs.push_back(static_cast<double>(r.statistics.n_dofs));
+    wall.push_back(r.statistics.wall_time_s);
     for (unsigned i = 0; i < 3; ++i) {
       for (unsigned j = 0; j < 3; ++j) rotation.push_back(steps_[k].rotation[i][j]);
     }
@@ -98,22 +98,22 @@ void FemResultsWriter::write() const {
       translation.push_back(t[d]);
       resultant.push_back(total[d]);
     }
-    max_p.push_back(r.max_pressure_mpa);
-    radius.push_back(r.peak_average_radius_mm);
-    ball_p.push_back(r.ball_peak_pressure_mpa);
+    max_p.push_back(r.peaks.max_pressure_mpa);
+    radius.push_back(r.peaks.peak_average_radius_mm);
+    ball_p.push_back(r.peaks.ball_peak_pressure_mpa);
     for (unsigned d = 0; d < 3; ++d) {
-      ball_p_position.push_back(r.ball_peak_pressure_position_mm[d]);
-      max_p_position.push_back(r.max_pressure_position_mm[d]);
+      ball_p_position.push_back(r.peaks.ball_peak_pressure_position_mm[d]);
+      max_p_position.push_back(r.peaks.max_pressure_position_mm[d]);
     }
-    mean_p.push_back(r.mean_pressure_mpa);
-    area.push_back(r.contact_area_mm2);
-    penetration.push_back(r.max_penetration_mm);
+    mean_p.push_back(r.peaks.mean_pressure_mpa);
+    area.push_back(r.peaks.contact_area_mm2);
+    penetration.push_back(r.peaks.max_penetration_mm);
     for (hsize_t b = 0; b < bodies; ++b) {
-      max_vm.push_back(b < r.max_von_mises_mpa.size() ? r.max_von_mises_mpa[b] : 0.0);
-      p95_vm.push_back(b < r.p95_von_mises_mpa.size() ? r.p95_von_mises_mpa[b] : 0.0);
-      ball_vm.push_back(b < r.ball_peak_von_mises_mpa.size() ? r.ball_peak_von_mises_mpa[b] : 0.0);
+      max_vm.push_back(b < r.peaks.max_von_mises_mpa.size() ? r.peaks.max_von_mises_mpa[b] : 0.0);
+      p95_vm.push_back(b < r.peaks.p95_von_mises_mpa.size() ? r.peaks.p95_von_mises_mpa[b] : 0.0);
+      ball_vm.push_back(b < r.peaks.ball_peak_von_mises_mpa.size() ? r.peaks.ball_peak_von_mises_mpa[b] : 0.0);
       const dealii::Point<3> centre =
-          b < r.ball_peak_von_mises_position_mm.size() ? r.ball_peak_von_mises_position_mm[b] : dealii::Point<3>();
+          b < r.peaks.ball_peak_von_mises_position_mm.size() ? r.peaks.ball_peak_von_mises_position_mm[b] : dealii::Point<3>();
       for (unsigned d = 0; d < 3; ++d) ball_vm_position.push_back(centre[d]);
     }
   }

@@ -148,29 +148,29 @@ void build_hip_fe_model(ContactProblem& problem, const geometry::HexMesh& mesh,
                                   literature::kCartilagePoissonRatio};
   const ElasticMaterial labrum_material{literature::kLabrumYoungsModulusMPa,
                                         literature::kLabrumPoissonRatio};
-  problem.bodies.clear();
+  problem.model().bodies.clear();
   for (const VolumeTag tag : tissues) {
     const int rigid = tag == VolumeTag::kFemoralCartilage ? static_cast<int>(kFemurBody)
                                                           : static_cast<int>(kPelvisBody);
     const char* name = tag == VolumeTag::kFemoralCartilage      ? "femoral cartilage"
                        : tag == VolumeTag::kAcetabularCartilage ? "acetabular cartilage"
                                                                 : "labrum";
-    problem.bodies.push_back({name, material_of(tag),
+    problem.model().bodies.push_back({name, material_of(tag),
                               tag == VolumeTag::kLabrum ? labrum_material : cartilage, rigid});
   }
 
   const dealii::Tensor<2, 3> identity = dealii::unit_symmetric_tensor<3>();
-  problem.rigid_bodies.assign(2, RigidBody{});
-  problem.rigid_bodies[kFemurBody] = {"femur", rigid_femur, {}, false, {}, {}, identity, hjc};
-  problem.rigid_bodies[kPelvisBody] = {"pelvis", nullptr, {}, false, {}, {}, identity, hjc};
+  problem.model().rigid_bodies.assign(2, RigidBody{});
+  problem.model().rigid_bodies[kFemurBody] = {"femur", rigid_femur, {}, false, {}, {}, identity, hjc};
+  problem.model().rigid_bodies[kPelvisBody] = {"pelvis", nullptr, {}, false, {}, {}, identity, hjc};
 
-  problem.bonded_boundaries.clear();
-  problem.bonded_boundaries.push_back(
+  problem.model().bonded_boundaries.clear();
+  problem.model().bonded_boundaries.push_back(
       {boundary_of(SurfaceTag::kFemoralCartilageBonded), static_cast<int>(kFemurBody), {}});
   for (const SurfaceTag tag : {SurfaceTag::kAcetabularCartilageBonded, SurfaceTag::kLabrumBonded}) {
-    if (has(tag)) problem.bonded_boundaries.push_back({boundary_of(tag), static_cast<int>(kPelvisBody), {}});
+    if (has(tag)) problem.model().bonded_boundaries.push_back({boundary_of(tag), static_cast<int>(kPelvisBody), {}});
   }
-  problem.symmetry_boundaries.clear();
+  problem.model().symmetry_boundaries.clear();
 
   // Slave/master choice. Node-to-surface contact constrains the slave's nodes, so the slave should
   // be the side that resolves the pressure better: the rigid femur is always master (it has no
@@ -181,22 +181,22 @@ void build_hip_fe_model(ContactProblem& problem, const geometry::HexMesh& mesh,
   // face is the smaller surface with a tip of high curvature, i.e. the finer side, and it must
   // conform to the femoral head, not the other way round.
   const auto femoral_articular = boundary_of(SurfaceTag::kFemoralCartilageArticular);
-  problem.contact_pairs.clear();
+  problem.model().contact_pairs.clear();
   if (acetabular) {
     const auto slave = boundary_of(SurfaceTag::kAcetabularCartilageArticular);
-    problem.contact_pairs.push_back({slave, -1, femoral_articular});
-    problem.contact_pairs.push_back({slave, static_cast<int>(kFemurBody), 0});
+    problem.model().contact_pairs.push_back({slave, -1, femoral_articular});
+    problem.model().contact_pairs.push_back({slave, static_cast<int>(kFemurBody), 0});
   }
   if (labrum) {
     const auto slave = boundary_of(SurfaceTag::kLabrumArticular);
-    problem.contact_pairs.push_back({slave, -1, femoral_articular});
-    problem.contact_pairs.push_back({slave, static_cast<int>(kFemurBody), 0});
+    problem.model().contact_pairs.push_back({slave, -1, femoral_articular});
+    problem.model().contact_pairs.push_back({slave, static_cast<int>(kFemurBody), 0});
   }
 }
 
 std::vector<std::string> hip_fe_body_names(const ContactProblem& problem) {
   std::vector<std::string> names;
-  for (const Body& body : problem.bodies) names.push_back(body.name);
+  for (const Body& body : problem.model().bodies) names.push_back(body.name);
   return names;
 }
 

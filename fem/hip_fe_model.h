@@ -41,7 +41,7 @@
 
 namespace hipfai::fem {
 
-inline constexpr unsigned int kFemurBody = 0;   // index into ContactProblem::rigid_bodies
+inline constexpr unsigned int kFemurBody = 0;   // index into ContactModel::rigid_bodies
 inline constexpr unsigned int kPelvisBody = 1;
 
 // Body weight used when none is given (N): a 71 kg adult. A modelling default, not a literature

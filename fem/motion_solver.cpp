@@ -55,12 +55,12 @@ std::array<double, 4> to_quaternion(const dealii::Tensor<2, 3>& r) {
 
 // Counters of a failed attempt, added to the step's totals.
 void add_effort(ContactResult& total, const ContactResult& attempt) {
-  total.active_set_iterations += attempt.active_set_iterations;
-  total.linear_solves += attempt.linear_solves;
-  total.linear_iterations += attempt.linear_iterations;
-  total.factorisations += attempt.factorisations;
-  total.low_rank_updates += attempt.low_rank_updates;
-  total.wall_time_s += attempt.wall_time_s;
+  total.statistics.active_set_iterations += attempt.statistics.active_set_iterations;
+  total.statistics.linear_solves += attempt.statistics.linear_solves;
+  total.statistics.linear_iterations += attempt.statistics.linear_iterations;
+  total.statistics.factorisations += attempt.statistics.factorisations;
+  total.statistics.low_rank_updates += attempt.statistics.low_rank_updates;
+  total.statistics.wall_time_s += attempt.statistics.wall_time_s;
 }
 
 struct State {
@@ -78,22 +78,22 @@ class CutbackSolver {
   // converged state. Returns the last attempt with the effort of all attempts summed.
   ContactResult solve(State& from, const MotionStep& target) {
     ContactResult effort;  // only its counters are used
-    effort.sub_steps = 0;
+    effort.statistics.sub_steps = 0;
     ContactResult last = attempt(from, target, 0, effort);
-    last.active_set_iterations = effort.active_set_iterations;
-    last.linear_solves = effort.linear_solves;
-    last.linear_iterations = effort.linear_iterations;
-    last.factorisations = effort.factorisations;
-    last.low_rank_updates = effort.low_rank_updates;
-    last.wall_time_s = effort.wall_time_s;
-    last.sub_steps = effort.sub_steps;
-    last.cutbacks = effort.cutbacks;
+    last.statistics.active_set_iterations = effort.statistics.active_set_iterations;
+    last.statistics.linear_solves = effort.statistics.linear_solves;
+    last.statistics.linear_iterations = effort.statistics.linear_iterations;
+    last.statistics.factorisations = effort.statistics.factorisations;
+    last.statistics.low_rank_updates = effort.statistics.low_rank_updates;
+    last.statistics.wall_time_s = effort.statistics.wall_time_s;
+    last.statistics.sub_steps = effort.statistics.sub_steps;
+    last.statistics.cutbacks = effort.statistics.cutbacks;
     return last;
   }
 
  private:
   ContactResult attempt(State& from, const MotionStep& target, unsigned int depth, ContactResult& effort) {
-    RigidBody& body = problem_.rigid_bodies[body_];
+    RigidBody& body = problem_.model().rigid_bodies[body_];
     body.rotation = target.rotation;
     body.force_n = target.force_n;
     body.translation_mm = from.translation_mm;
@@ -101,15 +101,15 @@ class CutbackSolver {
     add_effort(effort, result);
     // ContactProblem::run checks every number it returns (kNonFinite otherwise).
     if (result.status == ContactStatus::kConverged) {
-      ++effort.sub_steps;
+      ++effort.statistics.sub_steps;
       from = {target.rotation, target.force_n, result.rigid_translation_mm[body_]};
       return result;
     }
     if (depth >= max_depth_) {
-      ++effort.sub_steps;
+      ++effort.statistics.sub_steps;
       return result;
     }
-    ++effort.cutbacks;
+    ++effort.statistics.cutbacks;
     const MotionStep middle{interpolate_rotation(from.rotation, target.rotation, 0.5),
                             0.5 * (from.force_n + target.force_n)};
     ContactResult half = attempt(from, middle, depth + 1, effort);
@@ -146,14 +146,14 @@ dealii::Tensor<2, 3> interpolate_rotation(const dealii::Tensor<2, 3>& from, cons
 std::vector<ContactResult> run_motion(
     ContactProblem& problem, const std::vector<MotionStep>& steps, const MotionOptions& options,
     const std::function<void(std::size_t, const ContactResult&)>& on_step) {
-  if (options.moving_body >= problem.rigid_bodies.size()) {
+  if (options.moving_body >= problem.model().rigid_bodies.size()) {
     throw_error("fem motion: moving body ", options.moving_body, " does not exist (",
-                problem.rigid_bodies.size(), " rigid bodies)");
+                problem.model().rigid_bodies.size(), " rigid bodies)");
   }
   if (options.vtu_every > 0 && options.vtu_prefix.empty()) {
     throw_error("fem motion: VTU output every ", options.vtu_every, " steps needs a file prefix");
   }
-  RigidBody& body = problem.rigid_bodies[options.moving_body];
+  RigidBody& body = problem.model().rigid_bodies[options.moving_body];
   body.load_controlled = true;
   body.free_directions = options.free_directions;
   if (body.free_directions.empty()) {

@@ -34,7 +34,7 @@ struct MotionStep {
 };
 
 struct MotionOptions {
-  unsigned int moving_body = 0;  // index into ContactProblem::rigid_bodies
+  unsigned int moving_body = 0;  // index into ContactModel::rigid_bodies
   // Directions the moving body may translate in under its load; empty: x, y and z (the femur).
   std::vector<dealii::Tensor<1, 3>> free_directions;
   // Halvings of a step that fails before giving up on it (0: no cutback; 4: down to 1/16 step).

@@ -134,7 +134,7 @@ VerificationResult uniaxial_layer(const VerificationOptions& options, MPI_Comm c
     else if (std::abs(c[0]) < 1e-9 || std::abs(c[0] - width) < 1e-9) face->set_boundary_id(layer_ids::kWallX);
     else face->set_boundary_id(layer_ids::kWallY);
   }
-  problem.bodies = {{"cartilage", 0, cartilage, -1}};
+  problem.model().bodies = {{"cartilage", 0, cartilage, -1}};
   RigidBody bone{"bone", nullptr, {}, false, {}, {}, dealii::unit_symmetric_tensor<3>(), {}};
   RigidBody plate{"plate",
                   std::make_shared<RigidPlane>(Point<3>(0, 0, thickness), Tensor<1, 3>({0, 0, -1})),
@@ -145,10 +145,10 @@ VerificationResult uniaxial_layer(const VerificationOptions& options, MPI_Comm c
     plate.free_directions = {Tensor<1, 3>({0, 0, 1})};
     plate.force_n = Tensor<1, 3>({0, 0, -force});
   }
-  problem.rigid_bodies = {bone, plate};
-  problem.bonded_boundaries = {{layer_ids::kBondedBottom, 0, {}}};
-  problem.symmetry_boundaries = {{layer_ids::kWallX, 0}, {layer_ids::kWallY, 1}};
-  problem.contact_pairs = {{layer_ids::kTopSurface, 1, 0}};
+  problem.model().rigid_bodies = {bone, plate};
+  problem.model().bonded_boundaries = {{layer_ids::kBondedBottom, 0, {}}};
+  problem.model().symmetry_boundaries = {{layer_ids::kWallX, 0}, {layer_ids::kWallY, 1}};
+  problem.model().contact_pairs = {{layer_ids::kTopSurface, 1, 0}};
   result.solve = problem.run();
 
   result.inputs = {{"width_mm", width}, {"thickness_mm", thickness},
@@ -213,14 +213,14 @@ VerificationResult stacked_layers(const VerificationOptions& options, MPI_Comm c
       else face->set_boundary_id(layer_ids::kWallY);
     }
   }
-  problem.bodies = {{"cartilage", 0, upper, -1}, {"labrum-like", 1, lower, -1}};
-  problem.rigid_bodies = {
+  problem.model().bodies = {{"cartilage", 0, upper, -1}, {"labrum-like", 1, lower, -1}};
+  problem.model().rigid_bodies = {
       {"bone", nullptr, {}, false, {}, {}, dealii::unit_symmetric_tensor<3>(), {}},
       {"plate", std::make_shared<RigidPlane>(Point<3>(0, 0, top), Tensor<1, 3>({0, 0, -1})),
        Tensor<1, 3>({0, 0, -indentation}), false, {}, {}, dealii::unit_symmetric_tensor<3>(), {}}};
-  problem.bonded_boundaries = {{layer_ids::kBondedBottom, 0, {}}};
-  problem.symmetry_boundaries = {{layer_ids::kWallX, 0}, {layer_ids::kWallY, 1}};
-  problem.contact_pairs = {{layer_ids::kTopSurface, 1, 0},
+  problem.model().bonded_boundaries = {{layer_ids::kBondedBottom, 0, {}}};
+  problem.model().symmetry_boundaries = {{layer_ids::kWallX, 0}, {layer_ids::kWallY, 1}};
+  problem.model().contact_pairs = {{layer_ids::kTopSurface, 1, 0},
                            {layer_ids::kUpperUnderside, -1, layer_ids::kLowerTop}};
   result.solve = problem.run();
   result.inputs = {{"width_mm", width}, {"upper_thickness_mm", upper_thickness},
@@ -325,13 +325,13 @@ VerificationResult spherical_shells(const VerificationOptions& options, MPI_Comm
   }
   tria.execute_coarsening_and_refinement();
 
-  problem.bodies = {{"femoral cartilage", 0, cartilage, -1}, {"acetabular cartilage", 1, cartilage, -1}};
-  problem.rigid_bodies = {{"core", nullptr, {}, false, {}, {}, dealii::unit_symmetric_tensor<3>(), {}}, {"cup", nullptr, {}, false, {}, {}, dealii::unit_symmetric_tensor<3>(), {}}};
-  problem.bonded_boundaries = {
+  problem.model().bodies = {{"femoral cartilage", 0, cartilage, -1}, {"acetabular cartilage", 1, cartilage, -1}};
+  problem.model().rigid_bodies = {{"core", nullptr, {}, false, {}, {}, dealii::unit_symmetric_tensor<3>(), {}}, {"cup", nullptr, {}, false, {}, {}, dealii::unit_symmetric_tensor<3>(), {}}};
+  problem.model().bonded_boundaries = {
       {kCore, 0, [=](const Point<3>& p) { return Tensor<1, 3>(expansion * p / p.norm()); }},
       {kCup, 1, {}}};
-  problem.symmetry_boundaries = {{kPlaneX, 0}, {kPlaneY, 1}, {kPlaneZ, 2}};
-  problem.contact_pairs = {{kInnerShellOuter, -1, kOuterShellInner}};
+  problem.model().symmetry_boundaries = {{kPlaneX, 0}, {kPlaneY, 1}, {kPlaneZ, 2}};
+  problem.model().contact_pairs = {{kInnerShellOuter, -1, kOuterShellInner}};
   result.solve = problem.run();
   result.inputs = {{"core_radius_mm", inner_radius}, {"contact_radius_mm", contact_radius},
                    {"cup_radius_mm", outer_radius}, {"core_expansion_mm", expansion},
@@ -383,15 +383,15 @@ VerificationResult hertz(const VerificationOptions& options, MPI_Comm comm) {
     }
     tria.execute_coarsening_and_refinement();
   }
-  problem.bodies = {{"block", 0, block, -1}};
+  problem.model().bodies = {{"block", 0, block, -1}};
   RigidBody sphere{"sphere",
                    std::make_shared<RigidSphere>(Point<3>(0, 0, radius), radius),
                    {}, true, {Tensor<1, 3>({0, 0, 1})},
                    Tensor<1, 3>({0, 0, -force / 4.0}), dealii::unit_symmetric_tensor<3>(), {}};  // quarter model
-  problem.rigid_bodies = {{"base", nullptr, {}, false, {}, {}, dealii::unit_symmetric_tensor<3>(), {}}, sphere};
-  problem.bonded_boundaries = {{kBottom, 0, {}}};
-  problem.symmetry_boundaries = {{kPlaneX, 0}, {kPlaneY, 1}};
-  problem.contact_pairs = {{kTop, 1, 0}};
+  problem.model().rigid_bodies = {{"base", nullptr, {}, false, {}, {}, dealii::unit_symmetric_tensor<3>(), {}}, sphere};
+  problem.model().bonded_boundaries = {{kBottom, 0, {}}};
+  problem.model().symmetry_boundaries = {{kPlaneX, 0}, {kPlaneY, 1}};
+  problem.model().contact_pairs = {{kTop, 1, 0}};
   result.solve = problem.run();
   result.inputs = {{"sphere_radius_mm", radius}, {"force_n", force}, {"block_size_mm", size},
                    {"youngs_modulus_mpa", block.youngs_modulus_mpa},
@@ -469,15 +469,15 @@ void build_concentric_shells(ContactProblem& problem, double expansion_mm) {
   tria.execute_coarsening_and_refinement();
   const ElasticMaterial cartilage{literature::kCartilageYoungsModulusMPa,
                                   literature::kCartilagePoissonRatio};
-  problem.bodies = {{"femoral cartilage", 0, cartilage, 0}, {"acetabular cartilage", 1, cartilage, 1}};
-  problem.rigid_bodies = {
+  problem.model().bodies = {{"femoral cartilage", 0, cartilage, 0}, {"acetabular cartilage", 1, cartilage, 1}};
+  problem.model().rigid_bodies = {
       {"femur", nullptr, {}, false, {}, {}, dealii::unit_symmetric_tensor<3>(), Point<3>()},
       {"pelvis", nullptr, {}, false, {}, {}, dealii::unit_symmetric_tensor<3>(), Point<3>()}};
-  problem.bonded_boundaries = {
+  problem.model().bonded_boundaries = {
       {kCore, 0, [=](const Point<3>& p) { return Tensor<1, 3>(expansion_mm * p / p.norm()); }},
       {kCup, 1, {}}};
-  problem.symmetry_boundaries.clear();
-  problem.contact_pairs = {{kInnerShellOuter, -1, kOuterShellInner}};
+  problem.model().symmetry_boundaries.clear();
+  problem.model().contact_pairs = {{kInnerShellOuter, -1, kOuterShellInner}};
 }
 
 VerificationResult run_verification_case(const std::string& name,

@@ -39,7 +39,7 @@ void write_fem_levels_report(const FemLevelsResult& result, const FemLevelsOptio
     csv.precision(10);
     for (const FemLevelRow& row : rows) {
       csv << row.level << ',' << row.summary.hexes << ','
-          << (row.summary.results.empty() ? 0ul : row.summary.results.front().n_dofs) << ','
+          << (row.summary.results.empty() ? 0ul : row.summary.results.front().statistics.n_dofs) << ','
           << row.summary.results.size() << ',' << row.summary.failed << ',' << row.summary.seconds << ','
           << row.wall_per_step << ',' << row.peak_pressure << ','
           << relative_difference_percent(row.peak_pressure, finest.peak_pressure);
@@ -74,7 +74,7 @@ void write_fem_levels_report(const FemLevelsResult& result, const FemLevelsOptio
   accuracy.y_label = "difference from " + finest.level + " (%)";
   accuracy.log_x = true;
   auto dofs_of = [](const FemLevelRow& row) {
-    return row.summary.results.empty() ? 0.0 : static_cast<double>(row.summary.results.front().n_dofs);
+    return row.summary.results.empty() ? 0.0 : static_cast<double>(row.summary.results.front().statistics.n_dofs);
   };
   {
     Series pressure{"peak contact pressure", {}, {}, false};

@@ -45,30 +45,30 @@ FemLevelsResult compute_fem_levels(const FemLevelsOptions& options) {
                                                                                     : std::string("none");
     };
     for (const fem::ContactResult& r : results) {
-      if (r.max_pressure_mpa > row.peak_pressure) {
-        row.max_pressure_position = r.max_pressure_position_mm;
-        row.max_pressure_surface = surface(r.max_pressure_pair);
+      if (r.peaks.max_pressure_mpa > row.peak_pressure) {
+        row.max_pressure_position = r.peaks.max_pressure_position_mm;
+        row.max_pressure_surface = surface(r.peaks.max_pressure_pair);
       }
-      if (r.ball_peak_pressure_mpa > row.ball_peak_pressure) {
-        row.ball_peak_pressure = r.ball_peak_pressure_mpa;
-        row.ball_peak_pressure_position = r.ball_peak_pressure_position_mm;
-        row.ball_peak_pressure_surface = surface(r.ball_peak_pressure_pair);
+      if (r.peaks.ball_peak_pressure_mpa > row.ball_peak_pressure) {
+        row.ball_peak_pressure = r.peaks.ball_peak_pressure_mpa;
+        row.ball_peak_pressure_position = r.peaks.ball_peak_pressure_position_mm;
+        row.ball_peak_pressure_surface = surface(r.peaks.ball_peak_pressure_pair);
       }
-      for (std::size_t b = 0; b < bodies && b < r.ball_peak_von_mises_mpa.size(); ++b) {
-        row.ball_peak_vm[b] = std::max(row.ball_peak_vm[b], r.ball_peak_von_mises_mpa[b]);
+      for (std::size_t b = 0; b < bodies && b < r.peaks.ball_peak_von_mises_mpa.size(); ++b) {
+        row.ball_peak_vm[b] = std::max(row.ball_peak_vm[b], r.peaks.ball_peak_von_mises_mpa[b]);
       }
-      row.peak_pressure = std::max(row.peak_pressure, r.max_pressure_mpa);
-      for (std::size_t b = 0; b < bodies && b < r.max_von_mises_mpa.size(); ++b) {
-        row.peak_vm[b] = std::max(row.peak_vm[b], r.max_von_mises_mpa[b]);
-        row.peak_p95[b] = std::max(row.peak_p95[b], r.p95_von_mises_mpa[b]);
+      row.peak_pressure = std::max(row.peak_pressure, r.peaks.max_pressure_mpa);
+      for (std::size_t b = 0; b < bodies && b < r.peaks.max_von_mises_mpa.size(); ++b) {
+        row.peak_vm[b] = std::max(row.peak_vm[b], r.peaks.max_von_mises_mpa[b]);
+        row.peak_p95[b] = std::max(row.peak_p95[b], r.peaks.p95_von_mises_mpa[b]);
       }
-      step_seconds += r.wall_time_s;
+      step_seconds += r.statistics.wall_time_s;
     }
     row.wall_per_step = results.empty() ? 0.0 : step_seconds / static_cast<double>(results.size());
     if (!results.empty()) {
       const fem::ContactResult& last = results.back();
-      row.last_mean_pressure = last.mean_pressure_mpa;
-      row.last_area = last.contact_area_mm2;
+      row.last_mean_pressure = last.peaks.mean_pressure_mpa;
+      row.last_area = last.peaks.contact_area_mm2;
       row.last_translation =
           last.rigid_translation_mm.empty() ? 0.0 : last.rigid_translation_mm[fem::kFemurBody].norm();
     }

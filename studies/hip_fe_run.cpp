@@ -100,7 +100,7 @@ HipFeRunSummary run_hip_fe(const HipFeRunOptions& options, bool throw_on_failure
   summary.hexes = volume.mesh.hexes.size();
   summary.min_scaled_jacobian = volume.min_scaled_jacobian;
   summary.bodies = fem::hip_fe_body_names(problem);
-  for (const fem::ContactPair& pair : problem.contact_pairs) {
+  for (const fem::ContactPair& pair : problem.model().contact_pairs) {
     summary.pair_surfaces.push_back(geometry::to_string(static_cast<geometry::SurfaceTag>(pair.slave_boundary_id)));
   }
   summary.mesh_seconds = seconds_since(start);
@@ -135,14 +135,14 @@ HipFeRunSummary run_hip_fe(const HipFeRunOptions& options, bool throw_on_failure
   double peak_pressure = 0.0;
   for (const auto& result : summary.results) {
     summary.failed += result.status != fem::ContactStatus::kConverged;
-    peak_pressure = std::max(peak_pressure, result.max_pressure_mpa);
+    peak_pressure = std::max(peak_pressure, result.peaks.max_pressure_mpa);
   }
   summary.seconds = seconds_since(start);
   if (rank == 0 && !options.csv_file.empty()) write_hip_fe_csv(options.csv_file, summary);
   if (rank == 0 && options.progress) {
     std::printf("%s: %zu steps, %zu not converged, %lu dofs, peak pressure %.4g MPa, %.1f s; results in %s\n",
                 options.label.c_str(), summary.results.size(), summary.failed,
-                summary.results.empty() ? 0ul : summary.results.front().n_dofs, peak_pressure, summary.seconds,
+                summary.results.empty() ? 0ul : summary.results.front().statistics.n_dofs, peak_pressure, summary.seconds,
                 (options.results_location.empty() ? options.out_file : options.results_location).c_str());
   }
   if (summary.failed > 0 && throw_on_failure) {
@@ -171,22 +171,22 @@ void write_hip_fe_csv(const std::filesystem::path& file, const HipFeRunSummary& 
   csv.precision(17);
   for (std::size_t k = 0; k < summary.results.size(); ++k) {
     const fem::ContactResult& r = summary.results[k];
-    csv << k + 1 << ',' << static_cast<int>(r.status) << ',' << r.n_ranks << ',' << r.n_dofs << ','
-        << r.active_set_iterations << ',' << r.max_pressure_mpa << ',' << r.mean_pressure_mpa << ','
-        << r.contact_area_mm2 << ',' << r.max_penetration_mm;
+    csv << k + 1 << ',' << static_cast<int>(r.status) << ',' << r.statistics.n_ranks << ',' << r.statistics.n_dofs << ','
+        << r.statistics.active_set_iterations << ',' << r.peaks.max_pressure_mpa << ',' << r.peaks.mean_pressure_mpa << ','
+        << r.peaks.contact_area_mm2 << ',' << r.peaks.max_penetration_mm;
     for (unsigned int d = 0; d < 3; ++d) {
       csv << ',' << (r.rigid_translation_mm.empty() ? 0.0 : r.rigid_translation_mm[fem::kFemurBody][d]);
     }
-    for (const double v : r.max_von_mises_mpa) csv << ',' << v;
-    for (const double v : r.p95_von_mises_mpa) csv << ',' << v;
-    csv << ',' << r.wall_time_s << ',' << r.sub_steps << ',' << r.cutbacks << ',' << r.linear_solves;
-    csv << ',' << r.peak_average_radius_mm << ',' << r.ball_peak_pressure_mpa;
-    for (const double v : r.ball_peak_von_mises_mpa) csv << ',' << v;
-    for (unsigned int d = 0; d < 3; ++d) csv << ',' << r.max_pressure_position_mm[d];
-    csv << ',' << slave_surface_name(summary.pair_surfaces, r.max_pressure_pair);
-    for (unsigned int d = 0; d < 3; ++d) csv << ',' << r.ball_peak_pressure_position_mm[d];
-    csv << ',' << slave_surface_name(summary.pair_surfaces, r.ball_peak_pressure_pair);
-    for (const dealii::Point<3>& centre : r.ball_peak_von_mises_position_mm) {
+    for (const double v : r.peaks.max_von_mises_mpa) csv << ',' << v;
+    for (const double v : r.peaks.p95_von_mises_mpa) csv << ',' << v;
+    csv << ',' << r.statistics.wall_time_s << ',' << r.statistics.sub_steps << ',' << r.statistics.cutbacks << ',' << r.statistics.linear_solves;
+    csv << ',' << r.peaks.peak_average_radius_mm << ',' << r.peaks.ball_peak_pressure_mpa;
+    for (const double v : r.peaks.ball_peak_von_mises_mpa) csv << ',' << v;
+    for (unsigned int d = 0; d < 3; ++d) csv << ',' << r.peaks.max_pressure_position_mm[d];
+    csv << ',' << slave_surface_name(summary.pair_surfaces, r.peaks.max_pressure_pair);
+    for (unsigned int d = 0; d < 3; ++d) csv << ',' << r.peaks.ball_peak_pressure_position_mm[d];
+    csv << ',' << slave_surface_name(summary.pair_surfaces, r.peaks.ball_peak_pressure_pair);
+    for (const dealii::Point<3>& centre : r.peaks.ball_peak_von_mises_position_mm) {
       for (unsigned int d = 0; d < 3; ++d) csv << ',' << centre[d];
     }
     csv << '\n';

@@ -67,7 +67,7 @@ std::vector<ContactResult> run_coarse_motion(const geometry::HipGeneratorResult&
   solver.linear_solver = LinearSolver::kDirect;
   ContactProblem problem(MPI_COMM_WORLD, solver);
   build_hip_fe_model(problem, volume.mesh, hip.model.tissue("femur_bone"), hip.model.hjc_mm);
-  if (problem.bodies.size() != 3u) throw std::runtime_error("expected three deformable bodies");
+  if (problem.model().bodies.size() != 3u) throw std::runtime_error("expected three deformable bodies");
   MotionOptions options;
   options.moving_body = kFemurBody;
   return run_motion(problem, steps, options);
@@ -114,18 +114,18 @@ TEST_P(HipFeGenerated, CompletesStandingToSittingAtTheCoarseLevel) {
     }
     EXPECT_LT(single, 0.01 * thickness) << "step " << k + 1;
     EXPECT_LT(corner, 0.05 * thickness) << "step " << k + 1;
-    ASSERT_TRUE(std::isfinite(r.max_pressure_mpa) && std::isfinite(r.contact_area_mm2));
-    for (const double v : r.max_von_mises_mpa) ASSERT_TRUE(std::isfinite(v) && v >= 0.0);
+    ASSERT_TRUE(std::isfinite(r.peaks.max_pressure_mpa) && std::isfinite(r.peaks.contact_area_mm2));
+    for (const double v : r.peaks.max_von_mises_mpa) ASSERT_TRUE(std::isfinite(v) && v >= 0.0);
     // The joint force is carried by a finite area: mean pressure = force / area on it, and the
     // peak is at least the mean.
-    ASSERT_GT(r.contact_area_mm2, 0.0);
-    EXPECT_GE(r.max_pressure_mpa, r.mean_pressure_mpa) << "step " << k + 1;
-    peak_pressure = std::max(peak_pressure, r.max_pressure_mpa);
+    ASSERT_GT(r.peaks.contact_area_mm2, 0.0);
+    EXPECT_GE(r.peaks.max_pressure_mpa, r.peaks.mean_pressure_mpa) << "step " << k + 1;
+    peak_pressure = std::max(peak_pressure, r.peaks.max_pressure_mpa);
     std::printf("step %2zu: %u active-set iterations, %u sub-steps, p_max %.3f MPa, area %.0f mm^2, "
                 "penetration %.1e mm, |t| %.3f mm, von Mises %.3f / %.3f / %.3f MPa, %.2f s\n",
-                k + 1, r.active_set_iterations, r.sub_steps, r.max_pressure_mpa, r.contact_area_mm2,
-                r.max_penetration_mm, r.rigid_translation_mm[kFemurBody].norm(), r.max_von_mises_mpa[0],
-                r.max_von_mises_mpa[1], r.max_von_mises_mpa[2], r.wall_time_s);
+                k + 1, r.statistics.active_set_iterations, r.statistics.sub_steps, r.peaks.max_pressure_mpa, r.peaks.contact_area_mm2,
+                r.peaks.max_penetration_mm, r.rigid_translation_mm[kFemurBody].norm(), r.peaks.max_von_mises_mpa[0],
+                r.peaks.max_von_mises_mpa[1], r.peaks.max_von_mises_mpa[2], r.statistics.wall_time_s);
   }
   // The peak load (156 %BW of 700 N) on a 25 mm joint: a mean over a hemisphere's projected area
   // (pi R^2) is a lower bound on the peak pressure.
@@ -172,8 +172,8 @@ TEST(HipFeWarmStart, StartingActiveSetChangesTheCostNotTheResult) {
     ASSERT_EQ(c.status, ContactStatus::kConverged) << "step " << k + 1;
     SCOPED_TRACE("step " + std::to_string(k + 1));
     expect_same_solution(w, c);
-    warm_iterations += w.active_set_iterations;
-    cold_iterations += c.active_set_iterations;
+    warm_iterations += w.statistics.active_set_iterations;
+    cold_iterations += c.statistics.active_set_iterations;
   }
   std::printf("active-set iterations over %zu steps: warm %u, cold %u\n", warm_results.size(), warm_iterations,
               cold_iterations);
@@ -196,13 +196,13 @@ TEST(HipFeLowRank, BorderedUpdateGivesTheRefactorisedResult) {
     const ContactResult& r = refactorised[k];
     ASSERT_EQ(u.status, ContactStatus::kConverged) << "step " << k + 1;
     ASSERT_EQ(r.status, ContactStatus::kConverged) << "step " << k + 1;
-    EXPECT_EQ(u.active_set_iterations, r.active_set_iterations) << "step " << k + 1;
+    EXPECT_EQ(u.statistics.active_set_iterations, r.statistics.active_set_iterations) << "step " << k + 1;
     SCOPED_TRACE("step " + std::to_string(k + 1));
     expect_same_nodes_and_solution(u, r);
-    factorisations_with += u.factorisations;
-    factorisations_without += r.factorisations;
-    updates += u.low_rank_updates;
-    EXPECT_EQ(r.low_rank_updates, 0u);
+    factorisations_with += u.statistics.factorisations;
+    factorisations_without += r.statistics.factorisations;
+    updates += u.statistics.low_rank_updates;
+    EXPECT_EQ(r.statistics.low_rank_updates, 0u);
   }
   std::printf("six steps: %u factorisations + %u bordered updates, against %u factorisations\n",
               factorisations_with, updates, factorisations_without);

@@ -167,8 +167,8 @@ TEST(HipFeModel, FirstStepsOfSittingDownBalanceTheJointForce) {
   const geometry::TriMesh bone = geometry::make_octasphere(Vec3::Zero(), kBoneRadius, 5);
   ContactProblem problem(MPI_COMM_WORLD, ContactOptions{});
   build_hip_fe_model(problem, mesh, bone, Vec3::Zero());
-  ASSERT_EQ(problem.bodies.size(), 2u);  // no labrum in this mesh
-  ASSERT_EQ(problem.contact_pairs.size(), 2u);
+  ASSERT_EQ(problem.model().bodies.size(), 2u);  // no labrum in this mesh
+  ASSERT_EQ(problem.model().contact_pairs.size(), 2u);
 
   const Eigen::Vector3d force = constant_joint_force_n(kDefaultBodyWeightN);
   std::vector<MotionStep> steps;
@@ -206,8 +206,8 @@ TEST(HipFeModel, FirstStepsOfSittingDownBalanceTheJointForce) {
   for (std::size_t k = 0; k < results.size(); ++k) {
     const ContactResult& r = results[k];
     ASSERT_EQ(r.status, ContactStatus::kConverged) << "step " << k;
-    ASSERT_TRUE(std::isfinite(r.max_pressure_mpa) && std::isfinite(r.max_penetration_mm));
-    for (const double v : r.max_von_mises_mpa) ASSERT_TRUE(std::isfinite(v));
+    ASSERT_TRUE(std::isfinite(r.peaks.max_pressure_mpa) && std::isfinite(r.peaks.max_penetration_mm));
+    for (const double v : r.peaks.max_von_mises_mpa) ASSERT_TRUE(std::isfinite(v));
     // Contact resultant on the acetabular side (slaves) = the force the femur applies: the load
     // control solves exactly for it (linear in the translation for the converged active set), up
     // to the CG tolerance 1e-12.
@@ -216,22 +216,22 @@ TEST(HipFeModel, FirstStepsOfSittingDownBalanceTheJointForce) {
     const dealii::Tensor<1, 3> applied = steps[k].force_n;
     EXPECT_LT((resultant - applied).norm(), 1e-6 * applied.norm()) << "step " << k;
     // Residual penetration below 1 % of the cartilage thickness (issue 5).
-    EXPECT_LT(r.max_penetration_mm, 0.01 * h) << "step " << k;
+    EXPECT_LT(r.peaks.max_penetration_mm, 0.01 * h) << "step " << k;
     // Peak pressure bounds. Lower: F = sum p_i (n_i . e_z) A_i <= p_max * (projected contact
     // area) <= p_max * projected_area, exact for any pressure distribution on this surface.
-    EXPECT_GE(r.max_pressure_mpa, applied.norm() / projected_area) << "step " << k;
+    EXPECT_GE(r.peaks.max_pressure_mpa, applied.norm() / projected_area) << "step " << k;
     // Upper: no point of a bonded layer is stiffer than confined compression, and no point is
     // compressed by more than the head's displacement along the force (the layers are concentric)
     // plus the residual penetration: p <= K (d + penetration). Nodal pressures are force / nodal
     // area, a lumped value; 20 % covers their oscillation on Q2 faces (corner vs mid-side nodes).
-    const double d = r.rigid_translation_mm[kFemurBody].norm() + r.max_penetration_mm;
-    EXPECT_LE(r.max_pressure_mpa, 1.2 * k_series * d) << "step " << k;
+    const double d = r.rigid_translation_mm[kFemurBody].norm() + r.peaks.max_penetration_mm;
+    EXPECT_LE(r.peaks.max_pressure_mpa, 1.2 * k_series * d) << "step " << k;
     std::printf("step %zu: %s, %u active-set iterations, p_max %.3f MPa (bounds %.3f .. %.3f), "
                 "penetration %.2e mm, translation %.4f mm, von Mises %.3f / %.3f MPa, %.1f s\n",
-                k, to_string(r.status), r.active_set_iterations, r.max_pressure_mpa,
-                applied.norm() / projected_area, 1.2 * k_series * d, r.max_penetration_mm,
-                r.rigid_translation_mm[kFemurBody].norm(), r.max_von_mises_mpa[0],
-                r.max_von_mises_mpa[1], r.wall_time_s);
+                k, to_string(r.status), r.statistics.active_set_iterations, r.peaks.max_pressure_mpa,
+                applied.norm() / projected_area, 1.2 * k_series * d, r.peaks.max_penetration_mm,
+                r.rigid_translation_mm[kFemurBody].norm(), r.peaks.max_von_mises_mpa[0],
+                r.peaks.max_von_mises_mpa[1], r.statistics.wall_time_s);
   }
 }
 
@@ -266,8 +266,8 @@ TEST(HipFeModel, BorderedUpdatesGiveTheRefactorisedResultOnTwoCaps) {
     ASSERT_EQ(u.status, ContactStatus::kConverged);
     ASSERT_EQ(r.status, ContactStatus::kConverged);
     expect_same_nodes_and_solution(u, r);
-    EXPECT_EQ(r.low_rank_updates, 0u);
-    updates += u.low_rank_updates;
+    EXPECT_EQ(r.statistics.low_rank_updates, 0u);
+    updates += u.statistics.low_rank_updates;
   }
   std::printf("two caps, %zu steps: %u bordered updates\n", steps.size(), updates);
   EXPECT_GT(updates, 0u);

@@ -39,14 +39,14 @@ void build_layer(ContactProblem& problem, unsigned int cells_across) {
     else if (c[0] < 1e-9 || c[0] > kWidth - 1e-9) face->set_boundary_id(kWallX);
     else face->set_boundary_id(kWallY);
   }
-  problem.bodies = {{"cartilage", 0, {12.0, 0.45}, -1}};  // issue 5: E 12 MPa, nu 0.45
+  problem.model().bodies = {{"cartilage", 0, {12.0, 0.45}, -1}};  // issue 5: E 12 MPa, nu 0.45
   RigidBody bone{"bone", nullptr, {}, false, {}, {}, dealii::unit_symmetric_tensor<3>(), {}};
   RigidBody plate{"plate", std::make_shared<RigidPlane>(Point<3>(0, 0, kThickness), Tensor<1, 3>({0, 0, -1})),
                   {}, false, {}, {}, dealii::unit_symmetric_tensor<3>(), Point<3>(kWidth / 2, kWidth / 2, kThickness)};
-  problem.rigid_bodies = {bone, plate};
-  problem.bonded_boundaries = {{kBottom, 0, {}}};
-  problem.symmetry_boundaries = {{kWallX, 0}, {kWallY, 1}};
-  problem.contact_pairs = {{kTop, 1, 0}};
+  problem.model().rigid_bodies = {bone, plate};
+  problem.model().bonded_boundaries = {{kBottom, 0, {}}};
+  problem.model().symmetry_boundaries = {{kWallX, 0}, {kWallY, 1}};
+  problem.model().contact_pairs = {{kTop, 1, 0}};
 }
 
 // The plate tilted by `tilt_rad` about y, pushing down with kLoad.
@@ -94,18 +94,18 @@ TEST(FemMotionCutback, FailedStepIsHalvedAndEndsAtTheDirectSolution) {
       });
   ASSERT_EQ(results.size(), 2u);
   ASSERT_EQ(results[0].status, ContactStatus::kConverged);
-  EXPECT_EQ(results[0].sub_steps, 1u);
-  EXPECT_EQ(results[0].cutbacks, 0u);
+  EXPECT_EQ(results[0].statistics.sub_steps, 1u);
+  EXPECT_EQ(results[0].statistics.cutbacks, 0u);
   ASSERT_EQ(results[1].status, ContactStatus::kConverged) << to_string(results[1].status);
-  EXPECT_GE(results[1].cutbacks, 1u);
-  EXPECT_GE(results[1].sub_steps, 2u);
-  std::cout << "cutback: step 1 in " << results[1].sub_steps << " sub-steps, " << results[1].cutbacks
-            << " cutbacks, " << results[1].active_set_iterations << " active-set iterations\n";
+  EXPECT_GE(results[1].statistics.cutbacks, 1u);
+  EXPECT_GE(results[1].statistics.sub_steps, 2u);
+  std::cout << "cutback: step 1 in " << results[1].statistics.sub_steps << " sub-steps, " << results[1].statistics.cutbacks
+            << " cutbacks, " << results[1].statistics.active_set_iterations << " active-set iterations\n";
 
   // The same step solved directly, cold, with the default limits.
   ContactProblem direct(MPI_COMM_WORLD, ContactOptions{});
   build_layer(direct, 4);
-  RigidBody& plate = direct.rigid_bodies[1];
+  RigidBody& plate = direct.model().rigid_bodies[1];
   plate.load_controlled = true;
   plate.free_directions = {Tensor<1, 3>({0, 0, 1})};
   plate.rotation = steps[1].rotation;
@@ -116,8 +116,8 @@ TEST(FemMotionCutback, FailedStepIsHalvedAndEndsAtTheDirectSolution) {
   // residual) amplified by the conditioning; 1e-6 relative leaves room for that and nothing else.
   const double t = results[1].rigid_translation_mm[1][2], t_ref = reference.rigid_translation_mm[1][2];
   EXPECT_NEAR(t, t_ref, 1e-6 * std::abs(t_ref));
-  EXPECT_NEAR(results[1].max_pressure_mpa, reference.max_pressure_mpa, 1e-6 * reference.max_pressure_mpa);
-  EXPECT_NEAR(results[1].contact_area_mm2, reference.contact_area_mm2, 1e-6 * reference.contact_area_mm2);
+  EXPECT_NEAR(results[1].peaks.max_pressure_mpa, reference.peaks.max_pressure_mpa, 1e-6 * reference.peaks.max_pressure_mpa);
+  EXPECT_NEAR(results[1].peaks.contact_area_mm2, reference.peaks.contact_area_mm2, 1e-6 * reference.peaks.contact_area_mm2);
   ASSERT_EQ(results[1].nodes.size(), reference.nodes.size());
   std::size_t active = 0;
   for (std::size_t n = 0; n < reference.nodes.size(); ++n) {
@@ -183,18 +183,18 @@ TEST(FemMotionCutback, AnUnbalancedLoadFailsWithoutNaN) {
   const std::vector<ContactResult> results = run_motion(problem, steps, options);
   ASSERT_EQ(results.size(), 1u);
   EXPECT_NE(results[0].status, ContactStatus::kConverged) << to_string(results[0].status);
-  EXPECT_EQ(results[0].cutbacks, 1u);  // depth 1: one halving, then given up
+  EXPECT_EQ(results[0].statistics.cutbacks, 1u);  // depth 1: one halving, then given up
   const auto finite = [](const Tensor<1, 3>& v) { return std::isfinite(v.norm()); };
   for (const auto& t : results[0].rigid_translation_mm) EXPECT_TRUE(finite(t));
   for (const auto& f : results[0].pair_force_n) EXPECT_TRUE(finite(f));
   for (const ContactNode& node : results[0].nodes) {
     EXPECT_TRUE(std::isfinite(node.pressure_mpa) && std::isfinite(node.gap_mm) && std::isfinite(node.force_n));
   }
-  for (const double value : {results[0].max_pressure_mpa, results[0].mean_pressure_mpa, results[0].contact_area_mm2,
-                             results[0].max_penetration_mm}) {
+  for (const double value : {results[0].peaks.max_pressure_mpa, results[0].peaks.mean_pressure_mpa, results[0].peaks.contact_area_mm2,
+                             results[0].peaks.max_penetration_mm}) {
     EXPECT_TRUE(std::isfinite(value));
   }
-  for (const double value : results[0].max_von_mises_mpa) EXPECT_TRUE(std::isfinite(value));
+  for (const double value : results[0].peaks.max_von_mises_mpa) EXPECT_TRUE(std::isfinite(value));
 }
 
 }  // namespace

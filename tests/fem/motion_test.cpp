@@ -89,14 +89,14 @@ void build_shells(ContactProblem& problem) {
     if (cell->material_id() == 1) cell->set_refine_flag();  // non-matching interface
   }
   tria.execute_coarsening_and_refinement();
-  problem.bodies = {{"femoral cartilage", 0, cartilage(), 0}, {"acetabular cartilage", 1, cartilage(), 1}};
+  problem.model().bodies = {{"femoral cartilage", 0, cartilage(), 0}, {"acetabular cartilage", 1, cartilage(), 1}};
   RigidBody core{"femur", nullptr, {}, false, {}, {}, dealii::unit_symmetric_tensor<3>(), Point<3>()};
   RigidBody cup{"pelvis", nullptr, {}, false, {}, {}, dealii::unit_symmetric_tensor<3>(), Point<3>()};
-  problem.rigid_bodies = {core, cup};
-  problem.bonded_boundaries = {
+  problem.model().rigid_bodies = {core, cup};
+  problem.model().bonded_boundaries = {
       {kCore, 0, [](const Point<3>& p) { return Tensor<1, 3>(kExpansion * p / p.norm()); }},
       {kCup, 1, {}}};
-  problem.contact_pairs = {{kInnerShellOuter, -1, kOuterShellInner}};
+  problem.model().contact_pairs = {{kInnerShellOuter, -1, kOuterShellInner}};
 }
 
 ContactOptions shell_options() {
@@ -132,15 +132,15 @@ TEST(FemMotion, RotationOfASphericalJointLeavesThePressureUnchanged) {
   EXPECT_NEAR(before.min, expected, 0.03 * expected);
   // A uniform pressure: a ball's area-weighted mean lies between the nodes' min and max, so the
   // ball-averaged peak has the same bound (1 mm balls, the default, hold several nodes here).
-  EXPECT_NEAR(neutral.ball_peak_pressure_mpa, expected, 0.03 * expected);
-  EXPECT_LE(neutral.ball_peak_pressure_mpa, neutral.max_pressure_mpa);
-  EXPECT_EQ(neutral.peak_average_radius_mm, 1.0);
+  EXPECT_NEAR(neutral.peaks.ball_peak_pressure_mpa, expected, 0.03 * expected);
+  EXPECT_LE(neutral.peaks.ball_peak_pressure_mpa, neutral.peaks.max_pressure_mpa);
+  EXPECT_EQ(neutral.peaks.peak_average_radius_mm, 1.0);
 
   // 90 degrees about z maps both cube-sphere meshes onto themselves: the rotated discrete
   // problem is the neutral one with its nodes permuted, up to the segment quadrature of the
   // curved faces, whose (non-polynomial) integrands are sampled at points that depend on each
   // face's parametrization, which the rotation permutes: measured 1.3e-6 relative, bound 1e-5.
-  problem.rigid_bodies[0].rotation = rotation_about_axis(Tensor<1, 3>({0, 0, 1}), M_PI / 2);
+  problem.model().rigid_bodies[0].rotation = rotation_about_axis(Tensor<1, 3>({0, 0, 1}), M_PI / 2);
   const ContactResult quarter_turn = problem.run();
   ASSERT_EQ(quarter_turn.status, ContactStatus::kConverged);
   const PressureSummary turned = summarize(quarter_turn);
@@ -152,7 +152,7 @@ TEST(FemMotion, RotationOfASphericalJointLeavesThePressureUnchanged) {
   // the same discretization bounds (the small-strain model would give a rotation of the bonded
   // boundary applied as a displacement a spurious strain of order the angle; rotating the
   // configuration avoids it).
-  problem.rigid_bodies[0].rotation = rotation_about_axis(Tensor<1, 3>({1, 2, 3}), 0.7);
+  problem.model().rigid_bodies[0].rotation = rotation_about_axis(Tensor<1, 3>({1, 2, 3}), 0.7);
   const ContactResult oblique = problem.run();
   ASSERT_EQ(oblique.status, ContactStatus::kConverged);
   const PressureSummary rotated = summarize(oblique);
@@ -193,8 +193,8 @@ TEST(FemMotion, LoadedCoreRelocatesAndTheContactResultantBalancesTheLoad) {
     const Tensor<1, 3> t = results[k].rigid_translation_mm[0];
     EXPECT_GT(t * force, 0.95 * t.norm() * force.norm()) << "step " << k;
     std::cout << "step " << k << ": translation " << t << " mm, resultant residual "
-              << residual.norm() / force.norm() << ", " << results[k].active_set_iterations
-              << " active-set iterations, " << results[k].wall_time_s << " s\n";
+              << residual.norm() / force.norm() << ", " << results[k].statistics.active_set_iterations
+              << " active-set iterations, " << results[k].statistics.wall_time_s << " s\n";
   }
 
   // The HDF5 file holds every step, read back independently with the C API.
@@ -239,8 +239,8 @@ TEST(FemMotion, LoadedCoreRelocatesAndTheContactResultantBalancesTheLoad) {
   ASSERT_EQ(von_mises.size(), 2 * steps.size());
   for (std::size_t k = 0; k < steps.size(); ++k) {
     EXPECT_EQ(status[k], 0.0);
-    EXPECT_EQ(sub_steps[k], static_cast<double>(results[k].sub_steps));
-    EXPECT_EQ(cutbacks[k], static_cast<double>(results[k].cutbacks));
+    EXPECT_EQ(sub_steps[k], static_cast<double>(results[k].statistics.sub_steps));
+    EXPECT_EQ(cutbacks[k], static_cast<double>(results[k].statistics.cutbacks));
     for (unsigned d = 0; d < 3; ++d) {
       // Stored as computed: exact copies of the in-memory doubles.
       EXPECT_EQ(resultant[3 * k + d], results[k].pair_force_n[0][d]);
@@ -248,16 +248,16 @@ TEST(FemMotion, LoadedCoreRelocatesAndTheContactResultantBalancesTheLoad) {
     }
     EXPECT_GT(von_mises[2 * k], 0.0);
     for (unsigned b = 0; b < 2; ++b) {
-      EXPECT_EQ(ball_von_mises[2 * k + b], results[k].ball_peak_von_mises_mpa[b]);
+      EXPECT_EQ(ball_von_mises[2 * k + b], results[k].peaks.ball_peak_von_mises_mpa[b]);
       // A weighted mean of the Gauss-point values cannot exceed their maximum.
       EXPECT_GT(ball_von_mises[2 * k + b], 0.0);
       EXPECT_LE(ball_von_mises[2 * k + b], von_mises[2 * k + b]);
     }
-    EXPECT_EQ(ball_pressure[k], results[k].ball_peak_pressure_mpa);
+    EXPECT_EQ(ball_pressure[k], results[k].peaks.ball_peak_pressure_mpa);
     EXPECT_GT(ball_pressure[k], 0.0);
-    EXPECT_LE(ball_pressure[k], results[k].max_pressure_mpa);
+    EXPECT_LE(ball_pressure[k], results[k].peaks.max_pressure_mpa);
     for (unsigned d = 0; d < 3; ++d) {
-      EXPECT_EQ(ball_pressure_position[3 * k + d], results[k].ball_peak_pressure_position_mm[d]);
+      EXPECT_EQ(ball_pressure_position[3 * k + d], results[k].peaks.ball_peak_pressure_position_mm[d]);
     }
   }
 }

@@ -54,7 +54,7 @@ TEST(FemVerification, UniaxialLayerPressureIsMdOverH) {
   const double area = in.at("width_mm") * in.at("width_mm");
   EXPECT_NEAR(-result.solve.pair_force_n[0][2], expected * area, 1e-6 * expected * area);
   // Residual penetration well under 1 % of the thickness (it is at solver round-off here).
-  EXPECT_LT(result.solve.max_penetration_mm, 1e-2 * in.at("thickness_mm"));
+  EXPECT_LT(result.solve.peaks.max_penetration_mm, 1e-2 * in.at("thickness_mm"));
 }
 
 TEST(FemVerification, LoadControlledPlateBalancesTheForce) {
@@ -139,7 +139,7 @@ TEST(FemVerification, SphericalShellsMatchLame) {
   std::cout << "spherical_shells: worst nodal relative error " << worst << ", mean "
             << std::abs(sum / count - expected) / expected << "\n";
   EXPECT_NEAR(sum / count, expected, 0.005 * expected);
-  EXPECT_LT(result.solve.max_penetration_mm, 1e-2 * 2.0);
+  EXPECT_LT(result.solve.peaks.max_penetration_mm, 1e-2 * 2.0);
 }
 
 TEST(FemVerification, HertzSphereOnBlockSlow) {

@@ -1,0 +1,261 @@
+#include "fem/mortar_coupling.h"
+
+#include "core/error.h"
+#include "fem/boundary_projection.h"
+#include "fem/face_patch.h"
+#include "fem/mortar_segments.h"
+#include "fem/thread_chunks.h"
+
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/grid/grid_tools.h>
+
+#include <cmath>
+#include <map>
+#include <memory>
+
+namespace hipfai::fem {
+
+using dealii::types::global_dof_index;
+
+namespace {
+
+// The nodes of one slave boundary (their dofs, positions and areas), keyed by the x-component dof.
+struct PairNodes {
+  std::vector<SlaveNode> nodes;
+  std::map<global_dof_index, std::size_t> node_of_dof;  // x-component dof -> index into nodes
+};
+
+PairNodes gather_pair_nodes(const ElasticSystem& system, unsigned int p,
+                            dealii::types::boundary_id slave_boundary_id) {
+  PairNodes out;
+  const dealii::FESystem<3>& fe = system.fe();
+  dealii::FEFaceValues<3> face_values(system.mapping(), fe, dealii::QGauss<2>(fe.degree + 1),
+                                      dealii::update_values | dealii::update_JxW_values);
+  std::vector<global_dof_index> dofs(fe.n_dofs_per_cell());
+  for (const auto& cell : system.dof_handler().active_cell_iterators()) {
+    cell->get_dof_indices(dofs);
+    for (const unsigned int face_no : cell->face_indices()) {
+      const auto face = cell->face(face_no);
+      if (!face->at_boundary() || face->boundary_id() != slave_boundary_id) continue;
+      face_values.reinit(cell, face_no);
+      for (unsigned int i = 0; i < dofs.size(); ++i) {
+        if (!system.support_on_face(face_no, i)) continue;
+        if (system.component_of(i) != 0) continue;
+        auto [it, inserted] = out.node_of_dof.try_emplace(dofs[i], out.nodes.size());
+        if (inserted) {
+          SlaveNode node;
+          node.pair = p;
+          for (unsigned int c = 0; c < 3; ++c)
+            node.dofs[c] = dofs[system.system_index(system.base_of(i), c)];
+          node.position = system.support_points()[dofs[i]];
+          out.nodes.push_back(node);
+        }
+        double area = 0.0;
+        for (unsigned int q = 0; q < face_values.n_quadrature_points; ++q) {
+          area += face_values.shape_value(i, q) * face_values.JxW(q);
+        }
+        out.nodes[it->second].area += area;
+      }
+    }
+  }
+  return out;
+}
+
+// Mortar integrals of the slave nodes against a deformable master, per node: M_sj per component
+// (keyed by master dof), the integral of phi_s (x_s - x_m) and the covered part of D_s.
+struct MortarIntegrals {
+  std::vector<std::array<std::map<global_dof_index, double>, 3>> mortar;
+  std::vector<dealii::Tensor<1, 3>> weighted_gap;
+  std::vector<double> covered;
+};
+
+MortarIntegrals integrate_mortar(const ElasticSystem& system, const BoundaryProjector& projector,
+                                 dealii::types::boundary_id slave_boundary_id,
+                                 const PairNodes& pair_nodes, double search_radius_mm) {
+  const std::size_t count = pair_nodes.nodes.size();
+  MortarIntegrals out;
+  out.mortar.resize(count);
+  out.weighted_gap.assign(count, dealii::Tensor<1, 3>());
+  out.covered.assign(count, 0.0);
+  MortarSegmentOptions segment_options;
+  segment_options.search_radius_mm = search_radius_mm;
+  const MortarSegmenter segmenter(projector.faces(), segment_options);
+  const dealii::FESystem<3>& fe = system.fe();
+  const dealii::FiniteElement<3>& base = fe.base_element(0);
+  // The slave faces are integrated independently (threads), each into small dense blocks per
+  // master face it sees; the blocks are then added into the sparse rows in face order, so the
+  // sums do not depend on the number of threads.
+  struct SlaveFace {
+    dealii::DoFHandler<3>::active_cell_iterator cell;  // the slave cell
+    unsigned int face_no;                              // its face on the slave boundary
+  };
+  struct Block {
+    const FacePatch* master = nullptr;      // the master face the block couples to
+    std::vector<unsigned int> master_base;  // base indices of the master face's nodes
+    std::vector<double> m;                  // [slave node][master node]
+  };
+  struct FaceResult {
+    std::vector<unsigned int> slave_base;   // base indices of the slave face's nodes
+    std::vector<double> covered;            // per slave node
+    std::vector<dealii::Tensor<1, 3>> gap;  // per slave node
+    std::vector<Block> blocks;              // one per master face seen, in integration order
+  };
+  std::vector<SlaveFace> slave_faces;
+  for (const auto& cell : system.dof_handler().active_cell_iterators()) {
+    for (const unsigned int face_no : cell->face_indices()) {
+      const auto face = cell->face(face_no);
+      if (face->at_boundary() && face->boundary_id() == slave_boundary_id)
+        slave_faces.push_back({cell, face_no});
+    }
+  }
+  const auto face_base_indices = [&](unsigned int face_no) {
+    std::vector<unsigned int> indices;
+    for (unsigned int i = 0; i < fe.n_dofs_per_cell(); ++i) {
+      if (system.support_on_face(face_no, i) && system.component_of(i) == 0)
+        indices.push_back(system.base_of(i));
+    }
+    return indices;
+  };
+  std::vector<FaceResult> face_results(slave_faces.size());
+  auto integrate_faces = [&](std::size_t first, std::size_t last) {
+    for (std::size_t f = first; f < last; ++f) {
+      const SlaveFace& slave_face = slave_faces[f];
+      FaceResult& result = face_results[f];
+      result.slave_base = face_base_indices(slave_face.face_no);
+      const std::size_t ns = result.slave_base.size();
+      result.covered.assign(ns, 0.0);
+      result.gap.assign(ns, dealii::Tensor<1, 3>());
+      const FacePatch slave(system.mapping(), slave_face.cell, slave_face.face_no);
+      std::vector<double> slave_values(ns);
+      for (const MortarPoint& point : segmenter.integrate(slave)) {
+        if (result.blocks.empty() || result.blocks.back().master != point.master) {
+          Block block;
+          block.master = point.master;
+          block.master_base = face_base_indices(point.master->face_no);
+          block.m.assign(ns * block.master_base.size(), 0.0);
+          result.blocks.push_back(std::move(block));
+        }
+        Block& block = result.blocks.back();
+        const std::size_t nm = block.master_base.size();
+        const dealii::Tensor<1, 3> separation = point.slave_point_mm - point.master_point_mm;
+        for (std::size_t a = 0; a < ns; ++a) {
+          slave_values[a] =
+              base.shape_value(result.slave_base[a], point.slave_unit_point) * point.jxw;
+          result.covered[a] += slave_values[a];
+          result.gap[a] += slave_values[a] * separation;
+        }
+        for (std::size_t b = 0; b < nm; ++b) {
+          const double value = base.shape_value(block.master_base[b], point.master_unit_point);
+          for (std::size_t a = 0; a < ns; ++a) block.m[a * nm + b] += slave_values[a] * value;
+        }
+      }
+    }
+  };
+  run_in_chunks(slave_faces.size(), threads_per_rank(system.communicator()), integrate_faces);
+
+  std::vector<global_dof_index> dofs(fe.n_dofs_per_cell()), master_dofs(fe.n_dofs_per_cell());
+  for (std::size_t f = 0; f < slave_faces.size(); ++f) {
+    const FaceResult& result = face_results[f];
+    slave_faces[f].cell->get_dof_indices(dofs);
+    std::vector<std::size_t> local(result.slave_base.size());
+    for (std::size_t a = 0; a < local.size(); ++a) {
+      local[a] = pair_nodes.node_of_dof.at(dofs[system.system_index(result.slave_base[a], 0)]);
+      out.covered[local[a]] += result.covered[a];
+      out.weighted_gap[local[a]] += result.gap[a];
+    }
+    for (const Block& block : result.blocks) {
+      block.master->cell->get_dof_indices(master_dofs);
+      const std::size_t nm = block.master_base.size();
+      for (std::size_t a = 0; a < local.size(); ++a) {
+        for (std::size_t b = 0; b < nm; ++b) {
+          const double value = block.m[a * nm + b];
+          for (unsigned int c = 0; c < 3; ++c) {
+            out.mortar[local[a]][c][master_dofs[system.system_index(block.master_base[b], c)]] +=
+                value;
+          }
+        }
+      }
+    }
+  }
+  return out;
+}
+
+// The slave component with the largest normal share that is still free; with less than 0.3 the
+// constraint would be ill-conditioned (the node sits on a wall parallel to n). False: none.
+bool choose_constrained_component(SlaveNode& node, const std::vector<bool>& fixed_dof) {
+  double best = 0.3;
+  bool found = false;
+  for (unsigned int c = 0; c < 3; ++c) {
+    if (fixed_dof[node.dofs[c]]) continue;
+    if (std::abs(node.normal[c]) > best) {
+      best = std::abs(node.normal[c]);
+      node.constrained_component = c;
+      found = true;
+    }
+  }
+  return found;
+}
+
+}  // namespace
+
+std::vector<SlaveNode> collect_slave_nodes(const ElasticSystem& system, const ContactModel& model,
+                                           const std::vector<bool>& fixed_dof) {
+  std::vector<SlaveNode> nodes;
+  // Search radius: contact partners are close; 5 % of the model size is generous.
+  const double search_radius_mm = 0.05 * dealii::GridTools::diameter(system.triangulation());
+  for (unsigned int p = 0; p < model.contact_pairs.size(); ++p) {
+    const ContactPair& pair = model.contact_pairs[p];
+    std::unique_ptr<BoundaryProjector> projector;
+    if (pair.master_rigid_body < 0) {
+      projector = std::make_unique<BoundaryProjector>(system.mapping(), system.dof_handler(),
+                                                      pair.master_boundary_id);
+      if (projector->n_faces() == 0) {
+        throw_error("fem model: contact pair ", p, ": master boundary ",
+                    static_cast<int>(pair.master_boundary_id), " has no faces");
+      }
+    }
+    const PairNodes pair_nodes = gather_pair_nodes(system, p, pair.slave_boundary_id);
+    if (pair_nodes.nodes.empty()) {
+      throw_error("fem model: contact pair ", p, ": slave boundary ",
+                  static_cast<int>(pair.slave_boundary_id), " has no faces");
+    }
+    MortarIntegrals integrals;
+    if (projector)
+      integrals = integrate_mortar(system, *projector, pair.slave_boundary_id, pair_nodes,
+                                   search_radius_mm);
+
+    // Project, choose the constrained component, drop nodes that cannot be constrained.
+    for (std::size_t local = 0; local < pair_nodes.nodes.size(); ++local) {
+      SlaveNode node = pair_nodes.nodes[local];
+      if (pair.master_rigid_body >= 0) {
+        // The surface is defined in the body's frame: query there, map the answer back.
+        const RigidBody& body = model.rigid_bodies[pair.master_rigid_body];
+        const dealii::Point<3>& c = body.rotation_center_mm;
+        const SurfacePoint closest =
+            body.surface->closest_point(c + dealii::transpose(body.rotation) * (node.position - c));
+        const dealii::Point<3> master_point = c + body.rotation * (closest.point_mm - c);
+        node.normal = body.rotation * closest.normal;
+        node.rigid_body = pair.master_rigid_body;
+        node.initial_gap = (node.position - master_point) * node.normal;
+      } else {
+        const BoundaryProjection projection = projector->project(node.position, search_radius_mm);
+        if (!projection.found) continue;  // nothing opposite: this node cannot touch
+        // Barely covered nodes (the master ends just past them) would give an ill-scaled row.
+        const double covered = integrals.covered[local];
+        if (!(covered > 1e-6 * node.area)) continue;
+        node.normal = projection.normal;
+        for (unsigned int c = 0; c < 3; ++c) {
+          for (const auto& [dof, value] : integrals.mortar[local][c]) {
+            if (value != 0.0) node.master[c].emplace_back(dof, value / covered);
+          }
+        }
+        node.initial_gap = integrals.weighted_gap[local] * node.normal / covered;
+      }
+      if (choose_constrained_component(node, fixed_dof)) nodes.push_back(node);
+    }
+  }
+  return nodes;
+}
+
+}  // namespace hipfai::fem

@@ -1,0 +1,54 @@
+// hipfai — the contact nodes of every contact pair and their coupling to the master surface.
+//
+// Every node of a slave surface (a boundary id) is a contact node. Against a rigid master its
+// gap is measured at the closest point of the rigid surface, along its normal:
+//   g = (x_s + u_s - x_m - t) . n.
+// Against a deformable master (a boundary on a non-matching mesh) the gap is a mortar gap: it is
+// integrated against the slave node's shape function over the part of the slave surface that
+// sees the master (segment-based integration, fem/mortar_segments.h),
+//   D_s (u_s . n) = sum_j M_sj (u_j . n) - integral phi_s (x_s - x_m) . n,
+//   D_s = integral phi_s,  M_sj = integral phi_s N_j(x_m),
+// which transmits a uniform pressure exactly (the patch test) where node-to-surface
+// interpolation of the master at the slave node would not. The normal n is the master normal at
+// the node's closest master point (fem/boundary_projection.h).
+//
+// Each kept node names the slave displacement component its contact constraint eliminates (the
+// free component with the largest normal share, fem/contact_constraints.h); nodes that have no
+// such component, see no master, or are barely covered by it are dropped.
+#pragma once
+
+#include "fem/contact_model.h"
+#include "fem/elastic_system.h"
+
+#include <deal.II/base/point.h>
+#include <deal.II/base/tensor.h>
+#include <deal.II/base/types.h>
+
+#include <array>
+#include <utility>
+#include <vector>
+
+namespace hipfai::fem {
+
+// One contact node of a slave surface.
+struct SlaveNode {
+  unsigned int pair = 0;                                  // index into ContactModel::contact_pairs
+  std::array<dealii::types::global_dof_index, 3> dofs{};  // its x, y, z displacement dofs
+  unsigned int constrained_component = 0;  // the component an active contact constraint eliminates
+  dealii::Point<3> position;               // support point (mm, the run's pose, undeformed)
+  dealii::Tensor<1, 3> normal;  // master normal at the closest master point (into the slave)
+  double initial_gap =
+      0.0;            // (x_s - x_m) . n in the run's pose (mortar-weighted for deformable masters)
+  double area = 0.0;  // integral of the node's shape function over the slave surface (mm^2)
+  int rigid_body = -1;  // rigid master (index into ContactModel::rigid_bodies), -1: deformable
+  // Deformable master: per component, (master dof, mortar weight M_sj / D_s) pairs.
+  std::array<std::vector<std::pair<dealii::types::global_dof_index, double>>, 3> master;
+};
+
+// The contact nodes of all pairs, pair by pair. fixed_dof: dofs that carry another constraint
+// (hanging, bonded, symmetry), which a contact constraint may not eliminate.
+// Throws hipfai::Error for a pair whose slave or deformable master boundary has no faces.
+std::vector<SlaveNode> collect_slave_nodes(const ElasticSystem& system, const ContactModel& model,
+                                           const std::vector<bool>& fixed_dof);
+
+}  // namespace hipfai::fem
