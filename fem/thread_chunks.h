@@ -1,9 +1,12 @@
-// hipfai — a loop over [0, n) split into contiguous chunks on threads.
+// hipfai — a loop over [0, n) split into contiguous chunks, run on the project's worker pool
+// (core/parallel.h: TBB arenas kept for the process, so no thread is started per assembly).
 //
 // The FE stages that are independent per cell or per face (cell matrices, mortar integration,
 // rows of the reduced matrix) write into per-item slots, so their results do not depend on the
 // number of threads. The threads share the machine's cores with the other MPI ranks on it.
 #pragma once
+
+#include "core/parallel.h"
 
 #include <deal.II/base/mpi.h>
 
@@ -12,7 +15,6 @@
 #include <algorithm>
 #include <cstddef>
 #include <thread>
-#include <vector>
 
 namespace hipfai::fem {
 
@@ -27,17 +29,15 @@ inline std::size_t chunk_size(std::size_t n, std::size_t n_threads) {
   return std::max<std::size_t>(1, (n + n_threads - 1) / n_threads);
 }
 
-// Runs work(first, last) over [0, n) in contiguous chunks of chunk_size(n, n_threads), one per
-// thread; the calling thread takes the first chunk.
+// Runs work(first, last) over [0, n) in contiguous chunks of chunk_size(n, n_threads), each chunk
+// a task of the pool (as many workers as chunks).
 template <class Work>
 void run_in_chunks(std::size_t n, std::size_t n_threads, const Work& work) {
   const std::size_t chunk = chunk_size(n, n_threads);
-  std::vector<std::thread> workers;
-  for (std::size_t first = chunk; first < n; first += chunk) {
-    workers.emplace_back(work, first, std::min(n, first + chunk));
-  }
-  work(0, std::min(n, chunk));
-  for (std::thread& worker : workers) worker.join();
+  const std::size_t chunks = (n + chunk - 1) / chunk;
+  parallel_chunks(chunks, static_cast<int>(chunks), [&](std::size_t begin, std::size_t end, int) {
+    for (std::size_t c = begin; c < end; ++c) work(c * chunk, std::min(n, (c + 1) * chunk));
+  });
 }
 
 }  // namespace hipfai::fem
