@@ -127,14 +127,19 @@ void write_hip_model(const HipModel& model, const std::filesystem::path& dir,
 
 HipModel load_hip_model(const std::filesystem::path& dir, const std::set<std::string>& only) {
   const auto path = dir / "model.json";
-  const std::string what = path.string();
   std::ifstream in(path);
-  if (!in) throw_error(what, ": cannot open");
+  if (!in) throw_error(path.string(), ": cannot open");
   std::stringstream buffer;
   buffer << in.rdbuf();
+  return hip_model_from_json(buffer.str(), dir, only);
+}
+
+HipModel hip_model_from_json(const std::string& text, const std::filesystem::path& dir,
+                             const std::set<std::string>& only) {
+  const std::string what = (dir / "model.json").string();
   nlohmann::json json;
   try {
-    json = nlohmann::json::parse(buffer.str());
+    json = nlohmann::json::parse(text);
   } catch (const nlohmann::json::exception& e) {
     throw_error(what, ": invalid JSON: ", e.what());
   }

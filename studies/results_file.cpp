@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <hdf5.h>
 
+#include <limits>
 #include <system_error>
 
 namespace hipfai::studies {
@@ -190,6 +191,18 @@ std::vector<double> read_dataset(const std::filesystem::path& file, const std::s
   H5Sclose(space);
   hsize_t dims[2] = {1, 1};
   for (int d = 0; d < rank; ++d) dims[d == 0 ? 0 : 1] *= extents[static_cast<std::size_t>(d)];
+  // The extents are only a claim: a corrupt file may declare billions of values with nothing
+  // stored behind them (HDF5 would allocate and fill them all). Every stored value takes at
+  // least a byte, and what is stored lies within the file.
+  std::error_code ec;
+  const std::uintmax_t file_bytes = std::filesystem::file_size(file, ec);
+  const hsize_t stored = H5Dget_storage_size(set);
+  const bool overflow = dims[1] != 0 && dims[0] > std::numeric_limits<hsize_t>::max() / dims[1];
+  if (overflow || dims[0] * dims[1] > stored || ec || stored > file_bytes) {
+    H5Dclose(set);
+    H5Fclose(handle);
+    throw_error(file.string(), ": ", path, ": declares more values than the file stores (corrupt file)");
+  }
   std::vector<double> values(dims[0] * dims[1]);
   const herr_t status = values.empty() ? 0
                                        : H5Dread(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL,
