@@ -12,6 +12,7 @@
 #include <fstream>
 #include <set>
 #include <sstream>
+#include <system_error>
 
 namespace hipfai::geometry {
 namespace {
@@ -182,7 +183,8 @@ HipModel hip_model_from_json(const std::string& text, const std::filesystem::pat
     if (!file.is_string()) throw_error(what, ": tissues.", name, ": expected a file name");
     if (!only.empty() && only.count(name) == 0) continue;  // not asked for: not read
     const auto mesh_path = dir / file.get<std::string>();
-    if (!std::filesystem::exists(mesh_path)) {
+    std::error_code ec;  // a name the system refuses (too long) is as good as missing
+    if (!std::filesystem::exists(mesh_path, ec)) {
       throw_error(what, ": tissues.", name, ": file not found: ", mesh_path.string());
     }
     TriMesh mesh = read_mesh(mesh_path);

@@ -4,6 +4,7 @@
 #include "core/error.h"
 #include "studies/pressure_features.h"
 
+#include <limits>
 #include <sstream>
 #include <string>
 
@@ -36,6 +37,11 @@ FeatureGrid parse_feature_grid(const std::string& text) {
   grid.tissues = split_csv_line(text.substr(space + 1));
   if (grid.polar_steps < 1 || grid.azimuth_steps < 1 || grid.tissues.empty()) {
     throw_error("feature grid '", text, "': empty grid");
+  }
+  // FeatureGrid::num_features is an int: a grid whose count does not fit is no grid of ours.
+  const double features = static_cast<double>(grid.tissues.size()) * grid.polar_steps * grid.azimuth_steps;
+  if (features > std::numeric_limits<int>::max()) {
+    throw_error("feature grid '", text, "': ", features, " features, too many");
   }
   return grid;
 }

@@ -47,6 +47,9 @@ geometry::HipModel segmented_hip_from_json(const std::string& text, const std::f
   if (!json.is_object() || !json.contains("hjc_mm") || !json.contains("tissues") || !json["tissues"].is_object()) {
     throw_error(file.string(), ": needs hjc_mm and tissues");
   }
+  for (const char* key : {"side", "units"}) {
+    if (json.contains(key) && !json[key].is_string()) throw_error(file.string(), ": ", key, " must be a string");
+  }
   if (json.value("side", std::string("right")) != "right") {
     throw_error(file.string(), ": a ", json.value("side", std::string()), " hip; only right hips are supported (mirror it)");
   }
