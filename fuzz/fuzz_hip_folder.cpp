@@ -14,8 +14,10 @@ std::filesystem::path make_hip_folder() {
   const std::filesystem::path dir = scratch_dir() / "hip";
   std::filesystem::create_directories(dir);
   const geometry::TriMesh mesh = tetrahedron();
-  for (const char* tissue : geometry::kHipTissueNames) geometry::write_mesh(mesh, dir / (std::string(tissue) + ".ply"));
-  for (const char* file : {"femur_r.ply", "pelvis_no_sacrum.ply"}) geometry::write_mesh(mesh, dir / file);
+  for (const char* tissue : geometry::kHipTissueNames)
+    geometry::write_mesh(mesh, dir / (std::string(tissue) + ".ply"));
+  for (const char* file : {"femur_r.ply", "pelvis_no_sacrum.ply"})
+    geometry::write_mesh(mesh, dir / file);
   return dir;
 }
 

@@ -18,14 +18,16 @@ void read_results_file(const std::filesystem::path& file) {
       if (!first_error) first_error = std::current_exception();
     }
   };
-  for (const char* dataset : {"/steps/rotation", "/steps/angle_deg", "/steps/index", "/steps/names", "/total"}) {
+  for (const char* dataset :
+       {"/steps/rotation", "/steps/angle_deg", "/steps/index", "/steps/names", "/total"}) {
     attempt([&] {
       std::size_t rows = 0, cols = 0;
       (void)studies::read_dataset(file, dataset, &rows, &cols);
     });
   }
-  for (const auto& attribute : {std::pair{"/", "code_version"}, std::pair{"/steps/rotation", "units"},
-                                 std::pair{"/", "body_weight_n"}}) {
+  for (const auto& attribute :
+       {std::pair{"/", "code_version"}, std::pair{"/steps/rotation", "units"},
+        std::pair{"/", "body_weight_n"}}) {
     attempt([&] { (void)studies::read_string_attribute(file, attribute.first, attribute.second); });
   }
   if (first_error) std::rethrow_exception(first_error);

@@ -1,9 +1,9 @@
 #include "fuzz_scratch.h"
 
+#include <unistd.h>
 #include <cstdlib>
 #include <fstream>
 #include <system_error>
-#include <unistd.h>
 
 namespace hipfai::fuzz {
 namespace {
@@ -13,7 +13,8 @@ class ScratchDir {
   ScratchDir() {
     const std::filesystem::path shm = "/dev/shm";
     std::error_code ec;
-    const std::filesystem::path base = std::filesystem::is_directory(shm, ec) ? shm : std::filesystem::temp_directory_path();
+    const std::filesystem::path base =
+        std::filesystem::is_directory(shm, ec) ? shm : std::filesystem::temp_directory_path();
     path_ = base / ("hipfai-fuzz-" + std::to_string(::getpid()));
     std::filesystem::create_directories(path_);
   }

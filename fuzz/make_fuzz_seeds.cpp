@@ -64,7 +64,8 @@ void write_motion_seeds(const fs::path& out) {
   studies::attach_sitting_down_load(loaded, {.body_weight_n = 700.0});
   fs::create_directories(out / "motion");
   studies::write_motion_csv(loaded, out / "motion" / "sitting_with_force.csv");
-  studies::write_motion_csv(studies::medical_rotation("flexion", 90.0, 3), out / "motion" / "flexion.csv");
+  studies::write_motion_csv(studies::medical_rotation("flexion", 90.0, 3),
+                            out / "motion" / "flexion.csv");
 }
 
 // A model trained on four hips with a 1 x 2 grid of one tissue (2 features) and 3 steps.
@@ -126,7 +127,9 @@ int main(int argc, char** argv) {
     write_motion_seeds(out);
     write_estimator_seed(out);
     write_results_seed(out);
-    for (const auto& entry : fs::directory_iterator(source / "meshes" / "scenes")) copy_into(entry.path(), out / "scene");
+    for (const auto& entry : fs::directory_iterator(source / "meshes" / "scenes")) {
+      copy_into(entry.path(), out / "scene");
+    }
     copy_into(source / "meshes" / "real-hips" / "LHDL_CT" / "hip.json", out / "hip_json");
   } catch (const std::exception& error) {
     std::cerr << "make_fuzz_seeds: " << error.what() << '\n';

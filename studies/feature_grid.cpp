@@ -39,7 +39,8 @@ FeatureGrid parse_feature_grid(const std::string& text) {
     throw_error("feature grid '", text, "': empty grid");
   }
   // FeatureGrid::num_features is an int: a grid whose count does not fit is no grid of ours.
-  const double features = static_cast<double>(grid.tissues.size()) * grid.polar_steps * grid.azimuth_steps;
+  const double features =
+      static_cast<double>(grid.tissues.size()) * grid.polar_steps * grid.azimuth_steps;
   if (features > std::numeric_limits<int>::max()) {
     throw_error("feature grid '", text, "': ", features, " features, too many");
   }

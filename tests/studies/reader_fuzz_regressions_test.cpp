@@ -37,8 +37,12 @@ const std::map<std::string, std::function<void(const fs::path&)>>& replays() {
   static const std::map<std::string, std::function<void(const fs::path&)>> table{
       {"scene", [](const fs::path& f) { (void)parse_scene(text_of(f), f); }},
       {"motion", [](const fs::path& f) { (void)parse_motion_csv(text_of(f), "fuzz.csv"); }},
-      {"model_json", [](const fs::path& f) { (void)geometry::hip_model_from_json(text_of(f), fuzz::hip_folder()); }},
-      {"hip_json", [](const fs::path& f) { (void)segmented_hip_from_json(text_of(f), fuzz::hip_folder()); }},
+      {"model_json",
+       [](const fs::path& f) {
+         (void)geometry::hip_model_from_json(text_of(f), fuzz::hip_folder());
+       }},
+      {"hip_json",
+       [](const fs::path& f) { (void)segmented_hip_from_json(text_of(f), fuzz::hip_folder()); }},
       {"estimator_model", [](const fs::path& f) { (void)read_estimator_model(f); }},
       {"results_h5", [](const fs::path& f) { fuzz::read_results_file(f); }},
   };
@@ -56,7 +60,8 @@ TEST(StudyReadersFuzzRegressions, EveryFoundInputIsAOneLineError) {
         replay(entry.path());
         ADD_FAILURE() << entry.path() << ": read without an error";
       } catch (const Error& error) {
-        EXPECT_EQ(std::string(error.what()).find('\n'), std::string::npos) << entry.path() << ": " << error.what();
+        EXPECT_EQ(std::string(error.what()).find('\n'), std::string::npos)
+            << entry.path() << ": " << error.what();
       }
     }
   }
