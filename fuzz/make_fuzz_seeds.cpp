@@ -1,11 +1,18 @@
-// Writes the seed corpora of the mesh-reader harnesses: a tetrahedron with a vertex field, in
-// every variant the project's writers make (STL/PLY ascii and binary, OBJ, VTP ascii and binary,
-// MSH), into <out>/<format>/.
+// Writes the seed corpora of the harnesses into <out>/<harness>/: for the mesh readers a
+// tetrahedron with a vertex field in every variant the project's writers make (STL/PLY ascii and
+// binary, OBJ, VTP ascii and binary, MSH); for the other readers files made by the project's own
+// writers (model.json, motion CSV, estimator model, results file) and its example data (the
+// scenes of meshes/scenes/, meshes/real-hips/LHDL_CT/hip.json).
+#include "fuzz_tetrahedron.h"
+#include "geometry/hip_model.h"
 #include "geometry/mesh_io_msh.h"
 #include "geometry/mesh_io_obj.h"
 #include "geometry/mesh_io_ply.h"
 #include "geometry/mesh_io_stl.h"
 #include "geometry/mesh_io_vtp.h"
+#include "studies/estimator_study.h"
+#include "studies/motion.h"
+#include "studies/results_file.h"
 
 #include <filesystem>
 #include <fstream>
@@ -14,25 +21,22 @@
 
 namespace {
 
-void put(const std::filesystem::path& file, const std::string& bytes) {
-  std::filesystem::create_directories(file.parent_path());
+namespace fs = std::filesystem;
+using namespace hipfai;
+
+void put(const fs::path& file, const std::string& bytes) {
+  fs::create_directories(file.parent_path());
   std::ofstream(file, std::ios::binary) << bytes;
 }
 
-}  // namespace
+void copy_into(const fs::path& from, const fs::path& dir) {
+  fs::create_directories(dir);
+  fs::copy_file(from, dir / from.filename(), fs::copy_options::overwrite_existing);
+}
 
-int main(int argc, char** argv) {
-  if (argc != 2) {
-    std::cerr << "usage: make_fuzz_seeds OUT_DIR\n";
-    return 2;
-  }
-  using namespace hipfai::geometry;
-  using namespace hipfai::geometry::mesh_io;
-  TriMesh mesh;
-  mesh.vertices = {Vec3(0, 0, 0), Vec3(10, 0, 0), Vec3(0, 10, 0), Vec3(0, 0, 10)};
-  mesh.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
-  mesh.vertex_fields["depth_mm"] = {0.0, 0.5, 1.0, 1.5};
-  const std::filesystem::path out = argv[1];
+void write_mesh_seeds(const fs::path& out) {
+  using namespace geometry::mesh_io;
+  const geometry::TriMesh mesh = fuzz::tetrahedron();
   put(out / "stl" / "ascii.stl", write_stl("seed", mesh, true));
   put(out / "stl" / "binary.stl", write_stl("seed", mesh, false));
   put(out / "ply" / "ascii.ply", write_ply("seed", mesh, true));
@@ -41,5 +45,95 @@ int main(int argc, char** argv) {
   put(out / "vtp" / "ascii.vtp", write_vtp(mesh, true));
   put(out / "vtp" / "binary.vtp", write_vtp(mesh, false));
   put(out / "msh" / "mesh.msh", write_msh(mesh));
+}
+
+// model.json of a model whose five tissues are the tetrahedron (the file names the model_json
+// harness's folder has).
+void write_model_json_seed(const fs::path& out, const fs::path& work) {
+  geometry::HipModel model;
+  model.hjc_mm = geometry::Vec3(1, 2, 3);
+  model.measured_ce_deg = 21.5;
+  model.alpha_profile = {{0.0, 40.0}, {15.0, 42.5}};
+  for (const char* tissue : geometry::kHipTissueNames) model.tissues[tissue] = fuzz::tetrahedron();
+  geometry::write_hip_model(model, work / "model");
+  copy_into(work / "model" / "model.json", out / "model_json");
+}
+
+void write_motion_seeds(const fs::path& out) {
+  studies::Motion loaded = studies::standing_to_sitting(4);
+  studies::attach_sitting_down_load(loaded, {.body_weight_n = 700.0});
+  fs::create_directories(out / "motion");
+  studies::write_motion_csv(loaded, out / "motion" / "sitting_with_force.csv");
+  studies::write_motion_csv(studies::medical_rotation("flexion", 90.0, 3),
+                            out / "motion" / "flexion.csv");
+}
+
+// A model trained on four hips with a 1 x 2 grid of one tissue (2 features) and 3 steps.
+void write_estimator_seed(const fs::path& out) {
+  studies::EstimatorModel model;
+  model.grid = studies::parse_feature_grid("1x2 femur_bone");
+  model.measure = "pressure_max_mpa";
+  model.angle_deg = {10.0, 20.0, 30.0};
+  model.code_version = "fuzz seed";
+  Eigen::MatrixXd features(4, 2), values(4, 3);
+  features << 1.0, 2.0, 2.0, 2.5, 3.0, 4.5, 4.0, 4.0;
+  values << 1.0, 2.0, 3.0, 1.5, 2.5, 3.5, 2.0, 3.0, 4.5, 2.5, 3.5, 5.0;
+  for (Eigen::Index i = 0; i < features.rows(); ++i) {
+    studies::TrainingHip hip;
+    hip.name = "hip" + std::to_string(i);
+    hip.hash = "hash" + std::to_string(i);
+    hip.ce_deg = 20.0 + static_cast<double>(i);
+    hip.alpha_deg = 40.0;
+    hip.edge_mm = 2.0;
+    hip.features = features.row(i).transpose();
+    for (Eigen::Index j = 0; j < values.cols(); ++j) hip.values.push_back(values(i, j));
+    model.hips.push_back(hip);
+  }
+  stats::EstimatorSettings settings;
+  settings.pca.components = 2;
+  settings.nearest = 2;
+  settings.knn_k = 2;
+  model.estimator = stats::train_estimator(features, values, settings);
+  studies::write_estimator_model(model, out / "estimator_model" / "model.h5");
+}
+
+// The datasets and attributes the results_h5 harness reads, in every kind the writer makes.
+void write_results_seed(const fs::path& out) {
+  studies::ResultsFile file(out / "results_h5" / "results.h5");
+  file.set_attribute("/", "code_version", "fuzz seed");
+  file.set_attribute("/", "body_weight_n", 700.0);
+  file.create_group("/steps");
+  file.write("/steps/rotation", {1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 0, -1, 0, 0, 0, 0, 1}, 9, "1");
+  file.write("/steps/angle_deg", {0.0, 90.0}, 1, "deg");
+  file.write_integers("/steps/index", {1, 2}, 1, "1");
+  file.write_strings("/steps/names", {"first", "second"});
+  file.write("/total", {3.5}, 1, "N");
+  file.set_attribute("/steps/rotation", "units", "1");
+  file.commit();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 3) {
+    std::cerr << "usage: make_fuzz_seeds OUT_DIR SOURCE_DIR\n";
+    return 2;
+  }
+  const fs::path out = argv[1], source = argv[2];
+  try {
+    write_mesh_seeds(out);
+    write_model_json_seed(out, out / "work");
+    fs::remove_all(out / "work");
+    write_motion_seeds(out);
+    write_estimator_seed(out);
+    write_results_seed(out);
+    for (const auto& entry : fs::directory_iterator(source / "meshes" / "scenes")) {
+      copy_into(entry.path(), out / "scene");
+    }
+    copy_into(source / "meshes" / "real-hips" / "LHDL_CT" / "hip.json", out / "hip_json");
+  } catch (const std::exception& error) {
+    std::cerr << "make_fuzz_seeds: " << error.what() << '\n';
+    return 1;
+  }
   return 0;
 }

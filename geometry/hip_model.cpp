@@ -12,6 +12,7 @@
 #include <fstream>
 #include <set>
 #include <sstream>
+#include <system_error>
 
 namespace hipfai::geometry {
 namespace {
@@ -127,14 +128,19 @@ void write_hip_model(const HipModel& model, const std::filesystem::path& dir,
 
 HipModel load_hip_model(const std::filesystem::path& dir, const std::set<std::string>& only) {
   const auto path = dir / "model.json";
-  const std::string what = path.string();
   std::ifstream in(path);
-  if (!in) throw_error(what, ": cannot open");
+  if (!in) throw_error(path.string(), ": cannot open");
   std::stringstream buffer;
   buffer << in.rdbuf();
+  return hip_model_from_json(buffer.str(), dir, only);
+}
+
+HipModel hip_model_from_json(const std::string& text, const std::filesystem::path& dir,
+                             const std::set<std::string>& only) {
+  const std::string what = (dir / "model.json").string();
   nlohmann::json json;
   try {
-    json = nlohmann::json::parse(buffer.str());
+    json = nlohmann::json::parse(text);
   } catch (const nlohmann::json::exception& e) {
     throw_error(what, ": invalid JSON: ", e.what());
   }
@@ -177,7 +183,8 @@ HipModel load_hip_model(const std::filesystem::path& dir, const std::set<std::st
     if (!file.is_string()) throw_error(what, ": tissues.", name, ": expected a file name");
     if (!only.empty() && only.count(name) == 0) continue;  // not asked for: not read
     const auto mesh_path = dir / file.get<std::string>();
-    if (!std::filesystem::exists(mesh_path)) {
+    std::error_code ec;  // a name the system refuses (too long) is as good as missing
+    if (!std::filesystem::exists(mesh_path, ec)) {
       throw_error(what, ": tissues.", name, ": file not found: ", mesh_path.string());
     }
     TriMesh mesh = read_mesh(mesh_path);

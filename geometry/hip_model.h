@@ -76,5 +76,8 @@ void write_hip_model(const HipModel& model, const std::filesystem::path& dir,
 // length vector, missing tissue file, vertex count differing from "counts").
 // `only`: read just these tissues (an unknown name is an error); empty = all of them.
 HipModel load_hip_model(const std::filesystem::path& dir, const std::set<std::string>& only = {});
+// Same with model.json's text given; the tissue files are still read from `dir`.
+HipModel hip_model_from_json(const std::string& text, const std::filesystem::path& dir,
+                             const std::set<std::string>& only = {});
 
 }  // namespace hipfai::geometry

@@ -87,8 +87,15 @@ Motion medical_rotation(const std::string& which, double max_deg, int steps) {
 }
 
 Motion read_motion_csv(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  if (!in) throw_error(path.string(), ": cannot open motion file");
+  std::ifstream file(path, std::ios::binary);
+  if (!file) throw_error(path.string(), ": cannot open motion file");
+  std::ostringstream text;
+  text << file.rdbuf();
+  return parse_motion_csv(text.str(), path);
+}
+
+Motion parse_motion_csv(const std::string& text, const std::filesystem::path& path) {
+  std::istringstream in(text);
   std::string line;
   int line_number = 0;
   std::vector<std::string> header;

@@ -50,6 +50,8 @@ const std::vector<std::string>& medical_rotation_names();
 // Reads a motion CSV: header `step,flexion_deg,adduction_deg,internal_rotation_deg` with optional
 // `,Fx_N,Fy_N,Fz_N`; one row per step. Errors name the file and line.
 Motion read_motion_csv(const std::filesystem::path& path);
+// Same from the file's text; `path` names it in messages and gives the motion's name (its stem).
+Motion parse_motion_csv(const std::string& text, const std::filesystem::path& path);
 
 // Writes `motion` in the format read_motion_csv reads (force columns when every step has a
 // force), with round-trip precision. Throws hipfai::Error naming the file when it cannot write.

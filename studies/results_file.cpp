@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <hdf5.h>
 
+#include <limits>
 #include <system_error>
 
 namespace hipfai::studies {
@@ -190,6 +191,24 @@ std::vector<double> read_dataset(const std::filesystem::path& file, const std::s
   H5Sclose(space);
   hsize_t dims[2] = {1, 1};
   for (int d = 0; d < rank; ++d) dims[d == 0 ? 0 : 1] *= extents[static_cast<std::size_t>(d)];
+  // The extents and the element type are only claims: a corrupt file may declare billions of
+  // values, or values of gigabytes each, with nothing stored behind them (HDF5 would allocate
+  // and fill them all). Numbers are integers or floats of at most 8 bytes; every stored value
+  // takes at least a byte, and what is stored lies within the file.
+  const hid_t type = H5Dget_type(set);
+  const H5T_class_t type_class = type < 0 ? H5T_NO_CLASS : H5Tget_class(type);
+  const std::size_t type_size = type < 0 ? 0 : H5Tget_size(type);
+  if (type >= 0) H5Tclose(type);
+  std::error_code ec;
+  const std::uintmax_t file_bytes = std::filesystem::file_size(file, ec);
+  const hsize_t stored = H5Dget_storage_size(set);
+  const bool overflow = dims[1] != 0 && dims[0] > std::numeric_limits<hsize_t>::max() / dims[1];
+  const bool number = (type_class == H5T_INTEGER || type_class == H5T_FLOAT) && type_size >= 1 && type_size <= 8;
+  if (!number || overflow || dims[0] * dims[1] > stored || ec || stored > file_bytes) {
+    H5Dclose(set);
+    H5Fclose(handle);
+    throw_error(file.string(), ": ", path, ": not numbers, or more values than the file stores (corrupt file)");
+  }
   std::vector<double> values(dims[0] * dims[1]);
   const herr_t status = values.empty() ? 0
                                        : H5Dread(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL,
@@ -211,7 +230,18 @@ std::string read_string_attribute(const std::filesystem::path& file, const std::
     H5Fclose(handle);
     throw_error(file.string(), ": no attribute ", name, " on ", object);
   }
+  // One fixed-length string: H5Aread writes every element of the attribute, so an array of
+  // strings (or a variable-length one, whose elements are pointers) would overrun `value`.
+  const hid_t space = H5Aget_space(attribute);
+  const hssize_t points = space < 0 ? -1 : H5Sget_simple_extent_npoints(space);
+  if (space >= 0) H5Sclose(space);
   const hid_t type = H5Aget_type(attribute);
+  if (points != 1 || type < 0 || H5Tget_class(type) != H5T_STRING || H5Tis_variable_str(type) != 0) {
+    if (type >= 0) H5Tclose(type);
+    H5Aclose(attribute);
+    H5Fclose(handle);
+    throw_error(file.string(), ": attribute ", name, " on ", object, " is not one fixed-length string");
+  }
   std::string value(H5Tget_size(type), '\0');
   const hid_t memory = H5Tcopy(H5T_C_S1);
   H5Tset_size(memory, value.size());

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <fstream>
 #include <sstream>
+#include <system_error>
 
 namespace hipfai::studies {
 
@@ -26,6 +27,7 @@ struct Context {
                  const std::vector<std::string>& allowed) const {
     if (!map.IsMap()) fail(map, where, "expected a mapping");
     for (const auto& entry : map) {
+      if (!entry.first.IsScalar()) fail(entry.first, where, "keys must be plain names");
       const auto key = entry.first.as<std::string>();
       if (std::find(allowed.begin(), allowed.end(), key) == allowed.end()) {
         std::string list;
@@ -158,7 +160,8 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& origin) 
     scene.parametric = parametric;
   } else if (const YAML::Node dir = hip["model_dir"]) {
     scene.model_dir = resolve(origin, ctx.text(dir, "hip.model_dir"));
-    if (!std::filesystem::exists(scene.model_dir / "model.json")) {
+    std::error_code ec;  // a path the system refuses (too long, looping links) is as good as missing
+    if (!std::filesystem::exists(scene.model_dir / "model.json", ec)) {
       ctx.fail(dir, "hip.model_dir", "no model.json in " + scene.model_dir.string());
     }
   } else {
@@ -233,7 +236,8 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& origin) 
   } else {
     scene.motion.kind = MotionSpec::Kind::kCsv;
     scene.motion.csv = resolve(origin, ctx.text(motion["csv"], "motion.csv"));
-    if (!std::filesystem::exists(scene.motion.csv)) {
+    std::error_code ec;  // as for hip.model_dir
+    if (!std::filesystem::exists(scene.motion.csv, ec)) {
       ctx.fail(motion["csv"], "motion.csv", "file not found: " + scene.motion.csv.string());
     }
   }

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include <fstream>
+#include <sstream>
 
 namespace hipfai::studies {
 
@@ -28,16 +29,26 @@ Eigen::Matrix3d approximate_hip_frame(const geometry::TriMesh& femur, const geom
 
 geometry::HipModel load_segmented_hip(const std::filesystem::path& dir) {
   const std::filesystem::path file = dir / "hip.json";
-  std::ifstream in(file);
+  std::ifstream in(file, std::ios::binary);
   if (!in) throw_error(file.string(), ": cannot read");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return segmented_hip_from_json(text.str(), dir);
+}
+
+geometry::HipModel segmented_hip_from_json(const std::string& text, const std::filesystem::path& dir) {
+  const std::filesystem::path file = dir / "hip.json";
   nlohmann::json json;
   try {
-    json = nlohmann::json::parse(in);
+    json = nlohmann::json::parse(text);
   } catch (const nlohmann::json::exception& error) {
     throw_error(file.string(), ": not JSON (", error.what(), ")");
   }
   if (!json.is_object() || !json.contains("hjc_mm") || !json.contains("tissues") || !json["tissues"].is_object()) {
     throw_error(file.string(), ": needs hjc_mm and tissues");
+  }
+  for (const char* key : {"side", "units"}) {
+    if (json.contains(key) && !json[key].is_string()) throw_error(file.string(), ": ", key, " must be a string");
   }
   if (json.value("side", std::string("right")) != "right") {
     throw_error(file.string(), ": a ", json.value("side", std::string()), " hip; only right hips are supported (mirror it)");

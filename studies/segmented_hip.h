@@ -14,6 +14,7 @@
 #include <Eigen/Core>
 
 #include <filesystem>
+#include <string>
 
 namespace hipfai::studies {
 
@@ -29,5 +30,7 @@ Eigen::Matrix3d approximate_hip_frame(const geometry::TriMesh& femur, const geom
 // approximate_hip_frame's (femur_bone and pelvis_bone required). A left hip is refused (the
 // frame above is a right hip's). Throws hipfai::Error naming the file on bad input.
 geometry::HipModel load_segmented_hip(const std::filesystem::path& dir);
+// Same with hip.json's text given; the meshes it names are still read from `dir`.
+geometry::HipModel segmented_hip_from_json(const std::string& text, const std::filesystem::path& dir);
 
 }  // namespace hipfai::studies

@@ -3,6 +3,7 @@
 #include "core/error.h"
 
 #include <gtest/gtest.h>
+#include <hdf5.h>
 
 #include <filesystem>
 
@@ -43,6 +44,31 @@ TEST(ResultsFile, UncommittedFileLeavesNothingBehind) {
   for (const auto& entry : std::filesystem::directory_iterator(path.parent_path())) {
     EXPECT_NE(entry.path().filename().string().rfind(path.filename().string() + ".", 0), 0u) << entry.path();
   }
+}
+
+// An attribute of three strings (a foreign file's): reading it as one string must be refused,
+// not read into a one-string buffer (H5Aread writes all three).
+TEST(ResultsFile, StringAttributeOfSeveralStringsIsAnError) {
+  const auto path = temp_path("string_array_attribute.h5");
+  const hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  ASSERT_GE(file, 0);
+  const hid_t type = H5Tcopy(H5T_C_S1);
+  H5Tset_size(type, 4);
+  const hsize_t count = 3;
+  const hid_t space = H5Screate_simple(1, &count, nullptr);
+  const hid_t attribute = H5Acreate2(file, "format", type, space, H5P_DEFAULT, H5P_DEFAULT);
+  ASSERT_GE(H5Awrite(attribute, type, "abcdefghijkl"), 0);
+  H5Aclose(attribute);
+  H5Sclose(space);
+  H5Tclose(type);
+  H5Fclose(file);
+  try {
+    (void)read_string_attribute(path, "/", "format");
+    ADD_FAILURE() << "an attribute of three strings was read as one";
+  } catch (const hipfai::Error& error) {
+    EXPECT_NE(std::string(error.what()).find("not one fixed-length string"), std::string::npos) << error.what();
+  }
+  std::filesystem::remove(path);
 }
 
 TEST(ResultsFile, RaggedDatasetIsAnError) {

@@ -1,0 +1,36 @@
+#include "fuzz_results_reads.h"
+
+#include "core/error.h"
+#include "studies/results_file.h"
+
+#include <exception>
+#include <functional>
+#include <utility>
+
+namespace hipfai::fuzz {
+
+void read_results_file(const std::filesystem::path& file) {
+  std::exception_ptr first_error;
+  const auto attempt = [&](const std::function<void()>& read) {
+    try {
+      read();
+    } catch (const Error&) {
+      if (!first_error) first_error = std::current_exception();
+    }
+  };
+  for (const char* dataset :
+       {"/steps/rotation", "/steps/angle_deg", "/steps/index", "/steps/names", "/total"}) {
+    attempt([&] {
+      std::size_t rows = 0, cols = 0;
+      (void)studies::read_dataset(file, dataset, &rows, &cols);
+    });
+  }
+  for (const auto& attribute :
+       {std::pair{"/", "code_version"}, std::pair{"/steps/rotation", "units"},
+        std::pair{"/", "body_weight_n"}}) {
+    attempt([&] { (void)studies::read_string_attribute(file, attribute.first, attribute.second); });
+  }
+  if (first_error) std::rethrow_exception(first_error);
+}
+
+}  // namespace hipfai::fuzz

@@ -1,0 +1,190 @@
+// hipfai — the HDF5 file of a trained estimator model (write_estimator_model and
+// read_estimator_model of studies/estimator_study.h; docs/estimator.md has the layout).
+#include "core/error.h"
+#include "studies/estimator_study.h"
+#include "studies/results_file.h"
+
+#include <iomanip>
+#include <limits>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace hipfai::studies {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr const char* kModelFormat = "hipfai-pressure-estimator";
+constexpr int kModelVersion = 1;
+
+std::string exact(double value) {
+  std::ostringstream out;
+  out << std::setprecision(17) << value;
+  return out.str();
+}
+
+}  // namespace
+
+void write_estimator_model(const EstimatorModel& model, const std::filesystem::path& path) {
+  const stats::TrainedEstimator& e = model.estimator;
+  const auto f = static_cast<std::size_t>(e.features.cols());
+  const auto row_major = [](const Eigen::MatrixXd& matrix) {
+    std::vector<double> out(static_cast<std::size_t>(matrix.size()));
+    for (Eigen::Index r = 0; r < matrix.rows(); ++r) {
+      for (Eigen::Index c = 0; c < matrix.cols(); ++c) out[static_cast<std::size_t>(r * matrix.cols() + c)] = matrix(r, c);
+    }
+    return out;
+  };
+  const auto vec = [](const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); };
+  ResultsFile file(path);
+  file.set_attribute("/", "format", kModelFormat);
+  file.set_attribute("/", "format_version", std::to_string(kModelVersion));
+  file.set_attribute("/", "code_version", model.code_version);
+  file.set_attribute("/", "units", "mm (features), deg (angles), MPa (FE values)");
+  file.set_attribute("/", "fe_measure", model.measure);
+  file.set_attribute("/", "feature_grid", model.grid.describe());
+  file.set_attribute("/", "method", "thesis §4.5 PCA nearest-neighbour (Eq. 17-23); baselines knn, ridge");
+  std::string names, hashes;
+  for (const auto& hip : model.hips) {
+    names += (names.empty() ? "" : ";") + hip.name;
+    hashes += (hashes.empty() ? "" : ";") + hip.hash;
+  }
+  file.set_attribute("/", "training_hips", names);
+  file.set_attribute("/", "training_hip_hashes", hashes);
+  file.set_attribute("/", "settings",
+                     "components=" + std::to_string(e.settings.pca.components) + ";scale_floor=" +
+                         exact(e.settings.pca.scale_floor) + ";nearest=" + std::to_string(e.settings.nearest) +
+                         ";knn_k=" + std::to_string(e.settings.knn_k) +
+                         ";bordering_min_variance_share=" + exact(e.settings.bordering_min_variance_share));
+  file.write("/motion/angle_deg", model.angle_deg, 1, "deg");
+  file.write("/normalisation/mean", vec(e.pca.mean), 1, "mm");
+  file.write("/normalisation/scale", vec(e.pca.scale), 1, "mm");
+  file.write("/pca/basis", row_major(e.pca.basis), static_cast<std::size_t>(e.pca.basis.cols()), "1");
+  file.write("/pca/variances", vec(e.pca.variances), 1, "1");
+  file.write("/pca/total_variance", {e.pca.total_variance}, 1, "1");
+  file.write("/training/features", row_major(e.features), f, "mm");
+  file.write("/training/values", row_major(e.values), static_cast<std::size_t>(e.values.cols()), "MPa");
+  std::vector<double> ce, alpha, edge;
+  for (const auto& hip : model.hips) {
+    ce.push_back(hip.ce_deg);
+    alpha.push_back(hip.alpha_deg);
+    edge.push_back(hip.edge_mm);
+  }
+  file.write("/training/ce_deg", ce, 1, "deg");
+  file.write("/training/alpha_deg", alpha, 1, "deg");
+  file.write("/training/edge_mm", edge, 1, "mm");
+  file.commit();
+}
+
+namespace {
+
+std::map<std::string, std::string> parse_settings(const std::string& text) {
+  std::map<std::string, std::string> out;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ';')) {
+    const auto eq = item.find('=');
+    if (eq != std::string::npos) out[item.substr(0, eq)] = item.substr(eq + 1);
+  }
+  return out;
+}
+
+std::vector<std::string> split(const std::string& text, char separator) {
+  std::vector<std::string> out;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, separator)) out.push_back(item);
+  return out;
+}
+
+}  // namespace
+
+EstimatorModel read_estimator_model(const std::filesystem::path& path) {
+  if (!std::filesystem::is_regular_file(path)) throw_error(path.string(), ": no such model file");
+  EstimatorModel model;
+  std::string format;
+  try {
+    format = read_string_attribute(path, "/", "format");
+  } catch (const Error&) {
+    throw_error(path.string(), ": not a hipfai estimator model (not HDF5, or no format attribute)");
+  }
+  if (format != kModelFormat) throw_error(path.string(), ": not a hipfai estimator model (format '", format, "')");
+  try {
+    if (read_string_attribute(path, "/", "format_version") != std::to_string(kModelVersion)) {
+      throw_error("format_version is not ", kModelVersion, " (written by another hipfai version?)");
+    }
+    const auto read_matrix = [&](const std::string& name, Eigen::Index rows_expected, Eigen::Index cols_expected) {
+      std::size_t rows = 0, cols = 0;
+      const std::vector<double> values = read_dataset(path, name, &rows, &cols);
+      if ((rows_expected >= 0 && static_cast<Eigen::Index>(rows) != rows_expected) ||
+          (cols_expected >= 0 && static_cast<Eigen::Index>(cols) != cols_expected)) {
+        throw_error(path.string(), ": ", name, " is ", rows, " x ", cols, ", inconsistent with the rest of the model");
+      }
+      Eigen::MatrixXd matrix(static_cast<Eigen::Index>(rows), static_cast<Eigen::Index>(cols));
+      for (std::size_t r = 0; r < rows; ++r) {
+        for (std::size_t c = 0; c < cols; ++c) {
+          matrix(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c)) = values[r * cols + c];
+        }
+      }
+      return matrix;
+    };
+    model.code_version = read_string_attribute(path, "/", "code_version");
+    model.measure = read_string_attribute(path, "/", "fe_measure");
+    model.grid = parse_feature_grid(read_string_attribute(path, "/", "feature_grid"));
+    const auto settings = parse_settings(read_string_attribute(path, "/", "settings"));
+    stats::EstimatorSettings& s = model.estimator.settings;
+    s.pca.components = std::stoi(settings.at("components"));
+    s.pca.scale_floor = std::stod(settings.at("scale_floor"));
+    s.nearest = std::stoi(settings.at("nearest"));
+    s.knn_k = std::stoi(settings.at("knn_k"));
+    s.bordering_min_variance_share = std::stod(settings.at("bordering_min_variance_share"));
+    const Eigen::Index f = model.grid.num_features();
+    const Eigen::MatrixXd angles = read_matrix("/motion/angle_deg", -1, 1);
+    model.angle_deg.assign(angles.data(), angles.data() + angles.size());
+    const auto p = static_cast<Eigen::Index>(model.angle_deg.size());
+    stats::TrainedEstimator& e = model.estimator;
+    e.pca.mean = read_matrix("/normalisation/mean", f, 1).col(0);
+    e.pca.scale = read_matrix("/normalisation/scale", f, 1).col(0);
+    e.pca.basis = read_matrix("/pca/basis", f, -1);
+    e.pca.variances = read_matrix("/pca/variances", e.pca.basis.cols(), 1).col(0);
+    e.pca.total_variance = read_matrix("/pca/total_variance", 1, 1)(0, 0);
+    e.features = read_matrix("/training/features", -1, f);
+    const Eigen::Index m = e.features.rows();
+    e.values = read_matrix("/training/values", m, p);
+    const Eigen::MatrixXd ce = read_matrix("/training/ce_deg", m, 1);
+    const Eigen::MatrixXd alpha = read_matrix("/training/alpha_deg", m, 1);
+    const Eigen::MatrixXd edge = read_matrix("/training/edge_mm", m, 1);
+    const auto names = split(read_string_attribute(path, "/", "training_hips"), ';');
+    const auto hashes = split(read_string_attribute(path, "/", "training_hip_hashes"), ';');
+    if (static_cast<Eigen::Index>(names.size()) != m || static_cast<Eigen::Index>(hashes.size()) != m) {
+      throw_error(path.string(), ": ", names.size(), " hip names and ", hashes.size(), " hashes for ", m, " hips");
+    }
+    if (!e.pca.mean.allFinite() || !e.pca.scale.allFinite() || !e.pca.basis.allFinite() || !e.features.allFinite()) {
+      throw_error(path.string(), ": non-finite numbers in the PCA or features");
+    }
+    for (Eigen::Index i = 0; i < m; ++i) {
+      TrainingHip hip;
+      hip.name = names[static_cast<std::size_t>(i)];
+      hip.hash = hashes[static_cast<std::size_t>(i)];
+      hip.ce_deg = ce(i, 0);
+      hip.alpha_deg = alpha(i, 0);
+      hip.edge_mm = edge(i, 0);
+      hip.features = e.features.row(i).transpose();
+      hip.values.assign(static_cast<std::size_t>(p), kNaN);
+      for (Eigen::Index j = 0; j < p; ++j) hip.values[static_cast<std::size_t>(j)] = e.values(i, j);
+      model.hips.push_back(std::move(hip));
+    }
+    stats::derive_estimator(e);
+  } catch (const Error& error) {
+    std::string message = error.what();
+    if (message.rfind(path.string() + ": ", 0) == 0) message = message.substr(path.string().size() + 2);
+    throw_error(path.string(), ": corrupt estimator model (", message, ")");
+  } catch (const std::exception& error) {
+    throw_error(path.string(), ": corrupt estimator model (", error.what(), ")");
+  }
+  return model;
+}
+
+}  // namespace hipfai::studies
