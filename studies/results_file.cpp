@@ -194,7 +194,8 @@ std::vector<double> read_dataset(const std::filesystem::path& file, const std::s
   // The extents and the element type are only claims: a corrupt file may declare billions of
   // values, or values of gigabytes each, with nothing stored behind them (HDF5 would allocate
   // and fill them all). Numbers are integers or floats of at most 8 bytes; every stored value
-  // takes at least a byte, and what is stored lies within the file.
+  // takes at least a byte unless a filter (compression) packs it, and what is stored lies within
+  // the file.
   const hid_t type = H5Dget_type(set);
   const H5T_class_t type_class = type < 0 ? H5T_NO_CLASS : H5Tget_class(type);
   const std::size_t type_size = type < 0 ? 0 : H5Tget_size(type);
@@ -202,9 +203,12 @@ std::vector<double> read_dataset(const std::filesystem::path& file, const std::s
   std::error_code ec;
   const std::uintmax_t file_bytes = std::filesystem::file_size(file, ec);
   const hsize_t stored = H5Dget_storage_size(set);
+  const hid_t create = H5Dget_create_plist(set);
+  const int filters = create < 0 ? 0 : H5Pget_nfilters(create);
+  if (create >= 0) H5Pclose(create);
   const bool overflow = dims[1] != 0 && dims[0] > std::numeric_limits<hsize_t>::max() / dims[1];
   const bool number = (type_class == H5T_INTEGER || type_class == H5T_FLOAT) && type_size >= 1 && type_size <= 8;
-  if (!number || overflow || dims[0] * dims[1] > stored || ec || stored > file_bytes) {
+  if (!number || overflow || (filters == 0 && dims[0] * dims[1] > stored) || ec || stored > file_bytes) {
     H5Dclose(set);
     H5Fclose(handle);
     throw_error(file.string(), ": ", path, ": not numbers, or more values than the file stores (corrupt file)");

@@ -6,6 +6,7 @@
 #include <hdf5.h>
 
 #include <filesystem>
+#include <vector>
 
 namespace hipfai::studies {
 namespace {
@@ -48,6 +49,30 @@ TEST(ResultsFile, UncommittedFileLeavesNothingBehind) {
 
 // An attribute of three strings (a foreign file's): reading it as one string must be refused,
 // not read into a one-string buffer (H5Aread writes all three).
+// A compressed dataset stores fewer bytes than it has values (here 4096 zeros in a few dozen
+// bytes): the bound on stored bytes that rejects corrupt size claims must not reject it.
+TEST(ResultsFile, CompressedDatasetSmallerThanItsValuesIsRead) {
+  const auto path = temp_path("compressed.h5");
+  const hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  ASSERT_GE(file, 0);
+  const hsize_t count = 4096;
+  const hid_t space = H5Screate_simple(1, &count, nullptr);
+  const hid_t create = H5Pcreate(H5P_DATASET_CREATE);
+  H5Pset_chunk(create, 1, &count);
+  H5Pset_deflate(create, 9);
+  const hid_t set = H5Dcreate2(file, "zeros", H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, create, H5P_DEFAULT);
+  const std::vector<double> zeros(count, 0.0);
+  ASSERT_GE(H5Dwrite(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, zeros.data()), 0);
+  ASSERT_LT(H5Dget_storage_size(set), count);
+  H5Dclose(set);
+  H5Pclose(create);
+  H5Sclose(space);
+  H5Fclose(file);
+  const auto values = read_dataset(path, "/zeros");
+  EXPECT_EQ(values, zeros);
+  std::filesystem::remove(path);
+}
+
 TEST(ResultsFile, StringAttributeOfSeveralStringsIsAnError) {
   const auto path = temp_path("string_array_attribute.h5");
   const hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
