@@ -9,7 +9,8 @@
 
 namespace hipfai::fuzz {
 
-void read_results_file(const std::filesystem::path& file) {
+void read_results_file(const std::filesystem::path& path) {
+  const studies::ResultsReader file(path);  // probed in a child, then opened once
   std::exception_ptr first_error;
   const auto attempt = [&](const std::function<void()>& read) {
     try {
@@ -22,13 +23,13 @@ void read_results_file(const std::filesystem::path& file) {
        {"/steps/rotation", "/steps/angle_deg", "/steps/index", "/steps/names", "/total"}) {
     attempt([&] {
       std::size_t rows = 0, cols = 0;
-      (void)studies::read_dataset(file, dataset, &rows, &cols);
+      (void)file.dataset(dataset, &rows, &cols);
     });
   }
   for (const auto& attribute :
        {std::pair{"/", "code_version"}, std::pair{"/steps/rotation", "units"},
         std::pair{"/", "body_weight_n"}}) {
-    attempt([&] { (void)studies::read_string_attribute(file, attribute.first, attribute.second); });
+    attempt([&] { (void)file.string_attribute(attribute.first, attribute.second); });
   }
   if (first_error) std::rethrow_exception(first_error);
 }

@@ -1,5 +1,5 @@
 // What the results_h5 harness reads from a fuzzed results file: every dataset and attribute its
-// seed holds (make_fuzz_seeds), each through studies/results_file.h's readers. Shared with the
+// seed holds (make_fuzz_seeds), through one studies/results_file.h ResultsReader. Shared with the
 // regression test, so a kept input is replayed exactly as it was fuzzed.
 #pragma once
 
@@ -7,7 +7,8 @@
 
 namespace hipfai::fuzz {
 
-// Makes every read, even after one failed; then throws the first read's hipfai::Error, if any.
+// Opens the file (a damaged one is refused here), makes every read, even after one failed; then
+// throws the first read's hipfai::Error, if any.
 void read_results_file(const std::filesystem::path& file);
 
 }  // namespace hipfai::fuzz

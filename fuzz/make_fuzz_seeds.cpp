@@ -12,11 +12,13 @@
 #include "geometry/mesh_io_vtp.h"
 #include "studies/estimator_study.h"
 #include "studies/motion.h"
+#include "studies/radial_table_cache.h"
 #include "studies/results_file.h"
 
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <stdexcept>
 #include <string>
 
 namespace {
@@ -112,6 +114,60 @@ void write_results_seed(const fs::path& out) {
   file.commit();
 }
 
+// The first lines of a file, whole lines only (the stored results are long; a seed needs their form).
+std::string head_lines(const fs::path& file, int lines) {
+  std::ifstream in(file);
+  if (!in) throw std::runtime_error(file.string() + ": cannot open");
+  std::string text, line;
+  for (int k = 0; k < lines && std::getline(in, line); ++k) text += line + '\n';
+  return text;
+}
+
+void write_text(const fs::path& file, const std::string& text) {
+  fs::create_directories(file.parent_path());
+  std::ofstream(file, std::ios::binary) << text;
+}
+
+// The validation study's stored results (docs/validation-results): steps.csv alone, and steps.csv
+// and timings.csv joined by a form feed (fuzz_validation_csv.cpp).
+void write_validation_seeds(const fs::path& out, const fs::path& source) {
+  const fs::path results = source / "docs" / "validation-results";
+  const std::string steps = head_lines(results / "steps.csv", 6);
+  write_text(out / "validation_csv" / "steps_only.csv", steps);
+  write_text(out / "validation_csv" / "steps_and_timings.csv", steps + '\f' + head_lines(results / "timings.csv", 3));
+}
+
+// An FE run's per-step table in the layout write_hip_fe_csv writes (studies/hip_fe_run.cpp): two
+// bodies, two steps, every column kind (numbers, a surface name, an empty cell).
+void write_fe_csv_seed(const fs::path& out) {
+  std::string header = "step,status,ranks,dofs,active_set_iterations,max_pressure_mpa,mean_pressure_mpa,"
+                       "contact_area_mm2,max_penetration_mm,tx_mm,ty_mm,tz_mm";
+  for (const char* kind : {"max_von_mises_mpa", "p95_von_mises_mpa"}) {
+    for (const char* body : {"labrum", "femoral_cartilage"}) header += std::string(",") + kind + " " + body;
+  }
+  header += ",wall_time_s,sub_steps,cutbacks,linear_solves,peak_radius_mm,ball_peak_pressure_mpa,"
+            "max_pressure_surface\n";
+  const std::string rows = "1,0,1,48015,3,1.25,0.5,120.5,0.01,0,0,-1e-3,1.9,1.1,0.8,0.4,5.5,1,0,2,1,1.2,labrum\n"
+                           "2,1,1,48015,12,nan,,0,0,0,0,0,inf,1e300,0.8,0.4,6,2,1,9,1,-0,femoral_cartilage\n";
+  write_text(out / "fe_csv" / "fe.csv", header + rows);
+}
+
+// A radial table as the cache stores it: a spherical grid of 2 x 2 cells, three triangles (one in
+// two cells, one always a candidate).
+void write_radial_table_seed(const fs::path& out) {
+  contact::RadialTable table;
+  table.grid.mapping = contact::RadialMapping::kSpherical;
+  table.grid.faces = 1;
+  table.grid.dimension = 2;
+  table.centre = contact::Vec3(1.0, -2.0, 0.5);
+  table.num_triangles = 3;
+  table.cells = {{0}, {0, 1}, {}, {}};
+  table.triangle_cells = {{0, 1}, {1}, {}};
+  table.always_candidates = {2};
+  table.is_always = {0, 0, 1};
+  studies::save_radial_table(table, out / "radial_table" / "table.bin");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -127,10 +183,19 @@ int main(int argc, char** argv) {
     write_motion_seeds(out);
     write_estimator_seed(out);
     write_results_seed(out);
+    write_validation_seeds(out, source);
+    write_fe_csv_seed(out);
+    write_radial_table_seed(out);
     for (const auto& entry : fs::directory_iterator(source / "meshes" / "scenes")) {
       copy_into(entry.path(), out / "scene");
     }
     copy_into(source / "meshes" / "real-hips" / "LHDL_CT" / "hip.json", out / "hip_json");
+    // Files on which HDF5 itself reads past its buffers: under the sanitizers they crash HDF5, and
+    // the readers must refuse them (studies/hdf5_probe.h) rather than go down with it.
+    for (const auto& entry : fs::directory_iterator(source / "tests" / "data" / "hdf5-crashes")) {
+      copy_into(entry.path(), out / "results_h5");
+      copy_into(entry.path(), out / "estimator_model");
+    }
   } catch (const std::exception& error) {
     std::cerr << "make_fuzz_seeds: " << error.what() << '\n';
     return 1;

@@ -2,11 +2,13 @@
 // read_estimator_model of studies/estimator_study.h; docs/estimator.md has the layout).
 #include "core/error.h"
 #include "studies/estimator_study.h"
+#include "studies/hdf5_probe.h"
 #include "studies/results_file.h"
 
 #include <iomanip>
 #include <limits>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -104,20 +106,26 @@ std::vector<std::string> split(const std::string& text, char separator) {
 EstimatorModel read_estimator_model(const std::filesystem::path& path) {
   if (!std::filesystem::is_regular_file(path)) throw_error(path.string(), ": no such model file");
   EstimatorModel model;
+  // Opened once, after a child process has walked it (a damaged file is refused: studies/hdf5_probe.h).
+  std::optional<ResultsReader> opened;
   std::string format;
   try {
-    format = read_string_attribute(path, "/", "format");
+    opened.emplace(path);
+    format = opened->string_attribute("/", "format");
+  } catch (const DamagedHdf5File&) {
+    throw;
   } catch (const Error&) {
     throw_error(path.string(), ": not a hipfai estimator model (not HDF5, or no format attribute)");
   }
   if (format != kModelFormat) throw_error(path.string(), ": not a hipfai estimator model (format '", format, "')");
+  const ResultsReader& file = *opened;
   try {
-    if (read_string_attribute(path, "/", "format_version") != std::to_string(kModelVersion)) {
+    if (file.string_attribute("/", "format_version") != std::to_string(kModelVersion)) {
       throw_error("format_version is not ", kModelVersion, " (written by another hipfai version?)");
     }
     const auto read_matrix = [&](const std::string& name, Eigen::Index rows_expected, Eigen::Index cols_expected) {
       std::size_t rows = 0, cols = 0;
-      const std::vector<double> values = read_dataset(path, name, &rows, &cols);
+      const std::vector<double> values = file.dataset(name, &rows, &cols);
       if ((rows_expected >= 0 && static_cast<Eigen::Index>(rows) != rows_expected) ||
           (cols_expected >= 0 && static_cast<Eigen::Index>(cols) != cols_expected)) {
         throw_error(path.string(), ": ", name, " is ", rows, " x ", cols, ", inconsistent with the rest of the model");
@@ -130,10 +138,10 @@ EstimatorModel read_estimator_model(const std::filesystem::path& path) {
       }
       return matrix;
     };
-    model.code_version = read_string_attribute(path, "/", "code_version");
-    model.measure = read_string_attribute(path, "/", "fe_measure");
-    model.grid = parse_feature_grid(read_string_attribute(path, "/", "feature_grid"));
-    const auto settings = parse_settings(read_string_attribute(path, "/", "settings"));
+    model.code_version = file.string_attribute("/", "code_version");
+    model.measure = file.string_attribute("/", "fe_measure");
+    model.grid = parse_feature_grid(file.string_attribute("/", "feature_grid"));
+    const auto settings = parse_settings(file.string_attribute("/", "settings"));
     stats::EstimatorSettings& s = model.estimator.settings;
     s.pca.components = std::stoi(settings.at("components"));
     s.pca.scale_floor = std::stod(settings.at("scale_floor"));
@@ -156,8 +164,8 @@ EstimatorModel read_estimator_model(const std::filesystem::path& path) {
     const Eigen::MatrixXd ce = read_matrix("/training/ce_deg", m, 1);
     const Eigen::MatrixXd alpha = read_matrix("/training/alpha_deg", m, 1);
     const Eigen::MatrixXd edge = read_matrix("/training/edge_mm", m, 1);
-    const auto names = split(read_string_attribute(path, "/", "training_hips"), ';');
-    const auto hashes = split(read_string_attribute(path, "/", "training_hip_hashes"), ';');
+    const auto names = split(file.string_attribute("/", "training_hips"), ';');
+    const auto hashes = split(file.string_attribute("/", "training_hip_hashes"), ';');
     if (static_cast<Eigen::Index>(names.size()) != m || static_cast<Eigen::Index>(hashes.size()) != m) {
       throw_error(path.string(), ": ", names.size(), " hip names and ", hashes.size(), " hashes for ", m, " hips");
     }

@@ -22,6 +22,7 @@
 
 #include "core/atomic_file.h"
 #include "fem/hip_fe_model.h"
+#include "studies/hip_fe_table.h"
 #include "studies/motion.h"
 
 #include <filesystem>
@@ -83,16 +84,6 @@ HipFeRunSummary run_hip_fe(const HipFeRunOptions& options, bool throw_on_failure
 // The per-step table of a run (one row per step, round-trip precision), written atomically.
 void write_hip_fe_csv(const std::filesystem::path& file, const HipFeRunSummary& summary);
 
-// A per-step table read back: column name -> one value per step (NaN where a cell is not a
-// number, e.g. the surface-name columns). Throws hipfai::Error naming the file when it is
-// missing, empty or has rows of the wrong width.
-struct HipFeTable {
-  std::vector<std::string> columns;
-  std::map<std::string, std::vector<double>> values;
-  std::size_t rows = 0;
-  const std::vector<double>& column(const std::string& name) const;  // throws when missing
-};
-HipFeTable read_hip_fe_csv(const std::filesystem::path& file);
 
 // The cache key of a run (16 hex digits); see the file comment for what it covers.
 std::string hip_fe_cache_key(const HipFeRunOptions& options);

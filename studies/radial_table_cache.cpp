@@ -3,9 +3,16 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
 
 namespace hipfai::studies {
 
@@ -29,18 +36,71 @@ void put_vector(std::ostream& out, const std::vector<T>& values) {
             static_cast<std::streamsize>(values.size() * sizeof(T)));
 }
 
-template <typename T>
-bool get(std::istream& in, T& value) {
-  return static_cast<bool>(in.read(reinterpret_cast<char*>(&value), sizeof value));
+// A cursor over the file's bytes: every read is bounded by what is left, so a count in a damaged
+// file cannot ask for more memory than the file could fill.
+class Reader {
+ public:
+  explicit Reader(std::string bytes) : bytes_(std::move(bytes)) {}
+  std::size_t left() const { return bytes_.size() - at_; }
+  template <typename T>
+  bool get(T& value) {
+    if (left() < sizeof value) return false;
+    std::memcpy(&value, bytes_.data() + at_, sizeof value);
+    at_ += sizeof value;
+    return true;
+  }
+  template <typename T>
+  bool get_vector(std::vector<T>& values) {
+    std::uint64_t size = 0;
+    if (!get(size) || size > left() / sizeof(T)) return false;
+    values.resize(static_cast<std::size_t>(size));
+    if (size > 0) std::memcpy(values.data(), bytes_.data() + at_, static_cast<std::size_t>(size) * sizeof(T));
+    at_ += static_cast<std::size_t>(size) * sizeof(T);
+    return true;
+  }
+
+ private:
+  std::string bytes_;
+  std::size_t at_ = 0;
+};
+
+int faces_of(contact::RadialMapping mapping) {
+  switch (mapping) {
+    case contact::RadialMapping::kSpherical: return 1;
+    case contact::RadialMapping::kCartesian: return 2;
+    case contact::RadialMapping::kCube: return 6;
+  }
+  return 0;
 }
 
-template <typename T>
-bool get_vector(std::istream& in, std::vector<T>& values, std::uint64_t limit) {
-  std::uint64_t size = 0;
-  if (!get(in, size) || size > limit) return false;
-  values.resize(size);
-  return static_cast<bool>(
-      in.read(reinterpret_cast<char*>(values.data()), static_cast<std::streamsize>(size * sizeof(T))));
+bool all_below(const std::vector<std::int32_t>& indices, std::uint64_t end) {
+  return std::all_of(indices.begin(), indices.end(),
+                     [end](std::int32_t i) { return i >= 0 && static_cast<std::uint64_t>(i) < end; });
+}
+
+// What the queries and updates rely on: indices in range, the two directions of the binning
+// (cell -> triangles, triangle -> cells) the same pairs, the always-candidates those flagged.
+bool consistent(const contact::RadialTable& table) {
+  const std::uint64_t triangles = table.num_triangles, cells = table.cells.size();
+  if (table.triangle_cells.size() != triangles || table.is_always.size() != triangles) return false;
+  if (!all_below(table.always_candidates, triangles)) return false;
+  std::vector<std::pair<std::int32_t, std::int32_t>> by_cell, by_triangle;  // (triangle, cell)
+  for (std::size_t c = 0; c < cells; ++c) {
+    if (!all_below(table.cells[c], triangles)) return false;
+    for (const std::int32_t t : table.cells[c]) by_cell.emplace_back(t, static_cast<std::int32_t>(c));
+  }
+  for (std::size_t t = 0; t < triangles; ++t) {
+    if (!all_below(table.triangle_cells[t], cells)) return false;
+    for (const std::int32_t c : table.triangle_cells[t]) by_triangle.emplace_back(static_cast<std::int32_t>(t), c);
+  }
+  std::sort(by_cell.begin(), by_cell.end());
+  std::sort(by_triangle.begin(), by_triangle.end());
+  if (by_cell != by_triangle) return false;
+  std::vector<std::uint8_t> flagged(static_cast<std::size_t>(triangles), 0);
+  for (const std::int32_t t : table.always_candidates) {
+    if (flagged[static_cast<std::size_t>(t)]++ != 0) return false;  // listed twice
+  }
+  return flagged == table.is_always;
 }
 
 }  // namespace
@@ -68,38 +128,44 @@ void save_radial_table(const contact::RadialTable& table, const std::filesystem:
 std::optional<contact::RadialTable> load_radial_table(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) return std::nullopt;
+  std::ostringstream content;
+  content << in.rdbuf();
+  Reader file(content.str());
   char magic[sizeof kMagic];
-  if (!in.read(magic, sizeof magic) || std::memcmp(magic, kMagic, sizeof kMagic) != 0) {
-    return std::nullopt;
-  }
+  if (!file.get(magic) || std::memcmp(magic, kMagic, sizeof kMagic) != 0) return std::nullopt;
   contact::RadialTable table;
   std::int32_t mapping = 0, dimension = 0, faces = 0;
   double x = 0, y = 0, z = 0;
   std::uint64_t num_triangles = 0, num_cells = 0, num_triangle_cells = 0;
-  // Sizes are bounded so a damaged file cannot ask for absurd allocations.
-  constexpr std::uint64_t kLimit = std::uint64_t{1} << 32;
-  if (!get(in, mapping) || !get(in, dimension) || !get(in, faces) || !get(in, x) || !get(in, y) ||
-      !get(in, z) || !get(in, num_triangles) || !get(in, num_cells) || num_cells > kLimit ||
-      mapping < 0 || mapping > 2) {
+  if (!file.get(mapping) || !file.get(dimension) || !file.get(faces) || !file.get(x) || !file.get(y) ||
+      !file.get(z) || !file.get(num_triangles) || !file.get(num_cells) || mapping < 0 || mapping > 2) {
     return std::nullopt;
   }
   table.grid.mapping = static_cast<contact::RadialMapping>(mapping);
+  // Each cell and each triangle stores at least its 8-byte count; the grid is the mapping's.
+  const std::uint64_t counts = file.left() / 8;
+  if (faces != faces_of(table.grid.mapping) || dimension < 1 || static_cast<std::uint64_t>(dimension) > counts ||
+      num_cells != static_cast<std::uint64_t>(faces) * static_cast<std::uint64_t>(dimension) * static_cast<std::uint64_t>(dimension) ||
+      num_cells > counts || num_triangles > counts ||
+      num_triangles > static_cast<std::uint64_t>(std::numeric_limits<std::int32_t>::max()) ||
+      !std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) {
+    return std::nullopt;
+  }
   table.grid.dimension = dimension;
   table.grid.faces = faces;
-  if (static_cast<std::uint64_t>(table.grid.num_cells()) != num_cells) return std::nullopt;
   table.centre = contact::Vec3(x, y, z);
-  table.num_triangles = num_triangles;
-  table.cells.resize(num_cells);
+  table.num_triangles = static_cast<std::size_t>(num_triangles);
+  table.cells.resize(static_cast<std::size_t>(num_cells));
   for (auto& cell : table.cells) {
-    if (!get_vector(in, cell, num_triangles)) return std::nullopt;
+    if (!file.get_vector(cell)) return std::nullopt;
   }
-  if (!get_vector(in, table.always_candidates, num_triangles)) return std::nullopt;
-  if (!get(in, num_triangle_cells) || num_triangle_cells != num_triangles) return std::nullopt;
-  table.triangle_cells.resize(num_triangle_cells);
+  if (!file.get_vector(table.always_candidates)) return std::nullopt;
+  if (!file.get(num_triangle_cells) || num_triangle_cells != num_triangles) return std::nullopt;
+  table.triangle_cells.resize(static_cast<std::size_t>(num_triangle_cells));
   for (auto& cells : table.triangle_cells) {
-    if (!get_vector(in, cells, num_cells)) return std::nullopt;
+    if (!file.get_vector(cells)) return std::nullopt;
   }
-  if (!get_vector(in, table.is_always, num_triangles)) return std::nullopt;
+  if (!file.get_vector(table.is_always) || file.left() != 0 || !consistent(table)) return std::nullopt;
   return table;
 }
 

@@ -1,12 +1,14 @@
 #include "studies/results_file.h"
 
 #include "core/error.h"
+#include "studies/hdf5_probe.h"
 
 #include <algorithm>
 #include <hdf5.h>
 
 #include <limits>
 #include <system_error>
+#include <utility>
 
 namespace hipfai::studies {
 
@@ -169,15 +171,22 @@ void ResultsFile::commit() {
   committed_ = true;
 }
 
-std::vector<double> read_dataset(const std::filesystem::path& file, const std::string& path,
-                                 std::size_t* rows, std::size_t* cols) {
-  const hid_t handle = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  if (handle < 0) throw_error(file.string(), ": cannot open HDF5 file");
+ResultsReader::ResultsReader(std::filesystem::path file) : file_(std::move(file)) {
+  probe_hdf5_file(file_);
+  handle_ = H5Fopen(file_.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (handle_ < 0) throw_error(file_.string(), ": cannot open HDF5 file");
+}
+
+ResultsReader::~ResultsReader() {
+  if (handle_ >= 0) H5Fclose(static_cast<hid_t>(handle_));
+}
+
+std::vector<double> ResultsReader::dataset(const std::string& path, std::size_t* rows,
+                                           std::size_t* cols) const {
+  const hid_t handle = static_cast<hid_t>(handle_);
+  const std::filesystem::path& file = file_;
   const hid_t set = H5Dopen2(handle, path.c_str(), H5P_DEFAULT);
-  if (set < 0) {
-    H5Fclose(handle);
-    throw_error(file.string(), ": no dataset ", path);
-  }
+  if (set < 0) throw_error(file.string(), ": no dataset ", path);
   // Any rank: rows = the first extent, cols = the product of the others (a scalar is 1 x 1).
   const hid_t space = H5Dget_space(set);
   const int rank = H5Sget_simple_extent_ndims(space);
@@ -185,7 +194,6 @@ std::vector<double> read_dataset(const std::filesystem::path& file, const std::s
   if (rank < 0 || (rank > 0 && H5Sget_simple_extent_dims(space, extents.data(), nullptr) != rank)) {
     H5Sclose(space);
     H5Dclose(set);
-    H5Fclose(handle);
     throw_error(file.string(), ": ", path, ": unreadable dataspace");
   }
   H5Sclose(space);
@@ -210,7 +218,6 @@ std::vector<double> read_dataset(const std::filesystem::path& file, const std::s
   const bool number = (type_class == H5T_INTEGER || type_class == H5T_FLOAT) && type_size >= 1 && type_size <= 8;
   if (!number || overflow || (filters == 0 && dims[0] * dims[1] > stored) || ec || stored > file_bytes) {
     H5Dclose(set);
-    H5Fclose(handle);
     throw_error(file.string(), ": ", path, ": not numbers, or more values than the file stores (corrupt file)");
   }
   std::vector<double> values(dims[0] * dims[1]);
@@ -218,20 +225,17 @@ std::vector<double> read_dataset(const std::filesystem::path& file, const std::s
                                        : H5Dread(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL,
                                                  H5P_DEFAULT, values.data());
   H5Dclose(set);
-  H5Fclose(handle);
   check(status, "reading " + path);
   if (rows) *rows = dims[0];
   if (cols) *cols = dims[1];
   return values;
 }
 
-std::string read_string_attribute(const std::filesystem::path& file, const std::string& object,
-                                  const std::string& name) {
-  const hid_t handle = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  if (handle < 0) throw_error(file.string(), ": cannot open HDF5 file");
+std::string ResultsReader::string_attribute(const std::string& object, const std::string& name) const {
+  const hid_t handle = static_cast<hid_t>(handle_);
+  const std::filesystem::path& file = file_;
   const hid_t attribute = H5Aopen_by_name(handle, object.c_str(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT);
   if (attribute < 0) {
-    H5Fclose(handle);
     throw_error(file.string(), ": no attribute ", name, " on ", object);
   }
   // One fixed-length string: H5Aread writes every element of the attribute, so an array of
@@ -243,7 +247,6 @@ std::string read_string_attribute(const std::filesystem::path& file, const std::
   if (points != 1 || type < 0 || H5Tget_class(type) != H5T_STRING || H5Tis_variable_str(type) != 0) {
     if (type >= 0) H5Tclose(type);
     H5Aclose(attribute);
-    H5Fclose(handle);
     throw_error(file.string(), ": attribute ", name, " on ", object, " is not one fixed-length string");
   }
   std::string value(H5Tget_size(type), '\0');
@@ -253,10 +256,19 @@ std::string read_string_attribute(const std::filesystem::path& file, const std::
   H5Tclose(memory);
   H5Tclose(type);
   H5Aclose(attribute);
-  H5Fclose(handle);
   check(status, "reading attribute " + name);
   while (!value.empty() && value.back() == '\0') value.pop_back();
   return value;
+}
+
+std::vector<double> read_dataset(const std::filesystem::path& file, const std::string& path,
+                                 std::size_t* rows, std::size_t* cols) {
+  return ResultsReader(file).dataset(path, rows, cols);
+}
+
+std::string read_string_attribute(const std::filesystem::path& file, const std::string& object,
+                                  const std::string& name) {
+  return ResultsReader(file).string_attribute(object, name);
 }
 
 }  // namespace hipfai::studies

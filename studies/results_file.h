@@ -48,7 +48,31 @@ class ResultsFile {
   bool committed_ = false;
 };
 
-// Reads back a double dataset (for tests and reports): values row-major, shape in `rows`/`cols`.
+// Reads a results file (or any HDF5 file of numbers and string attributes): the file is first
+// walked in a child process (studies/hdf5_probe.h), so a file that crashes HDF5 is refused with
+// a one-line error instead of crashing the reader; then it is opened once for all its reads.
+class ResultsReader {
+ public:
+  // Throws hipfai::Error when the file is damaged (the probe), missing or not HDF5.
+  explicit ResultsReader(std::filesystem::path file);
+  ~ResultsReader();
+  ResultsReader(const ResultsReader&) = delete;
+  ResultsReader& operator=(const ResultsReader&) = delete;
+
+  // A dataset of numbers as doubles: values row-major; rows = the first extent, cols = the
+  // product of the others (a scalar is 1 x 1). Refuses a dataset that is not numbers or claims
+  // more values than the file stores.
+  std::vector<double> dataset(const std::string& path, std::size_t* rows = nullptr,
+                              std::size_t* cols = nullptr) const;
+  // One fixed-length string attribute of `object` ("/" for the file).
+  std::string string_attribute(const std::string& object, const std::string& name) const;
+
+ private:
+  std::filesystem::path file_;
+  std::int64_t handle_ = -1;
+};
+
+// One read through a ResultsReader (for tests and reports reading a single value of a file).
 std::vector<double> read_dataset(const std::filesystem::path& file, const std::string& path,
                                  std::size_t* rows = nullptr, std::size_t* cols = nullptr);
 std::string read_string_attribute(const std::filesystem::path& file, const std::string& object,

@@ -17,41 +17,13 @@
 #pragma once
 
 #include "stats/correlation.h"
+#include "studies/validation_results_file.h"
 
 #include <filesystem>
 #include <string>
 #include <vector>
 
 namespace hipfai::studies {
-
-// One hip's series, as read from steps.csv.
-struct ValidationHipSeries {
-  double ce_deg = 0, alpha_deg = 0;
-  std::vector<double> angle_deg, curvilinear_mm, radial_mm;
-  std::vector<std::vector<double>> fe;  // [measure][step]; NaN where the FE step did not converge
-  const std::vector<double>& depth(const std::string& kind) const;  // "curvilinear" | "radial"
-};
-
-// One row of timings.csv.
-struct ValidationHipTimingRow {
-  double ce_deg = 0, alpha_deg = 0, edge_mm = 0;
-  int steps = 0;
-  std::string fe_level;
-  double generate_s = 0, penetration_tables_ms = 0, penetration_query_ms = 0, fe_s = 0, fe_step_s = 0;
-  bool fe_reused = false;
-  int fe_steps_failed = 0;
-  double fe_dofs = 0;
-};
-
-struct ValidationData {
-  std::vector<std::string> measures;  // FE measure columns of steps.csv, in order
-  std::vector<ValidationHipSeries> hips;
-  std::vector<ValidationHipTimingRow> timings;  // empty when timings.csv is absent
-};
-
-// Reads <dir>/steps.csv (required) and <dir>/timings.csv (optional). Throws hipfai::Error naming
-// the file and line for a missing file, a missing required column, or a malformed number.
-ValidationData read_validation_results(const std::filesystem::path& dir);
 
 struct ValidationCorrelation {
   double ce_deg = 0, alpha_deg = 0;

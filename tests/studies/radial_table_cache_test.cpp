@@ -5,7 +5,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <string>
 
@@ -53,6 +56,55 @@ TEST(RadialTableCache, DamagedFileIsRejectedNotTrusted) {
   std::ofstream(path) << "not a table";
   EXPECT_FALSE(load_radial_table(path).has_value());
   EXPECT_FALSE(load_radial_table(path.string() + ".missing").has_value());
+}
+
+// A small table written field by field (save_radial_table stores what it is given, sound or not).
+contact::RadialTable small_table() {
+  contact::RadialTable table;
+  table.grid.mapping = contact::RadialMapping::kSpherical;
+  table.grid.faces = 1;
+  table.grid.dimension = 2;
+  table.num_triangles = 3;
+  table.cells = {{0}, {0, 1}, {}, {}};
+  table.triangle_cells = {{0, 1}, {1}, {}};
+  table.always_candidates = {2};
+  table.is_always = {0, 0, 1};
+  return table;
+}
+
+// Files with every count and size in order but contents a query would trip over: each is refused.
+TEST(RadialTableCache, TablesWhoseIndicesOrBinningDoNotHoldAreRefused) {
+  const auto path = std::filesystem::temp_directory_path() / "hipfai_radial_table_crafted.bin";
+  save_radial_table(small_table(), path);
+  ASSERT_TRUE(load_radial_table(path).has_value());
+  const auto refused = [&](const char* what, const std::function<void(contact::RadialTable&)>& damage) {
+    contact::RadialTable table = small_table();
+    damage(table);
+    save_radial_table(table, path);
+    EXPECT_FALSE(load_radial_table(path).has_value()) << what;
+  };
+  refused("a triangle index past the end", [](auto& t) { t.cells[2] = {3}; t.triangle_cells.push_back({}); });
+  refused("a negative triangle index", [](auto& t) { t.cells[3] = {-1}; });
+  refused("a cell index past the grid", [](auto& t) { t.triangle_cells[1] = {1, 4}; });
+  refused("the two binnings disagree", [](auto& t) { t.cells[2] = {1}; });
+  refused("an always-candidate not flagged", [](auto& t) { t.is_always = {0, 0, 0}; });
+  refused("an always-candidate out of range", [](auto& t) { t.always_candidates = {7}; });
+  refused("a grid that is not the mapping's", [](auto& t) { t.grid.faces = 6; });
+  refused("a centre that is not finite", [](auto& t) { t.centre.x() = std::nan(""); });
+  // A count that claims more entries than the file holds (the cell list of cell 0: 2^40).
+  save_radial_table(small_table(), path);
+  {
+    std::fstream file(path, std::ios::binary | std::ios::in | std::ios::out);
+    file.seekp(static_cast<std::streamoff>(sizeof("HIPFAI-RADIAL-TABLE v2") + 3 * 4 + 3 * 8 + 2 * 8));
+    const std::uint64_t huge = std::uint64_t{1} << 40;
+    file.write(reinterpret_cast<const char*>(&huge), sizeof huge);
+  }
+  EXPECT_FALSE(load_radial_table(path).has_value());
+  // Bytes after the last field.
+  save_radial_table(small_table(), path);
+  std::ofstream(path, std::ios::binary | std::ios::app) << 'x';
+  EXPECT_FALSE(load_radial_table(path).has_value());
+  std::filesystem::remove(path);
 }
 
 TEST(RadialTableCache, OlderVersionIsRejectedAndRebuiltInPlace) {
