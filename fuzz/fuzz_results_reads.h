@@ -7,8 +7,8 @@
 
 namespace hipfai::fuzz {
 
-// Opens the file (a damaged one is refused here), makes every read, even after one failed; then
-// throws the first read's hipfai::Error, if any.
+// Makes every read in one child process (a file that crashes HDF5 there is refused:
+// studies::DamagedHdf5File), even after one failed; then throws the first read's hipfai::Error, if any.
 void read_results_file(const std::filesystem::path& file);
 
 }  // namespace hipfai::fuzz

@@ -191,7 +191,7 @@ int main(int argc, char** argv) {
     }
     copy_into(source / "meshes" / "real-hips" / "LHDL_CT" / "hip.json", out / "hip_json");
     // Files on which HDF5 itself reads past its buffers: under the sanitizers they crash HDF5, and
-    // the readers must refuse them (studies/hdf5_probe.h) rather than go down with it.
+    // the readers must refuse them (studies/hdf5_child.h) rather than go down with it.
     for (const auto& entry : fs::directory_iterator(source / "tests" / "data" / "hdf5-crashes")) {
       copy_into(entry.path(), out / "results_h5");
       copy_into(entry.path(), out / "estimator_model");

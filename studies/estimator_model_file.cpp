@@ -2,13 +2,12 @@
 // read_estimator_model of studies/estimator_study.h; docs/estimator.md has the layout).
 #include "core/error.h"
 #include "studies/estimator_study.h"
-#include "studies/hdf5_probe.h"
+#include "studies/hdf5_child.h"
 #include "studies/results_file.h"
 
 #include <iomanip>
 #include <limits>
 #include <map>
-#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -106,19 +105,22 @@ std::vector<std::string> split(const std::string& text, char separator) {
 EstimatorModel read_estimator_model(const std::filesystem::path& path) {
   if (!std::filesystem::is_regular_file(path)) throw_error(path.string(), ": no such model file");
   EstimatorModel model;
-  // Opened once, after a child process has walked it (a damaged file is refused: studies/hdf5_probe.h).
-  std::optional<ResultsReader> opened;
+  // Every value of the model read in one child process (a damaged file is refused: studies/hdf5_child.h).
+  ResultsReader file(path);
+  file.prefetch({"/motion/angle_deg", "/normalisation/mean", "/normalisation/scale", "/pca/basis",
+                 "/pca/variances", "/pca/total_variance", "/training/features", "/training/values",
+                 "/training/ce_deg", "/training/alpha_deg", "/training/edge_mm"},
+                {{"/", "format"}, {"/", "format_version"}, {"/", "code_version"}, {"/", "fe_measure"},
+                 {"/", "feature_grid"}, {"/", "settings"}, {"/", "training_hips"}, {"/", "training_hip_hashes"}});
   std::string format;
   try {
-    opened.emplace(path);
-    format = opened->string_attribute("/", "format");
+    format = file.string_attribute("/", "format");
   } catch (const DamagedHdf5File&) {
     throw;
   } catch (const Error&) {
     throw_error(path.string(), ": not a hipfai estimator model (not HDF5, or no format attribute)");
   }
   if (format != kModelFormat) throw_error(path.string(), ": not a hipfai estimator model (format '", format, "')");
-  const ResultsReader& file = *opened;
   try {
     if (file.string_attribute("/", "format_version") != std::to_string(kModelVersion)) {
       throw_error("format_version is not ", kModelVersion, " (written by another hipfai version?)");

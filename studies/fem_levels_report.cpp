@@ -1,3 +1,5 @@
+#ifdef HIPFAI_WITH_FEM
+
 #include "studies/fem_levels_study.h"
 
 #include "core/atomic_file.h"
@@ -210,3 +212,5 @@ void write_fem_levels_report(const FemLevelsResult& result, const FemLevelsOptio
 }
 
 }  // namespace hipfai::studies
+
+#endif  // HIPFAI_WITH_FEM

@@ -1,3 +1,5 @@
+#ifdef HIPFAI_WITH_FEM
+
 #include "studies/fem_levels_study.h"
 
 #include "fem/hip_fe_model.h"
@@ -78,3 +80,5 @@ FemLevelsResult compute_fem_levels(const FemLevelsOptions& options) {
 }
 
 }  // namespace hipfai::studies
+
+#endif  // HIPFAI_WITH_FEM

@@ -5,6 +5,8 @@
 // being the reference of every difference.
 #pragma once
 
+#ifdef HIPFAI_WITH_FEM
+
 #include "studies/hip_fe_run.h"
 
 #include <deal.II/base/point.h>
@@ -50,3 +52,5 @@ FemLevelsResult compute_fem_levels(const FemLevelsOptions& options);
 void write_fem_levels_report(const FemLevelsResult& result, const FemLevelsOptions& options);
 
 }  // namespace hipfai::studies
+
+#endif  // HIPFAI_WITH_FEM

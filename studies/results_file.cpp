@@ -1,10 +1,16 @@
 #include "studies/results_file.h"
 
 #include "core/error.h"
-#include "studies/hdf5_probe.h"
+#include "studies/hdf5_child.h"
 
 #include <algorithm>
 #include <hdf5.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <functional>
+#include <stdexcept>
 
 #include <limits>
 #include <system_error>
@@ -171,20 +177,11 @@ void ResultsFile::commit() {
   committed_ = true;
 }
 
-ResultsReader::ResultsReader(std::filesystem::path file) : file_(std::move(file)) {
-  probe_hdf5_file(file_);
-  handle_ = H5Fopen(file_.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  if (handle_ < 0) throw_error(file_.string(), ": cannot open HDF5 file");
-}
+namespace {
 
-ResultsReader::~ResultsReader() {
-  if (handle_ >= 0) H5Fclose(static_cast<hid_t>(handle_));
-}
-
-std::vector<double> ResultsReader::dataset(const std::string& path, std::size_t* rows,
-                                           std::size_t* cols) const {
-  const hid_t handle = static_cast<hid_t>(handle_);
-  const std::filesystem::path& file = file_;
+// The reads themselves, on a file open in the child process (read_in_child).
+std::vector<double> dataset_of(hid_t handle, const std::filesystem::path& file, const std::string& path,
+                               std::size_t* rows, std::size_t* cols) {
   const hid_t set = H5Dopen2(handle, path.c_str(), H5P_DEFAULT);
   if (set < 0) throw_error(file.string(), ": no dataset ", path);
   // Any rank: rows = the first extent, cols = the product of the others (a scalar is 1 x 1).
@@ -231,9 +228,8 @@ std::vector<double> ResultsReader::dataset(const std::string& path, std::size_t*
   return values;
 }
 
-std::string ResultsReader::string_attribute(const std::string& object, const std::string& name) const {
-  const hid_t handle = static_cast<hid_t>(handle_);
-  const std::filesystem::path& file = file_;
+std::string string_attribute_of(hid_t handle, const std::filesystem::path& file, const std::string& object,
+                                const std::string& name) {
   const hid_t attribute = H5Aopen_by_name(handle, object.c_str(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT);
   if (attribute < 0) {
     throw_error(file.string(), ": no attribute ", name, " on ", object);
@@ -259,6 +255,149 @@ std::string ResultsReader::string_attribute(const std::string& object, const std
   check(status, "reading attribute " + name);
   while (!value.empty() && value.back() == '\0') value.pop_back();
   return value;
+}
+
+// The child's answer, item after item: a tag byte, then a dataset's rows, cols and values, an
+// attribute's text, or an error's message (each length-prefixed).
+enum class Tag : char { kDataset = 'D', kAttribute = 'A', kError = 'E' };
+
+void put_bytes(std::string& out, const void* data, std::size_t size) {
+  out.append(static_cast<const char*>(data), size);
+}
+void put_u64(std::string& out, std::uint64_t value) { put_bytes(out, &value, sizeof value); }
+void put_text(std::string& out, const std::string& text) {
+  put_u64(out, text.size());
+  out += text;
+}
+
+void write_all(int fd, const std::string& bytes) {
+  std::size_t done = 0;
+  while (done < bytes.size()) {
+    const ssize_t wrote = ::write(fd, bytes.data() + done, bytes.size() - done);
+    if (wrote < 0 && errno == EINTR) continue;
+    if (wrote <= 0) throw std::runtime_error("pipe");
+    done += static_cast<std::size_t>(wrote);
+  }
+}
+
+class AnswerReader {
+ public:
+  AnswerReader(const std::string& bytes, const std::filesystem::path& file) : bytes_(bytes), file_(file) {}
+  bool done() const { return at_ == bytes_.size(); }
+  char tag() { return static_cast<char>(take(1)[0]); }
+  std::uint64_t u64() {
+    std::uint64_t value = 0;
+    std::memcpy(&value, take(sizeof value), sizeof value);
+    return value;
+  }
+  std::string text() {
+    const std::uint64_t size = u64();
+    return std::string(take(size), static_cast<std::size_t>(size));
+  }
+  std::vector<double> doubles(std::uint64_t count) {
+    if (count > (bytes_.size() - at_) / sizeof(double)) truncated();
+    std::vector<double> values(static_cast<std::size_t>(count));
+    if (count > 0) std::memcpy(values.data(), take(count * sizeof(double)), values.size() * sizeof(double));
+    return values;
+  }
+
+ private:
+  const char* take(std::uint64_t size) {
+    if (size > bytes_.size() - at_) truncated();
+    const char* data = bytes_.data() + at_;
+    at_ += static_cast<std::size_t>(size);
+    return data;
+  }
+  [[noreturn]] void truncated() const {
+    throw_error(file_.string(), ": the HDF5 reading process answered with a truncated message");
+  }
+  const std::string& bytes_;
+  const std::filesystem::path& file_;
+  std::size_t at_ = 0;
+};
+
+}  // namespace
+
+ResultsReader::ResultsReader(std::filesystem::path file) : file_(std::move(file)) {}
+
+ResultsReader::~ResultsReader() = default;
+
+void ResultsReader::prefetch(const std::vector<std::string>& datasets,
+                             const std::vector<std::pair<std::string, std::string>>& attributes) {
+  const std::filesystem::path file = file_;
+  const std::string answer = run_hdf5_in_child(file, [&](int fd) {
+    std::string out;
+    const hid_t handle = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    // Each read answers its values or its error (what the reader throws in this process).
+    const auto item = [&](const std::function<void()>& read) {
+      try {
+        if (handle < 0) throw_error(file.string(), ": cannot open HDF5 file");
+        read();
+      } catch (const Error& error) {
+        out += static_cast<char>(Tag::kError);
+        put_text(out, error.what());
+      }
+    };
+    for (const std::string& path : datasets) {
+      item([&] {
+        std::size_t rows = 0, cols = 0;
+        const std::vector<double> values = dataset_of(handle, file, path, &rows, &cols);
+        out += static_cast<char>(Tag::kDataset);
+        put_u64(out, rows);
+        put_u64(out, cols);
+        put_bytes(out, values.data(), values.size() * sizeof(double));
+      });
+    }
+    for (const auto& attribute : attributes) {
+      item([&] {
+        const std::string value = string_attribute_of(handle, file, attribute.first, attribute.second);
+        out += static_cast<char>(Tag::kAttribute);
+        put_text(out, value);
+      });
+    }
+    if (handle >= 0) H5Fclose(handle);
+    write_all(fd, out);
+  });
+  AnswerReader in(answer, file_);
+  const auto entry = [&](Tag expected) {
+    Entry result;
+    const char tag = in.tag();
+    if (tag == static_cast<char>(Tag::kError)) {
+      result.error = in.text();
+    } else if (tag != static_cast<char>(expected)) {
+      throw_error(file_.string(), ": the HDF5 reading process answered out of order");
+    } else if (expected == Tag::kDataset) {
+      result.rows = in.u64();
+      result.cols = in.u64();
+      if (result.cols != 0 && result.rows > std::numeric_limits<std::uint64_t>::max() / result.cols) {
+        throw_error(file_.string(), ": the HDF5 reading process answered with a bad shape");
+      }
+      result.values = in.doubles(result.rows * result.cols);
+    } else {
+      result.text = in.text();
+    }
+    return result;
+  };
+  for (const std::string& path : datasets) datasets_[path] = entry(Tag::kDataset);
+  for (const auto& key : attributes) attributes_[key] = entry(Tag::kAttribute);
+  if (!in.done()) throw_error(file_.string(), ": the HDF5 reading process answered more than asked");
+}
+
+std::vector<double> ResultsReader::dataset(const std::string& path, std::size_t* rows, std::size_t* cols) {
+  if (datasets_.count(path) == 0) prefetch({path}, {});
+  const Entry& entry = datasets_.at(path);
+  if (!entry.error.empty()) throw Error(entry.error);
+  if (rows) *rows = static_cast<std::size_t>(entry.rows);
+  if (cols) *cols = static_cast<std::size_t>(entry.cols);
+  return entry.values;
+}
+
+std::string ResultsReader::string_attribute(const std::string& object, const std::string& name) {
+  const std::pair<std::string, std::string> key{object, name};
+  if (attributes_.count(key) == 0) prefetch({}, {key});
+  const Entry& entry = attributes_.at(key);
+  if (!entry.error.empty()) throw Error(entry.error);
+  return entry.text;
 }
 
 std::vector<double> read_dataset(const std::filesystem::path& file, const std::string& path,

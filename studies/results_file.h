@@ -10,7 +10,9 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace hipfai::studies {
@@ -48,28 +50,42 @@ class ResultsFile {
   bool committed_ = false;
 };
 
-// Reads a results file (or any HDF5 file of numbers and string attributes): the file is first
-// walked in a child process (studies/hdf5_probe.h), so a file that crashes HDF5 is refused with
-// a one-line error instead of crashing the reader; then it is opened once for all its reads.
+// Reads a results file (or any HDF5 file of numbers and string attributes). HDF5 decodes the file
+// only in a child process (studies/hdf5_child.h): the reads are made there and their values come
+// back through a pipe, so a file that crashes HDF5 is refused with a one-line error
+// (DamagedHdf5File) instead of crashing the reader. prefetch() makes many reads in one child;
+// a read not prefetched gets a child of its own.
 class ResultsReader {
  public:
-  // Throws hipfai::Error when the file is damaged (the probe), missing or not HDF5.
   explicit ResultsReader(std::filesystem::path file);
   ~ResultsReader();
   ResultsReader(const ResultsReader&) = delete;
   ResultsReader& operator=(const ResultsReader&) = delete;
 
+  // Reads these datasets and string attributes ((object, name) pairs) in one child process and
+  // keeps each answer, a value or the error its read gave, for the calls below. Throws
+  // DamagedHdf5File when the child dies.
+  void prefetch(const std::vector<std::string>& datasets,
+                const std::vector<std::pair<std::string, std::string>>& attributes);
+
   // A dataset of numbers as doubles: values row-major; rows = the first extent, cols = the
-  // product of the others (a scalar is 1 x 1). Refuses a dataset that is not numbers or claims
-  // more values than the file stores.
-  std::vector<double> dataset(const std::string& path, std::size_t* rows = nullptr,
-                              std::size_t* cols = nullptr) const;
+  // product of the others (a scalar is 1 x 1). Throws hipfai::Error for a missing file or dataset,
+  // a file that is not HDF5, a dataset that is not numbers or claims more values than the file
+  // stores.
+  std::vector<double> dataset(const std::string& path, std::size_t* rows = nullptr, std::size_t* cols = nullptr);
   // One fixed-length string attribute of `object` ("/" for the file).
-  std::string string_attribute(const std::string& object, const std::string& name) const;
+  std::string string_attribute(const std::string& object, const std::string& name);
 
  private:
+  struct Entry {
+    std::string error;  // non-empty: the read's error message
+    std::uint64_t rows = 0, cols = 0;
+    std::vector<double> values;
+    std::string text;
+  };
   std::filesystem::path file_;
-  std::int64_t handle_ = -1;
+  std::map<std::string, Entry> datasets_;
+  std::map<std::pair<std::string, std::string>, Entry> attributes_;
 };
 
 // One read through a ResultsReader (for tests and reports reading a single value of a file).
