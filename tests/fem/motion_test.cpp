@@ -4,16 +4,15 @@
 // translating core must be balanced by the contact resultant at every step.
 #include "fem/fem_results.h"
 #include "fem/motion_solver.h"
+#include "fem/verification_cases.h"
 
-#include <deal.II/grid/grid_generator.h>
-#include <deal.II/grid/manifold_lib.h>
-#include <deal.II/grid/tria.h>
 
 #include <gtest/gtest.h>
 #include <hdf5.h>
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <iostream>
 
 namespace hipfai::fem {
@@ -24,7 +23,6 @@ using dealii::Tensor;
 
 constexpr double kCoreRadius = 23.0, kContactRadius = 25.0, kCupRadius = 27.0;  // mm (issue 5)
 constexpr double kExpansion = 0.02;  // mm, radial, keeps the whole interface closed
-constexpr dealii::types::boundary_id kCore = 0, kCup = 1, kInnerShellOuter = 2, kOuterShellInner = 3;
 
 ElasticMaterial cartilage() { return {12.0, 0.45}; }  // issue 5: E = 12 MPa, nu = 0.45
 
@@ -54,50 +52,9 @@ double lame_pressure() {
   return -m0 / (m1 - m0);
 }
 
-void build_shells(ContactProblem& problem) {
-  std::vector<Point<3>> vertices;
-  std::vector<dealii::CellData<3>> cells;
-  for (unsigned shell = 0; shell < 2; ++shell) {
-    dealii::Triangulation<3> part;
-    dealii::GridGenerator::hyper_shell(part, Point<3>(), shell == 0 ? kCoreRadius : kContactRadius,
-                                       shell == 0 ? kContactRadius : kCupRadius, 6);
-    const unsigned offset = static_cast<unsigned>(vertices.size());
-    vertices.insert(vertices.end(), part.get_vertices().begin(), part.get_vertices().end());
-    for (const auto& cell : part.active_cell_iterators()) {
-      dealii::CellData<3> data;
-      for (unsigned v = 0; v < 8; ++v) data.vertices[v] = offset + cell->vertex_index(v);
-      data.material_id = shell;
-      cells.push_back(data);
-    }
-  }
-  auto& tria = problem.triangulation();
-  tria.create_triangulation(vertices, cells, dealii::SubCellData());
-  for (const auto& cell : tria.active_cell_iterators()) {
-    for (const unsigned f : cell->face_indices()) {
-      const auto face = cell->face(f);
-      if (!face->at_boundary()) continue;
-      const double r = face->vertex(0).norm();
-      if (std::abs(r - kCoreRadius) < 1e-6) face->set_boundary_id(kCore);
-      else if (std::abs(r - kCupRadius) < 1e-6) face->set_boundary_id(kCup);
-      else face->set_boundary_id(cell->material_id() == 0 ? kInnerShellOuter : kOuterShellInner);
-    }
-  }
-  tria.set_all_manifold_ids(0);
-  tria.set_manifold(0, dealii::SphericalManifold<3>(Point<3>()));
-  tria.refine_global(1);
-  for (const auto& cell : tria.active_cell_iterators()) {
-    if (cell->material_id() == 1) cell->set_refine_flag();  // non-matching interface
-  }
-  tria.execute_coarsening_and_refinement();
-  problem.model().bodies = {{"femoral cartilage", 0, cartilage(), 0}, {"acetabular cartilage", 1, cartilage(), 1}};
-  RigidBody core{"femur", nullptr, {}, false, {}, {}, dealii::unit_symmetric_tensor<3>(), Point<3>()};
-  RigidBody cup{"pelvis", nullptr, {}, false, {}, {}, dealii::unit_symmetric_tensor<3>(), Point<3>()};
-  problem.model().rigid_bodies = {core, cup};
-  problem.model().bonded_boundaries = {
-      {kCore, 0, [](const Point<3>& p) { return Tensor<1, 3>(kExpansion * p / p.norm()); }},
-      {kCup, 1, {}}};
-  problem.model().contact_pairs = {{kInnerShellOuter, -1, kOuterShellInner}};
-}
+// The verification case's two bonded cartilage shells with a non-matching contact interface
+// (fem/verification_cases.h), the inner shell's core pushed out by kExpansion.
+void build_shells(ContactProblem& problem) { build_concentric_shells(problem, kExpansion); }
 
 ContactOptions shell_options() {
   ContactOptions options;
@@ -176,7 +133,7 @@ TEST(FemMotion, LoadedCoreRelocatesAndTheContactResultantBalancesTheLoad) {
   }
   MotionOptions options;
   options.moving_body = 0;
-  const std::string file = std::string(HIPFAI_BINARY_DIR) + "/fem_motion_test.h5";
+  const std::string file = (std::filesystem::path(HIPFAI_BINARY_DIR) / "fem_motion_test.h5").string();
   FemResultsWriter writer(file, {"femoral cartilage", "acetabular cartilage"}, 0);
   const std::vector<ContactResult> results = run_motion(
       problem, steps, options,
