@@ -2,7 +2,6 @@
 // read_estimator_model of studies/estimator_study.h; docs/estimator.md has the layout).
 #include "core/error.h"
 #include "studies/estimator_study.h"
-#include "studies/hdf5_child.h"
 #include "studies/results_file.h"
 
 #include <iomanip>
@@ -115,8 +114,6 @@ EstimatorModel read_estimator_model(const std::filesystem::path& path) {
   std::string format;
   try {
     format = file.string_attribute("/", "format");
-  } catch (const DamagedHdf5File&) {
-    throw;
   } catch (const Error&) {
     throw_error(path.string(), ": not a hipfai estimator model (not HDF5, or no format attribute)");
   }
