@@ -262,9 +262,17 @@ void Bench::bench_striking(const Scenario& s) {
     contact::PenetrationResult cached;
     cache_row.query = time_query([&] { cached = cache->query(s.angle_deg); });
     measured_.rows.push_back(cache_row);
+    // Ablation: the same cache without its arc index, the exact test of every tracked vertex.
+    BenchRow scan_row = cache_row;
+    scan_row.method = "cylindrical_pose_cache_scan";
+    contact::PenetrationResult scanned;
+    scan_row.query = time_query([&] { scanned = cache->query_every_vertex(s.angle_deg); });
+    scan_row.note = "the pose cache without its arc index (every tracked vertex tested)";
+    measured_.rows.push_back(scan_row);
     // Exactness is filled below for every row of this scenario.
     results_[s.name + "/cylindrical/" + std::to_string(threads)] = result;
     results_[s.name + "/cylindrical_pose_cache/" + std::to_string(threads)] = cached;
+    results_[s.name + "/cylindrical_pose_cache_scan/" + std::to_string(threads)] = scanned;
   }
   bench_bandwidth_floor(s);
   const Reference reference = make_reference(s, posed, ours_vertices, budget_);

@@ -127,6 +127,35 @@ std::vector<TargetVerdict> evaluate_targets(const CollisionBenchResults& results
     targets.push_back(t);
   }
   {
+    // Issue 18: the cylindrical per-pose query with the pose cache >= 50x FCL all-contacts at
+    // striking_hip_L3 and >= 10x on the real CT bones; the one-pass query on a posed mesh (no
+    // cache) at least as fast as FCL. 1 thread, the slower of FCL's two bounding volumes taken
+    // as FCL's time would flatter us, so the faster one is.
+    TargetVerdict t;
+    t.target = "Issue 18: pose cache >= 50x FCL (striking_hip_L3), >= 10x (real CT); one-pass query on the posed mesh >= 1x FCL" + size_note;
+    bool met = true, any = false;
+    std::ostringstream m;
+    for (const std::string family : {"striking_hip", "striking_real_ct"}) {
+      const std::string sc = largest(family);
+      if (sc.empty()) continue;
+      any = true;
+      const double goal = family == "striking_hip" ? 50.0 : 10.0;
+      const auto fcl_over = [&](const std::string& ours) {
+        const double obbrss = query_ratio(sc, "fcl_OBBRSS", ours, 1), obb = query_ratio(sc, "fcl_OBB", ours, 1);
+        return std::isnan(obb) ? obbrss : std::min(obbrss, obb);
+      };
+      const double cache = fcl_over("cylindrical_pose_cache");
+      const double scan = fcl_over("cylindrical_pose_cache_scan");
+      const double posed = fcl_over("cylindrical");
+      met = met && cache >= goal && posed >= 1.0;
+      m << sc << ": pose cache " << fmt(cache) << "x (goal " << fmt(goal) << "x; without its arc index " << fmt(scan)
+        << "x), one-pass on the posed mesh " << fmt(posed) << "x (goal 1x); ";
+    }
+    t.met = any && met;
+    t.measured = m.str();
+    targets.push_back(t);
+  }
+  {
     // Not a target with a threshold: how far each largest scenario's query is from streaming its
     // mobile vertices once (issue 18).
     TargetVerdict t;

@@ -152,15 +152,33 @@ double crossing_exit_sign(double crossing_theta_rad, const Vec3& normal_local) {
          std::cos(crossing_theta_rad) * normal_local.y();
 }
 
+namespace {
+
+Vec3 crossing_point(double r, double z, double crossing_theta_rad) {
+  return {r * std::cos(crossing_theta_rad), r * std::sin(crossing_theta_rad), z};
+}
+
+// T' = B x Z with B from the axis to V' (App. D Eq. 30).
+Vec3 crossing_tangent(const Vec3& crossing) { return {crossing.y(), -crossing.x(), 0.0}; }
+
+}  // namespace
+
+CrossingSides penetrating_sides(double r, double z, double crossing_theta_rad, const Vec3& normal_local) {
+  // The same arithmetic as arc_verdict's orientation of T (Eq. 31), so the two agree bit for bit.
+  const double tangent_dot_normal = crossing_tangent(crossing_point(r, z, crossing_theta_rad)).dot(normal_local);
+  // T = T' (T'.N > 0): T.A < 0 for vertices anticlockwise of the crossing (T'.A = r^2 sin(c - theta));
+  // T = -T': clockwise of it; T'.N == 0: N.A decides, either side.
+  return {tangent_dot_normal >= 0.0, tangent_dot_normal <= 0.0};
+}
+
 ArcVerdict arc_verdict(double r, double z, double vertex_theta_rad, double crossing_theta_rad,
                        const Vec3& normal_local, double touching_mm) {
   const double delta = wrap_angle(crossing_theta_rad - vertex_theta_rad);
   if (r * std::abs(delta) <= touching_mm) return ArcVerdict::kTouching;
   const Vec3 vertex(r * std::cos(vertex_theta_rad), r * std::sin(vertex_theta_rad), z);
-  const Vec3 crossing(r * std::cos(crossing_theta_rad), r * std::sin(crossing_theta_rad), z);
+  const Vec3 crossing = crossing_point(r, z, crossing_theta_rad);
   const Vec3 to_vertex = vertex - crossing;  // A
-  // T' = B x Z with B from the axis to V' (App. D Eq. 30).
-  const Vec3 tangent_raw(crossing.y(), -crossing.x(), 0.0);
+  const Vec3 tangent_raw = crossing_tangent(crossing);
   const double tangent_dot_normal = tangent_raw.dot(normal_local);
   if (tangent_dot_normal == 0.0) {
     // Circle tangent to the plane: App. D first extreme case.

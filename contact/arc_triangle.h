@@ -124,6 +124,17 @@ enum class ArcVerdict { kOutside, kTouching, kPenetrating };
 ArcVerdict arc_verdict(double r, double z, double vertex_theta_rad, double crossing_theta_rad,
                        const Vec3& normal_local, double touching_mm);
 
+// On which sides of a crossing (angle c, outward unit normal N, circle of radius r at height z)
+// arc_verdict can say "penetrating" for a vertex whose nearest crossing it is: `anticlockwise`
+// for vertices at theta > c (up to pi away), `clockwise` for theta < c; both when the circle is
+// tangent to the triangle's plane there. Computed with arc_verdict's own arithmetic, so away from
+// the crossing (where rounding could flip T.A) the two never disagree.
+struct CrossingSides {
+  bool anticlockwise = false;
+  bool clockwise = false;
+};
+CrossingSides penetrating_sides(double r, double z, double crossing_theta_rad, const Vec3& normal_local);
+
 // Sign of the anticlockwise tangent t = a x B at the crossing against the outward normal:
 // > 0 when moving anticlockwise through the crossing leaves the solid, < 0 when it enters,
 // 0 when the circle is tangent to the triangle's plane.

@@ -9,6 +9,7 @@
 #include <cstring>
 #include <fstream>
 #include <limits>
+#include <numbers>
 #include <string>
 #include <system_error>
 #include <vector>
@@ -420,7 +421,8 @@ class CylindricalCacheAccess {
       cache.crossing_theta_[i] = in.f64();
       const std::int32_t t = in.i32();
       cache.crossing_triangle_[i] = t;
-      if (!std::isfinite(cache.crossing_theta_[i]) || t < 0 ||
+      // Crossing angles are in (-pi, pi] (circle_triangle_crossings); the arc index relies on it.
+      if (!std::isfinite(cache.crossing_theta_[i]) || std::abs(cache.crossing_theta_[i]) > std::numbers::pi || t < 0 ||
           static_cast<std::size_t>(t) >= num_normals) {
         return std::nullopt;
       }
@@ -443,6 +445,7 @@ class CylindricalCacheAccess {
       vertex.last = static_cast<std::size_t>(last);
     }
     if (!in.ok()) return std::nullopt;
+    cache.build_index();  // derived data, not stored: rebuilt as the constructor builds it
     return cache;
   }
 };

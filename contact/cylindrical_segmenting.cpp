@@ -10,6 +10,10 @@ namespace hipfai::contact {
 namespace {
 
 constexpr double kDegPerRad = 180.0 / std::numbers::pi;
+// Candidate arcs are widened by this on both sides: far more than the rounding of a pose angle
+// (|theta0 + angle| up to kIndexedAngleLimitRad: ~1e-13 rad), far less than any real arc.
+constexpr double kArcMarginRad = 1e-12;
+constexpr double kIndexedAngleLimitRad = 1e3;
 
 bool finite_vertices(const geometry::TriMesh& mesh) {
   return std::all_of(mesh.vertices.begin(), mesh.vertices.end(),
@@ -158,9 +162,10 @@ CylindricalPoseCache::CylindricalPoseCache(const CylindricalTable& table,
     crossing_theta_.insert(crossing_theta_.end(), chunk.theta.begin(), chunk.theta.end());
     crossing_triangle_.insert(crossing_triangle_.end(), chunk.triangle.begin(), chunk.triangle.end());
   }
+  if (options_.pose_index) build_index();
 }
 
-PenetrationResult CylindricalPoseCache::query(double angle_deg) const {
+std::optional<PenetrationResult> CylindricalPoseCache::trivial_answer(double angle_deg) const {
   if (status_ == QueryStatus::kInvalidInput) return invalid(message_);
   if (!std::isfinite(angle_deg)) return invalid("pose angle must be finite");
   if (status_ == QueryStatus::kNoOverlap) {
@@ -168,29 +173,125 @@ PenetrationResult CylindricalPoseCache::query(double angle_deg) const {
     result.status = QueryStatus::kNoOverlap;
     return result;
   }
+  return std::nullopt;
+}
+
+bool CylindricalPoseCache::penetration_of(const TrackedVertex& vertex, double angle_rad,
+                                          PenetrationPair& pair) const {
+  const double theta = wrap_angle(vertex.theta0_rad + angle_rad);
+  NearestCrossing nearest;
+  for (std::size_t k = vertex.first; k < vertex.last; ++k) {
+    nearest.offer(theta, crossing_theta_[k], crossing_triangle_[k]);
+  }
+  if (arc_verdict(vertex.r, vertex.z, theta, nearest.crossing_theta_rad,
+                  normals_[static_cast<std::size_t>(nearest.triangle)],
+                  options_.touching_mm) != ArcVerdict::kPenetrating) {
+    return false;
+  }
+  pair = {vertex.vertex, nearest.triangle, vertex.r * nearest.abs_delta_rad, nearest.abs_delta_rad * kDegPerRad};
+  return true;
+}
+
+PenetrationResult CylindricalPoseCache::query_every_vertex(double angle_deg) const {
+  if (std::optional<PenetrationResult> answer = trivial_answer(angle_deg)) return std::move(*answer);
   const double angle_rad = angle_deg / kDegPerRad;
   const int threads = resolve_threads(options_.num_threads);
   std::vector<std::vector<PenetrationPair>> chunks(static_cast<std::size_t>(threads));
-  parallel_chunks(tracked_.size(), threads,
-                          [&](std::size_t begin, std::size_t end, int chunk) {
+  parallel_chunks(tracked_.size(), threads, [&](std::size_t begin, std::size_t end, int chunk) {
     auto& out = chunks[static_cast<std::size_t>(chunk)];
+    PenetrationPair pair;
     for (std::size_t i = begin; i < end; ++i) {
-      const TrackedVertex& vertex = tracked_[i];
-      const double theta = wrap_angle(vertex.theta0_rad + angle_rad);
-      NearestCrossing nearest;
-      for (std::size_t k = vertex.first; k < vertex.last; ++k) {
-        nearest.offer(theta, crossing_theta_[k], crossing_triangle_[k]);
-      }
-      if (arc_verdict(vertex.r, vertex.z, theta, nearest.crossing_theta_rad,
-                      normals_[static_cast<std::size_t>(nearest.triangle)],
-                      options_.touching_mm) != ArcVerdict::kPenetrating) {
-        continue;
-      }
-      out.push_back({vertex.vertex, nearest.triangle, vertex.r * nearest.abs_delta_rad,
-                     nearest.abs_delta_rad * kDegPerRad});
+      if (penetration_of(tracked_[i], angle_rad, pair)) out.push_back(pair);
     }
   });
   return join_chunks(chunks);
+}
+
+PenetrationResult CylindricalPoseCache::query(double angle_deg) const {
+  if (std::optional<PenetrationResult> answer = trivial_answer(angle_deg)) return std::move(*answer);
+  const double angle_rad = angle_deg / kDegPerRad;
+  if (!options_.pose_index || !(std::abs(angle_rad) <= kIndexedAngleLimitRad)) return query_every_vertex(angle_deg);
+  std::vector<std::int32_t> candidates;
+  index_.stab(angle_rad, candidates);
+  // Ascending tracked index = ascending mobile vertex: the output order of the full pass.
+  std::sort(candidates.begin(), candidates.end());
+  candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+  // Few candidates (the usual case) are not worth a hand-off to other threads.
+  constexpr std::size_t kSerialCandidates = 8192;
+  const int threads = candidates.size() < kSerialCandidates ? 1 : resolve_threads(options_.num_threads);
+  std::vector<std::vector<PenetrationPair>> chunks(static_cast<std::size_t>(threads));
+  const auto evaluate = [&](std::size_t begin, std::size_t end, int chunk) {
+    auto& out = chunks[static_cast<std::size_t>(chunk)];
+    PenetrationPair pair;
+    for (std::size_t i = begin; i < end; ++i) {
+      if (penetration_of(tracked_[static_cast<std::size_t>(candidates[i])], angle_rad, pair)) out.push_back(pair);
+    }
+  };
+  if (threads == 1) {
+    evaluate(0, candidates.size(), 0);
+  } else {
+    parallel_chunks(candidates.size(), threads, evaluate);
+  }
+  return join_chunks(chunks);
+}
+
+void CylindricalPoseCache::build_index() {
+  struct Crossing {
+    double theta;
+    CrossingSides sides;
+  };
+  struct Cluster {
+    double lo, hi;  // crossings within kArcMarginRad of each other, one after another
+    CrossingSides sides;
+  };
+  std::vector<AngularArc> arcs;
+  std::vector<Crossing> crossings;
+  std::vector<Cluster> clusters;
+  for (std::size_t i = 0; i < tracked_.size(); ++i) {
+    const TrackedVertex& vertex = tracked_[i];
+    const auto id = static_cast<std::int32_t>(i);
+    crossings.clear();
+    for (std::size_t k = vertex.first; k < vertex.last; ++k) {
+      crossings.push_back({crossing_theta_[k], penetrating_sides(vertex.r, vertex.z, crossing_theta_[k],
+                                                                 normals_[static_cast<std::size_t>(crossing_triangle_[k])])});
+    }
+    std::sort(crossings.begin(), crossings.end(),
+              [](const Crossing& a, const Crossing& b) { return a.theta < b.theta; });
+    clusters.clear();
+    for (const Crossing& crossing : crossings) {
+      if (!clusters.empty() && crossing.theta - clusters.back().hi <= kArcMarginRad) {
+        // Crossings this close can swap places as the nearest under rounding: either side.
+        clusters.back().hi = crossing.theta;
+        clusters.back().sides = {true, true};
+      } else {
+        clusters.push_back({crossing.theta, crossing.theta, crossing.sides});
+      }
+    }
+    if (clusters.size() > 1 && clusters.front().lo + 2.0 * std::numbers::pi - clusters.back().hi <= kArcMarginRad) {
+      clusters.front().lo = clusters.back().lo - 2.0 * std::numbers::pi;
+      clusters.front().sides = {true, true};
+      clusters.pop_back();
+    }
+    if (clusters.size() == 1) {
+      // One place on the circle: the nearest crossing for every angle. Always a candidate.
+      arcs.push_back({0.0, 4.0 * std::numbers::pi, id});
+      continue;
+    }
+    // Within kArcMarginRad of a crossing every vertex's nearest crossing is as close, so the
+    // touching tolerance decides it ... unless the tolerance is shorter than that arc here.
+    const bool margin_beyond_touching = vertex.r * kArcMarginRad > options_.touching_mm;
+    for (std::size_t c = 0; c < clusters.size(); ++c) {
+      const Cluster& a = clusters[c];
+      const Cluster& b = clusters[(c + 1) % clusters.size()];
+      const double b_hi = c + 1 == clusters.size() ? b.hi + 2.0 * std::numbers::pi : b.hi;
+      if (a.sides.anticlockwise || b.sides.clockwise) {
+        arcs.push_back({a.lo - kArcMarginRad - vertex.theta0_rad, b_hi - a.lo + 2.0 * kArcMarginRad, id});
+      } else if (margin_beyond_touching) {
+        arcs.push_back({a.lo - kArcMarginRad - vertex.theta0_rad, a.hi - a.lo + 2.0 * kArcMarginRad, id});
+      }
+    }
+  }
+  index_ = AngularIntervalIndex(arcs);
 }
 
 }  // namespace hipfai::contact

@@ -31,16 +31,24 @@
 //   - cylindrical_segmenting(table, posed_mobile): one pass over the posed mobile vertices;
 //   - CylindricalPoseCache (§3.2.3.2): pre-process the mobile mesh once per axis (all crossing
 //     angles of every vertex's circle do not depend on the rotation angle), then query(angle_deg)
-//     costs one pass over the stored crossings.
+//     visits only the vertices that can penetrate at that angle. Between two consecutive
+//     crossings of its circle a vertex can penetrate only if one of the two crossings faces that
+//     way (penetrating_sides, arc_triangle.h), so each vertex has a few candidate arcs of pose
+//     angle, widened by 1e-12 rad, known once per body pair; an AngularIntervalIndex finds the
+//     arcs holding the query angle and only their vertices get the exact test (nearest crossing
+//     + App. D), so the result is the same, pair for pair, as the pass over every tracked vertex
+//     (query_every_vertex), in time that grows with the answer instead of with the mesh.
 // Output pairs are sorted by mobile vertex. Work is split over `num_threads` std::threads.
 #pragma once
 
+#include "contact/angular_interval_index.h"
 #include "contact/arc_triangle.h"
 #include "contact/cylindrical_table.h"
 #include "contact/penetration.h"
 #include "geometry/tri_mesh.h"
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 namespace hipfai::contact {
@@ -48,6 +56,10 @@ namespace hipfai::contact {
 struct CylindricalQueryOptions {
   int num_threads = 0;                       // 0 = all hardware threads
   double touching_mm = kDefaultTouchingMm;   // arc distance under which a vertex only touches
+  // CylindricalPoseCache only: build the arc index that makes query() output-sensitive. The range
+  // finder reads the crossings and never queries a pose, so it turns this off; without the index
+  // query() is query_every_vertex(). Not stored in cache files (a loaded cache has its index).
+  bool pose_index = true;
 };
 
 // Posed mobile mesh (already rotated by the caller) against a table built for the same axis.
@@ -83,8 +95,15 @@ class CylindricalPoseCache {
   QueryStatus status() const { return status_; }
 
   // Penetrating vertices when the mobile mesh is rotated by angle_deg about the axis
-  // (right-hand rule). Same output as cylindrical_segmenting() on the posed mesh.
+  // (right-hand rule). Same output as cylindrical_segmenting() on the posed mesh. Visits the
+  // candidates of the arc index (|angle| up to 1e3 rad; beyond, where the rounding of the pose
+  // angle outgrows the arcs' margin, it is query_every_vertex).
   PenetrationResult query(double angle_deg) const;
+  // The same answer by the exact test of every tracked vertex: the reference the index is tested
+  // against, and the ablation of the benchmark.
+  PenetrationResult query_every_vertex(double angle_deg) const;
+  // Candidate arcs in the index (for reports).
+  std::size_t num_candidate_arcs() const { return index_.num_arcs(); }
 
   // The pre-processed data (used by the range finder): vertices whose circle crosses F.
   const std::vector<TrackedVertex>& tracked() const { return tracked_; }
@@ -97,6 +116,13 @@ class CylindricalPoseCache {
   friend class detail::CylindricalCacheAccess;
 
  private:
+  // Fills index_ from tracked_ and the crossings (constructor, and after a cache is loaded).
+  void build_index();
+  // The exact test of one tracked vertex at a pose angle: true and `pair` filled if it penetrates.
+  bool penetration_of(const TrackedVertex& vertex, double angle_rad, PenetrationPair& pair) const;
+  // The answer without a pass (invalid cache, non-finite angle, no overlap), or nothing.
+  std::optional<PenetrationResult> trivial_answer(double angle_deg) const;
+
   QueryStatus status_ = QueryStatus::kInvalidInput;
   std::string message_ = "pose cache not built";
   CylindricalQueryOptions options_;
@@ -104,6 +130,7 @@ class CylindricalPoseCache {
   std::vector<double> crossing_theta_;
   std::vector<std::int32_t> crossing_triangle_;
   std::vector<Vec3> normals_;
+  AngularIntervalIndex index_;  // arcs of pose angle where each tracked vertex may penetrate
 };
 
 }  // namespace hipfai::contact

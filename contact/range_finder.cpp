@@ -331,7 +331,9 @@ RangeOfMotion range_of_motion(const geometry::TriMesh& fixed, const geometry::Tr
   const CylindricalTable fixed_table =
       CylindricalTable::build(fixed, centre, axis, options.table, &mobile);
   if (fixed_table.status() == QueryStatus::kInvalidInput) return invalid_range(fixed_table.message());
-  const CylindricalPoseCache mobile_on_fixed(fixed_table, mobile, options.query);
+  CylindricalQueryOptions crossings_only = options.query;
+  crossings_only.pose_index = false;  // the finder reads the crossings; it never queries a pose
+  const CylindricalPoseCache mobile_on_fixed(fixed_table, mobile, crossings_only);
   std::unique_ptr<CylindricalPoseCache> fixed_on_mobile;
   if (options.include_fixed_vertices) {
     const CylindricalTable mobile_table =
@@ -339,7 +341,7 @@ RangeOfMotion range_of_motion(const geometry::TriMesh& fixed, const geometry::Tr
     if (mobile_table.status() == QueryStatus::kInvalidInput) {
       return invalid_range(mobile_table.message());
     }
-    fixed_on_mobile = std::make_unique<CylindricalPoseCache>(mobile_table, fixed, options.query);
+    fixed_on_mobile = std::make_unique<CylindricalPoseCache>(mobile_table, fixed, crossings_only);
   }
   if (!options.include_edge_edge) {
     return range_of_motion(mobile_on_fixed, fixed_on_mobile.get(), options.query.num_threads);

@@ -7,6 +7,7 @@
 #include "contact/cylindrical_table.h"
 #include "geometry/mesh_io.h"
 #include "geometry/primitive_meshes.h"
+#include "random_shapes.h"
 
 #include <gtest/gtest.h>
 
@@ -28,6 +29,8 @@ namespace {
 
 namespace fs = std::filesystem;
 using geometry::TriMesh;
+using test_shapes::random_shape;
+using test_shapes::random_unit;
 
 constexpr double kPi = std::numbers::pi;
 constexpr std::size_t kHeaderBytes = 36;  // magic 12, kind 4, version 4, size 8, checksum 8
@@ -176,39 +179,6 @@ void expect_same_pose_cache(const CylindricalPoseCache& got, const CylindricalPo
     ASSERT_TRUE(same_bits(got.crossing_theta_rad(i), want.crossing_theta_rad(i)));
     ASSERT_EQ(got.crossing_triangle(i), want.crossing_triangle(i));
   }
-}
-
-Eigen::Isometry3d random_pose(std::mt19937& rng, double translation_mm) {
-  std::normal_distribution<double> normal(0.0, 1.0);
-  std::uniform_real_distribution<double> shift(-translation_mm, translation_mm);
-  Eigen::Quaterniond q(normal(rng), normal(rng), normal(rng), normal(rng));
-  q.normalize();
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  pose.linear() = q.toRotationMatrix();
-  pose.translation() = Vec3(shift(rng), shift(rng), shift(rng));
-  return pose;
-}
-
-// Closed random shapes (perturbed octasphere, torus, box), randomly placed.
-TriMesh random_shape(std::mt19937& rng, int kind) {
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  TriMesh mesh;
-  if (kind == 0) {
-    mesh = geometry::make_octasphere(Vec3::Zero(), 5.0 + 10.0 * u(rng), 3);
-    for (Vec3& p : mesh.vertices) p *= 1.0 + 0.2 * (u(rng) - 0.5);
-  } else if (kind == 1) {
-    mesh = geometry::make_torus(Vec3::Zero(), 8.0 + 6.0 * u(rng), 2.0 + 3.0 * u(rng), 20, 10);
-  } else {
-    const Vec3 half(3.0 + 8.0 * u(rng), 3.0 + 8.0 * u(rng), 3.0 + 8.0 * u(rng));
-    mesh = geometry::make_box(-half, half, 3);
-  }
-  geometry::apply_transform(mesh, random_pose(rng, 5.0));
-  return mesh;
-}
-
-Vec3 random_unit(std::mt19937& rng) {
-  std::normal_distribution<double> normal(0.0, 1.0);
-  return Vec3(normal(rng), normal(rng), normal(rng)).normalized();
 }
 
 // Moves every 5th vertex by up to `displacement_mm`; returns the triangles that changed.

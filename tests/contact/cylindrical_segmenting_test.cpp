@@ -5,6 +5,7 @@
 #include "contact/oracle_cylindrical.h"
 #include "core/error.h"
 #include "geometry/primitive_meshes.h"
+#include "random_shapes.h"
 
 #include <gtest/gtest.h>
 
@@ -18,6 +19,8 @@ namespace hipfai::contact {
 namespace {
 
 using geometry::TriMesh;
+using test_shapes::random_shape;
+using test_shapes::random_unit;
 
 // Same vertex set (exact), depths equal to 1e-9 mm: both sides evaluate the same closed form on
 // coordinates that differ only by the rounding of the pose (~1e-13 mm), so 1e-9 is generous while
@@ -31,41 +34,6 @@ void expect_same(const PenetrationResult& got, const PenetrationResult& want, co
     EXPECT_NEAR(got.pairs[i].depth_mm, want.pairs[i].depth_mm, 1e-9) << what;
     EXPECT_TRUE(std::isfinite(got.pairs[i].angle_deg)) << what;
   }
-}
-
-Eigen::Isometry3d random_pose(std::mt19937& rng, double translation_mm) {
-  std::normal_distribution<double> normal(0.0, 1.0);
-  std::uniform_real_distribution<double> shift(-translation_mm, translation_mm);
-  Eigen::Quaterniond q(normal(rng), normal(rng), normal(rng), normal(rng));
-  q.normalize();
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  pose.linear() = q.toRotationMatrix();
-  pose.translation() = Vec3(shift(rng), shift(rng), shift(rng));
-  return pose;
-}
-
-// Closed, outward-oriented random shapes: radially perturbed octaspheres (still star-shaped, so
-// still embedded and outward), tori, boxes; randomly rotated and translated.
-TriMesh random_shape(std::mt19937& rng, int kind) {
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  TriMesh mesh;
-  if (kind == 0) {
-    const double radius = 5.0 + 10.0 * u(rng);
-    mesh = geometry::make_octasphere(Vec3::Zero(), radius, 3);
-    for (Vec3& p : mesh.vertices) p *= 1.0 + 0.2 * (u(rng) - 0.5);
-  } else if (kind == 1) {
-    mesh = geometry::make_torus(Vec3::Zero(), 8.0 + 6.0 * u(rng), 2.0 + 3.0 * u(rng), 20, 10);
-  } else {
-    const Vec3 half(3.0 + 8.0 * u(rng), 3.0 + 8.0 * u(rng), 3.0 + 8.0 * u(rng));
-    mesh = geometry::make_box(-half, half, 3);
-  }
-  geometry::apply_transform(mesh, random_pose(rng, 5.0));
-  return mesh;
-}
-
-Vec3 random_unit(std::mt19937& rng) {
-  std::normal_distribution<double> normal(0.0, 1.0);
-  return Vec3(normal(rng), normal(rng), normal(rng)).normalized();
 }
 
 TEST(CylindricalSegmenting, EqualsOracleOnRandomScenes) {
