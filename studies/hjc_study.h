@@ -40,7 +40,10 @@ namespace hipfai::studies {
 struct HjcStudyOptions {
   std::filesystem::path out_dir = "out/hjc";
   std::filesystem::path femur, pelvis;  // bones-only mode when both are set
-  std::vector<std::pair<double, double>> subjects{{20.0, 40.0}, {10.0, 60.0}, {30.0, 70.0}, {40.0, 80.0}, {0.0, 50.0}};
+  // (CE, alpha): ten subjects like the thesis' ten MRI subjects (§4.4.2.1), a Latin-square-like
+  // design over the study grid: each CE of 0-40 and each alpha of 40-80 twice, no (CE, alpha) twice.
+  std::vector<std::pair<double, double>> subjects{{20.0, 40.0}, {10.0, 60.0}, {30.0, 70.0}, {40.0, 80.0}, {0.0, 50.0},
+                                                  {0.0, 70.0},  {10.0, 80.0}, {20.0, 50.0}, {30.0, 40.0}, {40.0, 60.0}};
   double edge_mm = 3.0;
   double step_deg = 1.0;
   std::vector<double> centre_offsets_mm{1.0, 2.0, 5.0};
