@@ -27,7 +27,7 @@ std::size_t bin_of(double x, std::size_t bins) {
 
 AngularIntervalIndex::AngularIntervalIndex(const std::vector<AngularArc>& arcs, int levels)
     : levels_(levels), num_arcs_(arcs.size()) {
-  if (levels < 1 || levels > 24) throw_error("angular interval index: ", levels, " levels; need 1..24");
+  if (levels < 1 || levels > 20) throw_error("angular interval index: ", levels, " levels; need 1..20");
   struct Piece {
     double lo, hi;
     std::int32_t id;

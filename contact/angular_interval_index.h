@@ -28,7 +28,7 @@ class AngularIntervalIndex {
  public:
   AngularIntervalIndex() = default;
   // Throws hipfai::Error on a non-finite start, a negative or non-finite length, or levels
-  // outside 1..24.
+  // outside 1..20.
   explicit AngularIntervalIndex(const std::vector<AngularArc>& arcs, int levels = 13);
 
   // Appends to `ids` the id of every arc that contains angle_rad (taken modulo 2 pi). An id

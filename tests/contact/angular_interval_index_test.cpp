@@ -85,7 +85,8 @@ TEST(AngularIntervalIndex, RefusesBadArcs) {
   EXPECT_THROW(AngularIntervalIndex({{std::nan(""), 1.0, 0}}), Error);
   EXPECT_THROW(AngularIntervalIndex({{0.0, INFINITY, 0}}), Error);
   EXPECT_THROW(AngularIntervalIndex({}, 0), Error);
-  EXPECT_NO_THROW(AngularIntervalIndex({}, 24));
+  EXPECT_THROW(AngularIntervalIndex({}, 21), Error);
+  EXPECT_NO_THROW(AngularIntervalIndex({}, 20));
 }
 
 }  // namespace

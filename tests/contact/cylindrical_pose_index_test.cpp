@@ -133,7 +133,7 @@ TEST(CylindricalPoseIndex, CirclesThroughEdgesAndCorners) {
     options.touching_mm = touching;
     const CylindricalPoseCache cache(table, mobile, options);
     ASSERT_GT(cache.tracked().size(), 100u);
-    EXPECT_GT(expect_index_equals_full_pass(cache, hard_angles_deg(cache, rng, 200), "box"), 1000u);
+    EXPECT_GT(expect_index_equals_full_pass(cache, hard_angles_deg(cache, rng, 100), "box"), 500u);
   }
 }
 
