@@ -183,7 +183,8 @@ const CommandRegistrar registrar("estimator", [](CLI::App& parent) {
     std::cout << std::fixed << std::setprecision(2);
     for (int c = 0; c < 2; ++c) {
       std::cout << "case " << c + 1 << " (" << summary.hips[c] << " hips, " << summary.bordering[c]
-                << " flagged bordering), e'=" << options.max_e_prime << " mean |error| %:";
+                << " flagged bordering, " << summary.impinging[c] << " impinging), e'=" << options.max_e_prime
+                << " mean |error| %:";
       for (int m = 0; m < 3; ++m) {
         std::cout << ' ' << stats::to_string(stats::kEstimatorMethods[m]) << ' ' << summary.mean_error[c][m]
                   << " (interior " << summary.interior_error[c][m] << ')';

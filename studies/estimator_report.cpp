@@ -95,7 +95,23 @@ struct HipError {
   bool bordering = false;
   double mahalanobis = 0;
   int outside = 0;
+  int impinging = -1;  // the penetration method finds the hip impinging in the case's steps: 1/0; -1 unknown
 };
+
+// 1 when the hip's penetration depth is > 0 at one of the first `steps` steps, 0 when it is 0 at
+// every one, -1 when the FE table gave no depths for one of them.
+int impinging_within(const TrainingHip& hip, int steps) {
+  if (hip.depth_mm.size() < static_cast<std::size_t>(steps)) return -1;
+  bool any = false;
+  for (int j = 0; j < steps; ++j) {
+    const double depth = hip.depth_mm[static_cast<std::size_t>(j)];
+    if (!std::isfinite(depth)) return -1;
+    any = any || depth > 0.0;
+  }
+  return any ? 1 : 0;
+}
+
+std::string flag_cell(int flag) { return flag < 0 ? std::string() : std::to_string(flag); }
 
 }  // namespace
 
@@ -172,7 +188,7 @@ EstimatorValidateSummary validate_estimator(const EstimatorValidateOptions& opti
   std::vector<HipError> errors[2];
   std::vector<int> eligible[2];
   std::ostringstream loo_csv, estimates_csv;
-  loo_csv << std::setprecision(10) << "hip,case,e_prime,method,mean_abs_error_percent,bordering\n";
+  loo_csv << std::setprecision(10) << "hip,case,e_prime,method,mean_abs_error_percent,bordering,impinging\n";
   estimates_csv << std::setprecision(10) << "hip,case,e_prime,method,step,estimate,fe,error_percent\n";
   double loo_ms = 0, selection_ms = 0;
   std::map<int, int> chosen_e_prime[2];  // case -> target hip -> e' chosen on the other hips
@@ -198,6 +214,7 @@ EstimatorValidateSummary validate_estimator(const EstimatorValidateOptions& opti
       error.outside = row.result.outside_components;
       std::vector<double> absolute;
       const TrainingHip& hip = model.hips[static_cast<std::size_t>(row.hip)];
+      error.impinging = impinging_within(hip, steps);
       for (int j = 0; j < steps; ++j) {
         const double estimate = row.result.steps[static_cast<std::size_t>(j)].estimate;
         const double fe = values(row.hip, j);
@@ -210,7 +227,7 @@ EstimatorValidateSummary validate_estimator(const EstimatorValidateOptions& opti
       }
       error.mean_abs = mean_of(absolute);
       loo_csv << hip.name << ',' << c + 1 << ',' << row.e_prime << ',' << stats::to_string(row.method) << ','
-              << error.mean_abs << ',' << (error.bordering ? 1 : 0) << '\n';
+              << error.mean_abs << ',' << (error.bordering ? 1 : 0) << ',' << flag_cell(error.impinging) << '\n';
       errors[c].push_back(std::move(error));
     }
     // pca_nn with e' chosen without the target (stats::select_e_prime on the other hips): the
@@ -233,7 +250,7 @@ EstimatorValidateSummary validate_estimator(const EstimatorValidateOptions& opti
       if (!chosen) continue;
       const TrainingHip& hip = model.hips[static_cast<std::size_t>(target)];
       loo_csv << hip.name << ',' << c + 1 << ',' << selection.e_prime << ',' << kChosenMethod << ','
-              << chosen->mean_abs << ',' << (chosen->bordering ? 1 : 0) << '\n';
+              << chosen->mean_abs << ',' << (chosen->bordering ? 1 : 0) << ',' << flag_cell(chosen->impinging) << '\n';
       for (int j = 0; j < steps; ++j) {
         estimates_csv << hip.name << ',' << c + 1 << ',' << selection.e_prime << ',' << kChosenMethod << ',' << j + 1
                       << ',' << chosen->estimate[static_cast<std::size_t>(j)] << ',' << values(target, j) << ','
@@ -269,6 +286,7 @@ EstimatorValidateSummary validate_estimator(const EstimatorValidateOptions& opti
     for (const int i : eligible[c]) {
       const HipError* e = find(c, i, 0, max_e);
       if (e && e->bordering) ++summary.bordering[c];
+      if (e && e->impinging == 1) ++summary.impinging[c];
     }
     for (int method = 0; method < 3; ++method) {
       std::vector<double> all, interior, border, flagged, unflagged;
@@ -458,6 +476,44 @@ EstimatorValidateSummary validate_estimator(const EstimatorValidateOptions& opti
   }
   md << '\n';
 
+  // Where the estimator fails: the hips that impinge. The FE's peak pressure jumps when cam and rim
+  // meet, at a step that depends on both CE and alpha, and no geometric hull test sees it; the
+  // penetration method does (thesis §4.3: its depths correlate with the FE).
+  bool depths_known = false;
+  for (int c = 0; c < 2; ++c) {
+    for (const int i : eligible[c]) {
+      const HipError* e = find(c, i, 0, max_e);
+      depths_known = depths_known || (e && e->impinging >= 0);
+    }
+  }
+  if (depths_known) {
+    md << "## Where it fails: hips that impinge (the penetration method's depths)\n\n"
+       << "`impinging` (loo.csv) = the FE table's penetration depth (max of max_curvilinear_mm and max_radial_mm, "
+          "`hipfai study validate`) is > 0 at one of the case's steps. Mean error at e' = "
+       << max_e << " (%), with the number of hips:\n\n"
+       << "| case | method | impinging | not impinging | flagged bordering or impinging | neither |\n"
+       << "|---|---|---|---|---|---|\n";
+    for (int c = 0; c < 2; ++c) {
+      for (int method = 0; method < 3; ++method) {
+        std::vector<double> impinging, clear, either, neither;
+        for (const int i : eligible[c]) {
+          const HipError* e = find(c, i, method, max_e);
+          if (!e || e->impinging < 0) continue;
+          (e->impinging == 1 ? impinging : clear).push_back(e->mean_abs);
+          // The flags of the pca_nn row (the flag is the target's, the same for every method).
+          const HipError* flag = find(c, i, 0, max_e);
+          (e->impinging == 1 || (flag && flag->bordering) ? either : neither).push_back(e->mean_abs);
+        }
+        const auto cell = [](const std::vector<double>& v) { return fixed(mean_of(v)) + " (" + std::to_string(v.size()) + ")"; };
+        md << "| " << c + 1 << " | " << stats::to_string(stats::kEstimatorMethods[method]) << " | " << cell(impinging)
+           << " | " << cell(clear) << " | " << cell(either) << " | " << cell(neither) << " |\n";
+      }
+    }
+    md << "\nThe geometric flag (bordering) says the target's features lie outside the training set; it cannot "
+          "see a target whose geometry is inside but whose FE response changes regime (impingement begins). The "
+          "penetration method computes that regime from the same geometry, in milliseconds, without the FE.\n\n";
+  }
+
   for (int c = 0; c < 2; ++c) {
     md << "## Table " << (c == 0 ? "12" : "13") << ": error per hip, case " << c + 1 << ", e' = " << max_e
        << " (%): ours pca_nn / thesis\n\n| alpha \\ CE |";
@@ -473,13 +529,14 @@ EstimatorValidateSummary validate_estimator(const EstimatorValidateOptions& opti
           const TrainingHip& hip = model.hips[static_cast<std::size_t>(i)];
           if (hip.ce_deg != ce || hip.alpha_deg != alpha) continue;
           const HipError* e = find(c, i, 0, max_e);
-          cell = fixed(e->mean_abs) + (e->bordering ? "*" : "");
+          cell = fixed(e->mean_abs) + (e->bordering ? "*" : "") + (e->impinging == 1 ? "!" : "");
         }
         md << ' ' << cell << " / " << fixed(thesis_value(c, ce, alpha)) << " |";
       }
       md << '\n';
     }
-    md << "\n`*` flagged bordering; n/a: the hip is not in the run or has a failed FE step in the case's steps.\n\n";
+    md << "\n`*` flagged bordering; `!` impinging within the case's steps (penetration method); n/a: the hip is not in "
+          "the run or has a failed FE step in the case's steps.\n\n";
   }
 
   md << "## Per hip: methods side by side (e' = " << max_e << ", %)\n\n"

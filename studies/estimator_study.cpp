@@ -172,7 +172,8 @@ FeSweep read_fem_sweep_folder(const std::filesystem::path& dir, const std::strin
     }
     if (sweep.hips.empty()) sweep.angle_deg = angles;
     check_same_motion(sweep.angle_deg, angles, csv.string() + " vs the sweep's other models");
-    sweep.hips.push_back({ce, alpha, kNaN, values[static_cast<std::size_t>(which - measures.begin())]});
+    // fem-sweep tables have no penetration depths: depth_mm stays empty (impinging unknown).
+    sweep.hips.push_back({ce, alpha, kNaN, values[static_cast<std::size_t>(which - measures.begin())], {}});
   }
   if (sweep.hips.empty()) throw_error(dir.string(), ": no model of the sweep has its table (<model>.csv)");
   return sweep;
@@ -202,12 +203,21 @@ FeSweep read_fe_sweep(const std::filesystem::path& fe, const std::string& measur
   };
   const std::size_t ce = column("ce_deg"), alpha = column("alpha_deg"), step = column("step"),
                     angle = column("angle_deg"), value = column(measure);
+  // The penetration depths of `hipfai study validate` (optional: other tables have none).
+  const auto optional_column = [&](const std::string& name) {
+    const auto it = std::find(header.begin(), header.end(), name);
+    return it == header.end() ? header.size() : static_cast<std::size_t>(it - header.begin());
+  };
+  const std::size_t curvilinear = optional_column("max_curvilinear_mm"), radial = optional_column("max_radial_mm");
   if (measure.size() < 4 || measure.substr(measure.size() - 4) != "_mpa") {
     throw_error(file.string(), ": ", measure, " is not an FE measure (names end in _mpa)");
   }
   FeSweep sweep;
   sweep.measure = measure;
-  std::map<std::pair<double, double>, std::map<int, std::pair<double, double>>> rows;  // hip -> step -> (angle, value)
+  struct Row {
+    double angle, value, depth;
+  };
+  std::map<std::pair<double, double>, std::map<int, Row>> rows;  // hip -> step -> row
   int line_number = 1;
   while (std::getline(in, line)) {
     ++line_number;
@@ -222,7 +232,15 @@ FeSweep read_fe_sweep(const std::filesystem::path& fe, const std::string& measur
         s != std::floor(s)) {
       throw_error(file.string(), ":", line_number, ": bad ce_deg, alpha_deg, step or angle_deg");
     }
-    rows[{c, a}][static_cast<int>(s)] = {g, parse_number(cells[value])};
+    double depth = kNaN;
+    if (curvilinear < header.size() && radial < header.size()) {
+      const double c_mm = parse_number(cells[curvilinear]), r_mm = parse_number(cells[radial]);
+      if (!(c_mm >= 0.0) || !(r_mm >= 0.0) || !std::isfinite(c_mm) || !std::isfinite(r_mm)) {
+        throw_error(file.string(), ":", line_number, ": bad max_curvilinear_mm or max_radial_mm (a depth >= 0 in mm)");
+      }
+      depth = std::max(c_mm, r_mm);
+    }
+    rows[{c, a}][static_cast<int>(s)] = {g, parse_number(cells[value]), depth};
   }
   if (rows.empty()) throw_error(file.string(), ": no rows");
   int steps = 0;
@@ -230,16 +248,18 @@ FeSweep read_fe_sweep(const std::filesystem::path& fe, const std::string& measur
   sweep.angle_deg.assign(static_cast<std::size_t>(steps), kNaN);
   const auto edges = read_edges(file.parent_path() / "timings.csv");
   for (const auto& [hip, by_step] : rows) {
-    FeSweepHip entry{hip.first, hip.second, kNaN, std::vector<double>(static_cast<std::size_t>(steps), kNaN)};
+    FeSweepHip entry{hip.first, hip.second, kNaN, std::vector<double>(static_cast<std::size_t>(steps), kNaN),
+                     std::vector<double>(static_cast<std::size_t>(steps), kNaN)};
     if (const auto it = edges.find(hip); it != edges.end()) entry.edge_mm = it->second;
-    for (const auto& [s, angle_value] : by_step) {
+    for (const auto& [s, row] : by_step) {
       double& known = sweep.angle_deg[static_cast<std::size_t>(s - 1)];
-      if (std::isnan(known)) known = angle_value.first;
-      if (std::abs(known - angle_value.first) > 1e-6) {
+      if (std::isnan(known)) known = row.angle;
+      if (std::abs(known - row.angle) > 1e-6) {
         throw_error(file.string(), ": hip ", hip_name(hip.first, hip.second), " step ", s, " is at ",
-                    angle_value.first, " deg, another hip's at ", known, " deg: one motion per table");
+                    row.angle, " deg, another hip's at ", known, " deg: one motion per table");
       }
-      entry.values[static_cast<std::size_t>(s - 1)] = angle_value.second;
+      entry.values[static_cast<std::size_t>(s - 1)] = row.value;
+      entry.depth_mm[static_cast<std::size_t>(s - 1)] = row.depth;
     }
     sweep.hips.push_back(std::move(entry));
   }
@@ -323,6 +343,7 @@ EstimatorModel train_estimator_model(const EstimatorTrainOptions& options, std::
         hip.feature_ms = features.extraction_ms;
         hip.misses = features.misses;
         hip.values = fe_hip.values;
+        hip.depth_mm = fe_hip.depth_mm;
         // The same hip again (another FE level, a re-run): the newer FE values replace the older.
         // Same = same sampled meshes AND same CE/alpha: a grid of bones only (femur_bone) samples
         // the same meshes for hips that differ in their sockets, which stay separate hips.

@@ -32,6 +32,9 @@ struct FeSweepHip {
   double ce_deg = 0, alpha_deg = 0;
   double edge_mm = 0;  // NaN when the sweep does not say
   std::vector<double> values;
+  // The penetration method's depth at each step (max of the curvilinear and radial maxima, mm),
+  // from the table's max_curvilinear_mm / max_radial_mm columns; NaN where the table has none.
+  std::vector<double> depth_mm;
 };
 
 struct FeSweep {
@@ -51,6 +54,7 @@ struct TrainingHip {
   std::filesystem::path dir;
   Eigen::VectorXd features;
   std::vector<double> values;
+  std::vector<double> depth_mm;      // FeSweepHip::depth_mm (not stored in the model file)
   double load_ms = 0, feature_ms = 0;
   int misses = 0;
 };
@@ -123,6 +127,9 @@ struct EstimatorValidateSummary {
   double interior_error[2][3] = {};        // hips off the CE/alpha grid's border (thesis §4.5.4)
   int hips[2] = {};
   int bordering[2] = {};                   // flagged hips
+  // Hips the penetration method finds impinging within the case's steps (depth > 0 at a step),
+  // of those whose FE table gave depths.
+  int impinging[2] = {};
   // pca_nn with e' chosen on the training hips of each held-out hip (stats::select_e_prime).
   double chosen_e_prime_error[2] = {};
   double chosen_e_prime_interior_error[2] = {};

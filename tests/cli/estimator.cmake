@@ -22,7 +22,7 @@ if(HIPFAI_WITH_FEM)
   add_test(NAME cli.estimator_validate_quick
            COMMAND sh -c "set -e; rm -rf \"$2/a\" \"$2/b\" \"$2/cache\"; \
 \"$1\" estimator validate --quick --out \"$2/a\" --cache \"$2/cache\" > \"$2/a.log\" 2>&1 || { tail -5 \"$2/a.log\"; exit 1; }; \
-head -1 \"$2/a/loo.csv\" | grep -qx 'hip,case,e_prime,method,mean_abs_error_percent,bordering' || { echo 'loo.csv columns' >&2; exit 1; }; \
+head -1 \"$2/a/loo.csv\" | grep -qx 'hip,case,e_prime,method,mean_abs_error_percent,bordering,impinging' || { echo 'loo.csv columns' >&2; exit 1; }; \
 head -1 \"$2/a/estimates.csv\" | grep -qx 'hip,case,e_prime,method,step,estimate,fe,error_percent' || { echo 'estimates.csv columns' >&2; exit 1; }; \
 for m in pca_nn knn ridge; do grep -q \",$m,\" \"$2/a/loo.csv\" || { echo \"no $m rows\" >&2; exit 1; }; done; \
 hip=$(ls -d \"$2\"/cache/hip-ce20_alpha60-* | grep -v partial | head -1); \

@@ -12,6 +12,8 @@
 
 #include <cmath>
 #include <fstream>
+#include <iterator>
+#include <sstream>
 #include <string>
 
 namespace hipfai::studies {
@@ -91,6 +93,59 @@ TEST(PressureFeatures, FarthestCrossingAndMissesOnAnOffCentreBox) {
   EXPECT_THROW(extract_hip_features(hip, grid), Error);
 }
 
+TEST(EstimatorStudy, ImpingingHipsAreThoseWithPenetrationInTheCaseSteps) {
+  // The sphere study with the penetration depths of `study validate`: hips of radius >= 25 mm
+  // "impinge" from step 3 of 4 (curvilinear depth for 25, radial for 26), the others never. Case 1
+  // (steps 1-2) has no impinging hip; case 2 (steps 1-4) has those two.
+  const fs::path dir = scratch("impinging");
+  fs::create_directories(dir / "fe");
+  write_sphere_study(dir, {20, 21, 22, 23, 24, 25, 26}, 4, 10.0);
+  {
+    std::ifstream in(dir / "fe" / "steps.csv");
+    std::ostringstream with_depths;
+    std::string line;
+    std::getline(in, line);
+    with_depths << line << ",max_curvilinear_mm,max_radial_mm\n";
+    while (std::getline(in, line)) {
+      const double r = std::stod(line.substr(0, line.find(',')));
+      const int step = std::stoi(line.substr(line.find(",50,") + 4));
+      const bool late = step >= 3;
+      with_depths << line << ',' << (late && r == 25 ? 1.5 : 0.0) << ',' << (late && r == 26 ? 0.7 : 0.0) << '\n';
+    }
+    std::ofstream(dir / "fe" / "steps.csv") << with_depths.str();
+  }
+  EstimatorValidateOptions options;
+  options.train.fe = {dir / "fe"};
+  options.train.hips = dir / "hips";
+  options.train.progress = false;
+  options.out_dir = dir / "out";
+  options.max_e_prime = 2;
+  const auto summary = validate_estimator(options);
+  EXPECT_EQ(summary.impinging[0], 0);
+  EXPECT_EQ(summary.impinging[1], 2);
+  std::ifstream loo(dir / "out" / "loo.csv");
+  std::string line;
+  std::getline(loo, line);
+  int rows = 0;
+  while (std::getline(loo, line)) {
+    ++rows;
+    const std::size_t first_comma = line.find(',');
+    const bool case2 = line.substr(first_comma + 1, 2) == "2,";
+    const bool impinging_hip = line.rfind("ce25", 0) == 0 || line.rfind("ce26", 0) == 0;
+    EXPECT_EQ(line.back(), case2 && impinging_hip ? '1' : '0') << line;
+  }
+  EXPECT_GT(rows, 0);
+  const std::string report = [&] {
+    std::ifstream in(dir / "out" / "report.md");
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  }();
+  EXPECT_NE(report.find("## Where it fails: hips that impinge"), std::string::npos);
+
+  // A depth that is not a number >= 0 is refused with the line.
+  std::ofstream(dir / "fe" / "steps.csv", std::ios::app) << "20,50,5,50,1,-1,0\n";
+  EXPECT_THROW(validate_estimator(options), Error);
+}
+
 TEST(EstimatorStudy, LeaveOneOutOnSphereHipsAndModelFile) {
   const fs::path dir = scratch("spheres");
   fs::create_directories(dir / "fe");
@@ -114,7 +169,12 @@ TEST(EstimatorStudy, LeaveOneOutOnSphereHipsAndModelFile) {
   std::ifstream loo(dir / "out" / "loo.csv");
   std::string header;
   std::getline(loo, header);
-  EXPECT_EQ(header, "hip,case,e_prime,method,mean_abs_error_percent,bordering");
+  EXPECT_EQ(header, "hip,case,e_prime,method,mean_abs_error_percent,bordering,impinging");
+  // A table without penetration depths: the impinging column stays empty.
+  std::string row;
+  std::getline(loo, row);
+  EXPECT_EQ(row.back(), ',') << row;
+  EXPECT_EQ(summary.impinging[0] + summary.impinging[1], 0);
 
   // Round trip: a reloaded model predicts bit-identically.
   EstimatorTrainOptions train = options.train;
