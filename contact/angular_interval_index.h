@@ -37,7 +37,6 @@ class AngularIntervalIndex {
   void stab(double angle_rad, std::vector<std::int32_t>& ids) const;
 
   std::size_t num_arcs() const { return num_arcs_; }
-  std::size_t num_entries() const { return entries_.size() + full_circle_.size(); }
 
  private:
   struct Entry {

@@ -192,19 +192,29 @@ bool CylindricalPoseCache::penetration_of(const TrackedVertex& vertex, double an
   return true;
 }
 
-PenetrationResult CylindricalPoseCache::query_every_vertex(double angle_deg) const {
-  if (std::optional<PenetrationResult> answer = trivial_answer(angle_deg)) return std::move(*answer);
-  const double angle_rad = angle_deg / kDegPerRad;
-  const int threads = resolve_threads(options_.num_threads);
+template <typename TrackedIndex>
+PenetrationResult CylindricalPoseCache::penetrations(std::size_t count, int threads, double angle_rad,
+                                                     TrackedIndex tracked_index) const {
   std::vector<std::vector<PenetrationPair>> chunks(static_cast<std::size_t>(threads));
-  parallel_chunks(tracked_.size(), threads, [&](std::size_t begin, std::size_t end, int chunk) {
+  const auto evaluate = [&](std::size_t begin, std::size_t end, int chunk) {
     auto& out = chunks[static_cast<std::size_t>(chunk)];
     PenetrationPair pair;
-    for (std::size_t i = begin; i < end; ++i) {
-      if (penetration_of(tracked_[i], angle_rad, pair)) out.push_back(pair);
+    for (std::size_t k = begin; k < end; ++k) {
+      if (penetration_of(tracked_[tracked_index(k)], angle_rad, pair)) out.push_back(pair);
     }
-  });
+  };
+  if (threads == 1) {
+    evaluate(0, count, 0);
+  } else {
+    parallel_chunks(count, threads, evaluate);
+  }
   return join_chunks(chunks);
+}
+
+PenetrationResult CylindricalPoseCache::query_every_vertex(double angle_deg) const {
+  if (std::optional<PenetrationResult> answer = trivial_answer(angle_deg)) return std::move(*answer);
+  return penetrations(tracked_.size(), resolve_threads(options_.num_threads), angle_deg / kDegPerRad,
+                      [](std::size_t k) { return k; });
 }
 
 PenetrationResult CylindricalPoseCache::query(double angle_deg) const {
@@ -219,20 +229,8 @@ PenetrationResult CylindricalPoseCache::query(double angle_deg) const {
   // Few candidates (the usual case) are not worth a hand-off to other threads.
   constexpr std::size_t kSerialCandidates = 8192;
   const int threads = candidates.size() < kSerialCandidates ? 1 : resolve_threads(options_.num_threads);
-  std::vector<std::vector<PenetrationPair>> chunks(static_cast<std::size_t>(threads));
-  const auto evaluate = [&](std::size_t begin, std::size_t end, int chunk) {
-    auto& out = chunks[static_cast<std::size_t>(chunk)];
-    PenetrationPair pair;
-    for (std::size_t i = begin; i < end; ++i) {
-      if (penetration_of(tracked_[static_cast<std::size_t>(candidates[i])], angle_rad, pair)) out.push_back(pair);
-    }
-  };
-  if (threads == 1) {
-    evaluate(0, candidates.size(), 0);
-  } else {
-    parallel_chunks(candidates.size(), threads, evaluate);
-  }
-  return join_chunks(chunks);
+  return penetrations(candidates.size(), threads, angle_rad,
+                      [&](std::size_t k) { return static_cast<std::size_t>(candidates[k]); });
 }
 
 void CylindricalPoseCache::build_index() {

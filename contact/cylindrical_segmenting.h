@@ -120,6 +120,10 @@ class CylindricalPoseCache {
   void build_index();
   // The exact test of one tracked vertex at a pose angle: true and `pair` filled if it penetrates.
   bool penetration_of(const TrackedVertex& vertex, double angle_rad, PenetrationPair& pair) const;
+  // The exact test of tracked_[tracked_index(k)] for k in [0, count) on `threads` threads; the
+  // pairs in the order of k.
+  template <typename TrackedIndex>
+  PenetrationResult penetrations(std::size_t count, int threads, double angle_rad, TrackedIndex tracked_index) const;
   // The answer without a pass (invalid cache, non-finite angle, no overlap), or nothing.
   std::optional<PenetrationResult> trivial_answer(double angle_deg) const;
 

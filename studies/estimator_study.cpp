@@ -196,18 +196,18 @@ FeSweep read_fe_sweep(const std::filesystem::path& fe, const std::string& measur
   std::string line;
   if (!std::getline(in, line)) throw_error(file.string(), ": empty");
   const auto header = split_csv_line(line);
+  // Index of a column; header.size() when there is none.
+  const auto optional_column = [&](const std::string& name) {
+    return static_cast<std::size_t>(std::find(header.begin(), header.end(), name) - header.begin());
+  };
   const auto column = [&](const std::string& name) {
-    const auto it = std::find(header.begin(), header.end(), name);
-    if (it == header.end()) throw_error(file.string(), ": no column ", name);
-    return static_cast<std::size_t>(it - header.begin());
+    const std::size_t index = optional_column(name);
+    if (index == header.size()) throw_error(file.string(), ": no column ", name);
+    return index;
   };
   const std::size_t ce = column("ce_deg"), alpha = column("alpha_deg"), step = column("step"),
                     angle = column("angle_deg"), value = column(measure);
   // The penetration depths of `hipfai study validate` (optional: other tables have none).
-  const auto optional_column = [&](const std::string& name) {
-    const auto it = std::find(header.begin(), header.end(), name);
-    return it == header.end() ? header.size() : static_cast<std::size_t>(it - header.begin());
-  };
   const std::size_t curvilinear = optional_column("max_curvilinear_mm"), radial = optional_column("max_radial_mm");
   if (measure.size() < 4 || measure.substr(measure.size() - 4) != "_mpa") {
     throw_error(file.string(), ": ", measure, " is not an FE measure (names end in _mpa)");

@@ -56,6 +56,17 @@ void write_sphere_study(const fs::path& dir, const std::vector<double>& radii, i
   }
 }
 
+// Validation of the sphere study written by write_sphere_study into `dir`, results in dir/out.
+EstimatorValidateOptions sphere_validate_options(const fs::path& dir, int max_e_prime) {
+  EstimatorValidateOptions options;
+  options.train.fe = {dir / "fe"};
+  options.train.hips = dir / "hips";
+  options.train.progress = false;
+  options.out_dir = dir / "out";
+  options.max_e_prime = max_e_prime;
+  return options;
+}
+
 TEST(PressureFeatures, SpheresGiveTheirRadiusEverywhere) {
   const geometry::HipModel hip = sphere_hip(25);
   const FeatureGrid grid;
@@ -114,12 +125,7 @@ TEST(EstimatorStudy, ImpingingHipsAreThoseWithPenetrationInTheCaseSteps) {
     }
     std::ofstream(dir / "fe" / "steps.csv") << with_depths.str();
   }
-  EstimatorValidateOptions options;
-  options.train.fe = {dir / "fe"};
-  options.train.hips = dir / "hips";
-  options.train.progress = false;
-  options.out_dir = dir / "out";
-  options.max_e_prime = 2;
+  EstimatorValidateOptions options = sphere_validate_options(dir, 2);
   const auto summary = validate_estimator(options);
   EXPECT_EQ(summary.impinging[0], 0);
   EXPECT_EQ(summary.impinging[1], 2);
@@ -150,12 +156,7 @@ TEST(EstimatorStudy, LeaveOneOutOnSphereHipsAndModelFile) {
   const fs::path dir = scratch("spheres");
   fs::create_directories(dir / "fe");
   write_sphere_study(dir, {20, 21, 22, 23, 24, 25, 26}, 4, 10.0);
-  EstimatorValidateOptions options;
-  options.train.fe = {dir / "fe"};
-  options.train.hips = dir / "hips";
-  options.train.progress = false;
-  options.out_dir = dir / "out";
-  options.max_e_prime = 3;
+  EstimatorValidateOptions options = sphere_validate_options(dir, 3);
   const auto summary = validate_estimator(options);
   EXPECT_EQ(summary.hips[0], 7);
   // Pressure is linear in every feature: ridge finds it on the interior hips (radius 21-25).
