@@ -111,8 +111,11 @@ const CommandRegistrar registrar("estimator", [](CLI::App& parent) {
   predict->add_option("--model", *model_path, "Model file from `estimator train`")->required();
   predict->add_option("--hip", *hip_dir, "Hip model folder (model.json)")->required();
   predict->add_option("--csv", *csv, "Write step, estimate, low, high, bordering to this file");
-  predict->add_option("--method", *method, "pca_nn (thesis), knn or ridge")->capture_default_str()
-      ->check(CLI::IsMember({"pca_nn", "knn", "ridge"}));
+  predict->add_option("--method", *method,
+                      "pca_nn (thesis), knn, ridge, or depth_nn (also computes the hip's penetration depths over "
+                      "the model's standing-to-sitting motion)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"pca_nn", "knn", "ridge", "depth_nn"}));
   predict->add_option("--e-prime", *e_prime,
                       "Components used, e' (default: all the model keeps), or 'auto': the e' with the smallest "
                       "leave-one-out error among the training hips")
@@ -153,8 +156,24 @@ const CommandRegistrar registrar("estimator", [](CLI::App& parent) {
               << (prediction.approximate_frame
                       ? "frame: approximate, from the bones of a segmented hip (no anatomical landmarks)\n"
                       : "")
-              << "time: load " << prediction.load_ms << " ms, features " << prediction.feature_ms
-              << " ms, prediction " << prediction.predict_ms << " ms\n";
+              << "time: load " << prediction.load_ms << " ms, features " << prediction.feature_ms << " ms, ";
+    if (prediction.depths.known()) std::cout << "penetration depths " << prediction.penetration_ms << " ms, ";
+    std::cout << "prediction " << prediction.predict_ms << " ms\n";
+    if (prediction.depths.known()) {
+      int first = -1;
+      for (Eigen::Index j = 0; j < prediction.depths.curvilinear_mm.cols() && first < 0; ++j) {
+        if (prediction.depths.curvilinear_mm(0, j) > 0.0 || prediction.depths.radial_mm(0, j) > 0.0) {
+          first = static_cast<int>(j);
+        }
+      }
+      if (first < 0) {
+        std::cout << "impinging: no (no penetration over the motion)\n";
+      } else {
+        std::cout << "impinging: yes, from step " << first + 1 << " (max curvilinear "
+                  << prediction.depths.curvilinear_mm.maxCoeff() << " mm, radial "
+                  << prediction.depths.radial_mm.maxCoeff() << " mm)\n";
+      }
+    }
   });
 
   auto* validate = estimator->add_subcommand(
@@ -185,7 +204,8 @@ const CommandRegistrar registrar("estimator", [](CLI::App& parent) {
       std::cout << "case " << c + 1 << " (" << summary.hips[c] << " hips, " << summary.bordering[c]
                 << " flagged bordering, " << summary.impinging[c] << " impinging), e'=" << options.max_e_prime
                 << " mean |error| %:";
-      for (int m = 0; m < 3; ++m) {
+      for (int m = 0; m < stats::kNumEstimatorMethods; ++m) {
+        if (!std::isfinite(summary.mean_error[c][m])) continue;  // depth_nn without depths
         std::cout << ' ' << stats::to_string(stats::kEstimatorMethods[m]) << ' ' << summary.mean_error[c][m]
                   << " (interior " << summary.interior_error[c][m] << ')';
       }

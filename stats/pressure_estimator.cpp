@@ -14,6 +14,7 @@ const char* to_string(EstimatorMethod method) {
     case EstimatorMethod::kPcaNn: return "pca_nn";
     case EstimatorMethod::kKnn: return "knn";
     case EstimatorMethod::kRidge: return "ridge";
+    case EstimatorMethod::kDepthNn: return "depth_nn";
   }
   return "?";
 }
@@ -22,7 +23,7 @@ EstimatorMethod parse_estimator_method(const std::string& name) {
   for (const EstimatorMethod method : kEstimatorMethods) {
     if (name == to_string(method)) return method;
   }
-  throw_error("unknown estimator method '", name, "' (pca_nn, knn, ridge)");
+  throw_error("unknown estimator method '", name, "' (pca_nn, knn, ridge, depth_nn)");
 }
 
 namespace {
@@ -58,22 +59,29 @@ void derive_estimator(TrainedEstimator& model) {
 }
 
 TrainedEstimator train_estimator(const Eigen::MatrixXd& features, const Eigen::MatrixXd& values,
-                                 const EstimatorSettings& settings) {
+                                 const EstimatorSettings& settings, const PenetrationDepths& depths) {
   if (features.rows() != values.rows()) {
     throw_error("estimator: ", features.rows(), " feature rows but ", values.rows(), " value rows");
+  }
+  if (depths.known() &&
+      (depths.curvilinear_mm.rows() != values.rows() || depths.curvilinear_mm.cols() != values.cols() ||
+       depths.radial_mm.rows() != values.rows() || depths.radial_mm.cols() != values.cols())) {
+    throw_error("estimator: penetration depths are ", depths.curvilinear_mm.rows(), " x ", depths.curvilinear_mm.cols(),
+                ", values ", values.rows(), " x ", values.cols());
   }
   if (features.rows() < 3) throw_error("estimator: ", features.rows(), " training hips; need at least 3");
   TrainedEstimator model;
   model.settings = settings;
   model.features = features;
   model.values = values;
+  model.depths = depths;
   model.pca = fit_pca(features, settings.pca);
   derive_estimator(model);
   return model;
 }
 
 EstimateResult estimate(const TrainedEstimator& model, const Eigen::VectorXd& target_features,
-                        EstimatorMethod method, int e_prime) {
+                        EstimatorMethod method, int e_prime, const PenetrationDepths& target_depths) {
   if (e_prime < 1) throw_error("estimator: e' = ", e_prime, "; need at least 1");
   const Eigen::VectorXd target = pca_scores(model.pca, target_features.transpose()).row(0).transpose();
   EstimateResult result;
@@ -98,6 +106,15 @@ EstimateResult estimate(const TrainedEstimator& model, const Eigen::VectorXd& ta
     case EstimatorMethod::kRidge:
       result.steps = ridge_estimate(model.scores, model.pca.variances.cwiseSqrt(), model.values, target, e_prime);
       break;
+    case EstimatorMethod::kDepthNn:
+      if (!model.depths.known()) {
+        throw_error("estimator: depth_nn needs the training hips' penetration depths, and this model has none "
+                    "(trained from an FE table without max_curvilinear_mm / max_radial_mm)");
+      }
+      if (!target_depths.known()) throw_error("estimator: depth_nn needs the target's penetration depths");
+      result.steps = depth_nn_estimate(model.scores, model.values, model.depths, target, target_depths, e_prime,
+                                       model.settings.nearest);
+      break;
   }
   return result;
 }
@@ -105,10 +122,14 @@ EstimateResult estimate(const TrainedEstimator& model, const Eigen::VectorXd& ta
 std::vector<LeaveOneOutRow> leave_one_out(const Eigen::MatrixXd& features, const Eigen::MatrixXd& values,
                                           const EstimatorSettings& settings, int max_e_prime,
                                           const std::vector<int>& held_out,
-                                          const std::vector<EstimatorMethod>& methods_in) {
-  const std::vector<EstimatorMethod> methods =
-      methods_in.empty() ? std::vector<EstimatorMethod>(std::begin(kEstimatorMethods), std::end(kEstimatorMethods))
-                         : methods_in;
+                                          const std::vector<EstimatorMethod>& methods_in,
+                                          const PenetrationDepths& depths) {
+  std::vector<EstimatorMethod> methods = methods_in;
+  if (methods.empty()) {
+    for (const EstimatorMethod method : kEstimatorMethods) {
+      if (!needs_depths(method) || depths.known()) methods.push_back(method);
+    }
+  }
   const auto hips = static_cast<int>(features.rows());
   std::vector<int> targets = held_out;
   if (targets.empty()) {
@@ -119,16 +140,26 @@ std::vector<LeaveOneOutRow> leave_one_out(const Eigen::MatrixXd& features, const
     if (target < 0 || target >= hips) throw_error("leave-one-out: hip ", target, " out of range");
     Eigen::MatrixXd train_features(hips - 1, features.cols());
     Eigen::MatrixXd train_values(hips - 1, values.cols());
+    PenetrationDepths train_depths, target_depths;
+    if (depths.known()) {
+      train_depths = {Eigen::MatrixXd(hips - 1, values.cols()), Eigen::MatrixXd(hips - 1, values.cols())};
+      target_depths = {depths.curvilinear_mm.row(target), depths.radial_mm.row(target)};
+    }
     for (int i = 0, r = 0; i < hips; ++i) {
       if (i == target) continue;
       train_features.row(r) = features.row(i);
       train_values.row(r) = values.row(i);
+      if (depths.known()) {
+        train_depths.curvilinear_mm.row(r) = depths.curvilinear_mm.row(i);
+        train_depths.radial_mm.row(r) = depths.radial_mm.row(i);
+      }
       ++r;
     }
-    const TrainedEstimator model = train_estimator(train_features, train_values, settings);
+    const TrainedEstimator model = train_estimator(train_features, train_values, settings, train_depths);
     for (const EstimatorMethod method : methods) {
       for (int e_prime = 1; e_prime <= max_e_prime; ++e_prime) {
-        rows.push_back({target, method, e_prime, estimate(model, features.row(target).transpose(), method, e_prime)});
+        rows.push_back({target, method, e_prime,
+                        estimate(model, features.row(target).transpose(), method, e_prime, target_depths)});
       }
     }
   }

@@ -1,10 +1,12 @@
 // hipfai — a trained contact-pressure estimator (thesis §4.5): the PCA of the training hips'
-// features, their scores and FE values, and the three ways to estimate a target from them
-// (the thesis' PCA nearest-neighbour method and two baselines on the same scores), with the
-// bordering flag. Numbers only: features come from studies/pressure_features.h.
+// features, their scores and FE values, and the ways to estimate a target from them (the thesis'
+// PCA nearest-neighbour method, two baselines on the same scores, and depth_nn, which adds the
+// penetration depths of thesis §4.3), with the bordering flag. Numbers only: features come from
+// studies/pressure_features.h, depths from studies/penetration_run.h.
 #pragma once
 
 #include "core/literature.h"
+#include "stats/depth_nn_estimator.h"
 #include "stats/knn_regression.h"
 #include "stats/pca.h"
 #include "stats/pca_nn_estimator.h"
@@ -16,14 +18,17 @@
 
 namespace hipfai::stats {
 
-enum class EstimatorMethod { kPcaNn, kKnn, kRidge };
+enum class EstimatorMethod { kPcaNn, kKnn, kRidge, kDepthNn };
 
-// "pca_nn", "knn", "ridge" (the `method` column of the output files).
+// "pca_nn", "knn", "ridge", "depth_nn" (the `method` column of the output files).
 const char* to_string(EstimatorMethod method);
 // Inverse of to_string; throws hipfai::Error naming the accepted values.
 EstimatorMethod parse_estimator_method(const std::string& name);
 inline constexpr EstimatorMethod kEstimatorMethods[] = {EstimatorMethod::kPcaNn, EstimatorMethod::kKnn,
-                                                        EstimatorMethod::kRidge};
+                                                        EstimatorMethod::kRidge, EstimatorMethod::kDepthNn};
+inline constexpr int kNumEstimatorMethods = 4;
+// depth_nn needs the penetration depths of the training hips and of the target.
+inline bool needs_depths(EstimatorMethod method) { return method == EstimatorMethod::kDepthNn; }
 
 struct EstimatorSettings {
   PcaOptions pca;   // e = pca.components (thesis: 10)
@@ -40,6 +45,7 @@ struct TrainedEstimator {
   Eigen::MatrixXd features;      // m x f training features (kept for retraining and provenance)
   Eigen::MatrixXd scores;        // m x e
   Eigen::MatrixXd values;        // m x p FE values, NaN = missing
+  PenetrationDepths depths;      // m x p each, or empty (unknown: depth_nn unavailable)
   Eigen::MatrixXd correlations;  // e x p, Eq. 20
   // Bordering reference over the significant components (variance share >= the setting):
   int significant_components = 0;            // the first n components (variances decrease)
@@ -47,9 +53,10 @@ struct TrainedEstimator {
   double max_training_mahalanobis = 0.0;     // largest training distance over those components
 };
 
-// Throws hipfai::Error on shape mismatches (rows differ), fewer than 3 hips, or non-finite features.
+// Throws hipfai::Error on shape mismatches (rows differ; depths, when given, not m x p), fewer
+// than 3 hips, or non-finite features.
 TrainedEstimator train_estimator(const Eigen::MatrixXd& features, const Eigen::MatrixXd& values,
-                                 const EstimatorSettings& settings);
+                                 const EstimatorSettings& settings, const PenetrationDepths& depths = {});
 
 // Rebuilds the derived members (scores, correlations, distances) of a model read back from a file:
 // the same arithmetic as train_estimator, so a reloaded model predicts bit-identically.
@@ -66,10 +73,12 @@ struct EstimateResult {
   bool bordering = false;
 };
 
-// e' components: pca_nn ranks them by |CC| (Eq. 21); knn and ridge take the first e' by variance.
-// Throws hipfai::Error on a feature count different from the training's or e' < 1.
+// e' components: pca_nn ranks them by |CC| (Eq. 21); knn, ridge and depth_nn take the first e' by
+// variance. `target_depths` (1 x p each) is read by depth_nn only. Throws hipfai::Error on a
+// feature count different from the training's, e' < 1, or depth_nn without depths (the model's or
+// the target's).
 EstimateResult estimate(const TrainedEstimator& model, const Eigen::VectorXd& target_features,
-                        EstimatorMethod method, int e_prime);
+                        EstimatorMethod method, int e_prime, const PenetrationDepths& target_depths = {});
 
 struct LeaveOneOutRow {
   int hip = 0;  // row of the held-out hip
@@ -80,12 +89,14 @@ struct LeaveOneOutRow {
 
 // Leave-one-out (thesis §4.5.3.4): each hip of `held_out` (empty: every row) is estimated by a
 // model trained on all the other rows (PCA refitted without it), for every method of `methods`
-// (empty: all three) and e' = 1..max_e_prime. `values` may hold NaN (missing steps). Rows
-// ordered hip, method, e'.
+// (empty: all of them; depth_nn only when `depths` are known) and e' = 1..max_e_prime. `values`
+// may hold NaN (missing steps); `depths`, when known, is m x p like `values`. Rows ordered hip,
+// method, e'.
 std::vector<LeaveOneOutRow> leave_one_out(const Eigen::MatrixXd& features, const Eigen::MatrixXd& values,
                                           const EstimatorSettings& settings, int max_e_prime,
                                           const std::vector<int>& held_out = {},
-                                          const std::vector<EstimatorMethod>& methods = {});
+                                          const std::vector<EstimatorMethod>& methods = {},
+                                          const PenetrationDepths& depths = {});
 
 // Mean relative error (%) of one leave-one-out estimate: mean over the steps of
 // |estimate - value| / value; NaN when a value is missing or not positive.

@@ -18,6 +18,8 @@ namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr const char* kModelFormat = "hipfai-pressure-estimator";
 constexpr int kModelVersion = 1;
+// Value of the root attribute penetration_depths when the two depth datasets are stored.
+constexpr const char* kDepthDatasets = "/training/curvilinear_mm,/training/radial_mm";
 
 std::string exact(double value) {
   std::ostringstream out;
@@ -75,6 +77,14 @@ void write_estimator_model(const EstimatorModel& model, const std::filesystem::p
   file.write("/training/ce_deg", ce, 1, "deg");
   file.write("/training/alpha_deg", alpha, 1, "deg");
   file.write("/training/edge_mm", edge, 1, "mm");
+  // The penetration depths of the training hips (depth_nn), when every hip has them.
+  file.set_attribute("/", "penetration_depths", e.depths.known() ? kDepthDatasets : "none");
+  if (e.depths.known()) {
+    file.write("/training/curvilinear_mm", row_major(e.depths.curvilinear_mm),
+               static_cast<std::size_t>(e.depths.curvilinear_mm.cols()), "mm");
+    file.write("/training/radial_mm", row_major(e.depths.radial_mm), static_cast<std::size_t>(e.depths.radial_mm.cols()),
+               "mm");
+  }
   file.commit();
 }
 
@@ -108,9 +118,11 @@ EstimatorModel read_estimator_model(const std::filesystem::path& path) {
   ResultsReader file(path);
   file.prefetch({"/motion/angle_deg", "/normalisation/mean", "/normalisation/scale", "/pca/basis",
                  "/pca/variances", "/pca/total_variance", "/training/features", "/training/values",
-                 "/training/ce_deg", "/training/alpha_deg", "/training/edge_mm"},
+                 "/training/ce_deg", "/training/alpha_deg", "/training/edge_mm", "/training/curvilinear_mm",
+                 "/training/radial_mm"},
                 {{"/", "format"}, {"/", "format_version"}, {"/", "code_version"}, {"/", "fe_measure"},
-                 {"/", "feature_grid"}, {"/", "settings"}, {"/", "training_hips"}, {"/", "training_hip_hashes"}});
+                 {"/", "feature_grid"}, {"/", "settings"}, {"/", "training_hips"}, {"/", "training_hip_hashes"},
+                 {"/", "penetration_depths"}});
   std::string format;
   try {
     format = file.string_attribute("/", "format");
@@ -163,6 +175,21 @@ EstimatorModel read_estimator_model(const std::filesystem::path& path) {
     const Eigen::MatrixXd ce = read_matrix("/training/ce_deg", m, 1);
     const Eigen::MatrixXd alpha = read_matrix("/training/alpha_deg", m, 1);
     const Eigen::MatrixXd edge = read_matrix("/training/edge_mm", m, 1);
+    // Models written before depth_nn have no penetration_depths attribute: no depths.
+    std::string depth_datasets = "none";
+    try {
+      depth_datasets = file.string_attribute("/", "penetration_depths");
+    } catch (const Error&) {
+    }
+    if (depth_datasets == kDepthDatasets) {
+      e.depths = {read_matrix("/training/curvilinear_mm", m, p), read_matrix("/training/radial_mm", m, p)};
+      if (!e.depths.curvilinear_mm.allFinite() || !e.depths.radial_mm.allFinite() ||
+          (e.depths.curvilinear_mm.array() < 0.0).any() || (e.depths.radial_mm.array() < 0.0).any()) {
+        throw_error(path.string(), ": penetration depths not finite and >= 0");
+      }
+    } else if (depth_datasets != "none") {
+      throw_error(path.string(), ": penetration_depths is '", depth_datasets, "'");
+    }
     const auto names = split(file.string_attribute("/", "training_hips"), ';');
     const auto hashes = split(file.string_attribute("/", "training_hip_hashes"), ';');
     if (static_cast<Eigen::Index>(names.size()) != m || static_cast<Eigen::Index>(hashes.size()) != m) {
@@ -181,6 +208,13 @@ EstimatorModel read_estimator_model(const std::filesystem::path& path) {
       hip.features = e.features.row(i).transpose();
       hip.values.assign(static_cast<std::size_t>(p), kNaN);
       for (Eigen::Index j = 0; j < p; ++j) hip.values[static_cast<std::size_t>(j)] = e.values(i, j);
+      if (e.depths.known()) {
+        for (Eigen::Index j = 0; j < p; ++j) {
+          hip.curvilinear_mm.push_back(e.depths.curvilinear_mm(i, j));
+          hip.radial_mm.push_back(e.depths.radial_mm(i, j));
+          hip.depth_mm.push_back(std::max(hip.curvilinear_mm.back(), hip.radial_mm.back()));
+        }
+      }
       model.hips.push_back(std::move(hip));
     }
     stats::derive_estimator(e);

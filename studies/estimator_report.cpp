@@ -150,15 +150,24 @@ EstimatorValidateSummary validate_estimator(const EstimatorValidateOptions& opti
 
   // Times of the maths alone (features exist): training on every hip, and one prediction.
   auto start = std::chrono::steady_clock::now();
-  const stats::TrainedEstimator retrained = stats::train_estimator(features, values, model.estimator.settings);
+  const stats::PenetrationDepths depths = training_depths(model.hips, p);
+  const stats::TrainedEstimator retrained = stats::train_estimator(features, values, model.estimator.settings, depths);
   const double train_ms = elapsed_ms(start);
   const int e_all = retrained.pca.num_components();
   constexpr int kRepeats = 200;
-  std::array<double, 3> predict_ms{};
-  for (int method = 0; method < 3; ++method) {
+  constexpr int kMethods = stats::kNumEstimatorMethods;
+  std::array<double, kMethods> predict_ms{};
+  predict_ms.fill(kNaN);
+  for (int method = 0; method < kMethods; ++method) {
+    if (stats::needs_depths(stats::kEstimatorMethods[method]) && !depths.known()) continue;
     start = std::chrono::steady_clock::now();
     for (int r = 0; r < kRepeats; ++r) {
-      const auto result = stats::estimate(retrained, features.row(r % m).transpose(), stats::kEstimatorMethods[method], e_all);
+      const Eigen::Index row = r % m;
+      const stats::PenetrationDepths target =
+          depths.known() ? stats::PenetrationDepths{depths.curvilinear_mm.row(row), depths.radial_mm.row(row)}
+                         : stats::PenetrationDepths{};
+      const auto result = stats::estimate(retrained, features.row(row).transpose(), stats::kEstimatorMethods[method],
+                                          e_all, target);
       if (result.steps.empty()) throw_error("estimator: no steps");
     }
     predict_ms[static_cast<std::size_t>(method)] = elapsed_ms(start) / kRepeats;
@@ -202,7 +211,11 @@ EstimatorValidateSummary validate_estimator(const EstimatorValidateOptions& opti
     }
     if (eligible[c].empty()) continue;
     start = std::chrono::steady_clock::now();
-    const auto rows = stats::leave_one_out(features, case_values, model.estimator.settings, max_e, eligible[c]);
+    const stats::PenetrationDepths case_depths =
+        depths.known() ? stats::PenetrationDepths{depths.curvilinear_mm.leftCols(steps), depths.radial_mm.leftCols(steps)}
+                       : stats::PenetrationDepths{};
+    const auto rows = stats::leave_one_out(features, case_values, model.estimator.settings, max_e, eligible[c], {},
+                                           case_depths);
     loo_ms += elapsed_ms(start);
     for (const auto& row : rows) {
       HipError error;
@@ -279,7 +292,7 @@ EstimatorValidateSummary validate_estimator(const EstimatorValidateOptions& opti
     double thesis_hips = kNaN;  // over the hips the thesis' table has a value for
     int thesis_count = 0;
   };
-  Group groups[2][3];
+  Group groups[2][kMethods];
   Group chosen_group[2];
   for (int c = 0; c < 2; ++c) {
     summary.hips[c] = static_cast<int>(eligible[c].size());
@@ -288,7 +301,7 @@ EstimatorValidateSummary validate_estimator(const EstimatorValidateOptions& opti
       if (e && e->bordering) ++summary.bordering[c];
       if (e && e->impinging == 1) ++summary.impinging[c];
     }
-    for (int method = 0; method < 3; ++method) {
+    for (int method = 0; method < kMethods; ++method) {
       std::vector<double> all, interior, border, flagged, unflagged;
       for (const int i : eligible[c]) {
         const HipError* e = find(c, i, method, max_e);
@@ -348,7 +361,8 @@ EstimatorValidateSummary validate_estimator(const EstimatorValidateOptions& opti
                          : "Fig. 74: mean estimation error vs e', case 2 (whole motion)";
     chart.x_label = "e' (effective features used)";
     chart.y_label = "mean |error| over hips (%)";
-    for (int method = 0; method < 3; ++method) {
+    for (int method = 0; method < kMethods; ++method) {
+      if (!find(c, eligible[c].empty() ? 0 : eligible[c].front(), method, 1)) continue;
       Series all{std::string(stats::to_string(stats::kEstimatorMethods[method])) + " all", {}, {}, false, false, false};
       Series interior{std::string(stats::to_string(stats::kEstimatorMethods[method])) + " grid interior", {}, {}, true,
                       false, false};
@@ -410,8 +424,9 @@ EstimatorValidateSummary validate_estimator(const EstimatorValidateOptions& opti
       fe.y.push_back(values(fig72_hip, j));
     }
     chart.series.push_back(fe);
-    for (int method = 0; method < 3; ++method) {
+    for (int method = 0; method < kMethods; ++method) {
       const HipError* e = find(fig72_case, fig72_hip, method, max_e);
+      if (!e) continue;
       Series estimate{std::string(stats::to_string(stats::kEstimatorMethods[method])), fe.x, e->estimate, false, false, false};
       chart.series.push_back(estimate);
       if (method == 0) chart.series.push_back({"pca_nn error %", fe.x, e->signed_error, false, true, true});
@@ -432,13 +447,19 @@ EstimatorValidateSummary validate_estimator(const EstimatorValidateOptions& opti
      << "on the others (PCA refitted without it). Error of a hip = mean over the case's steps of "
         "|estimate - FE| / FE. Methods: `pca_nn` the thesis' Eq. 20-23 (weights |CC|), `knn` mean of the "
      << model.estimator.settings.knn_k << " nearest hips on the first e' scores, `ridge` ridge regression on the "
-        "first e' scores (lambda by exact leave-one-out on the training hips).\n\n";
+        "first e' scores (lambda by exact leave-one-out on the training hips), `depth_nn` (beyond the thesis, "
+        "when the FE table has the penetration depths) the contact-free pressure of the "
+     << model.estimator.settings.nearest << " nearest hips on the first e' scores, times the contact-free profile of "
+        "the motion, times the impingement factor of the "
+     << model.estimator.settings.nearest << " training (hip, step) pairs nearest in (curvilinear, radial) depth "
+        "where the target's depths are non-zero (stats/depth_nn_estimator.h).\n\n";
   md << "## Mean error at e' = " << max_e << " (%)\n\n"
      << "| case | method | all hips | grid interior | grid border | flagged bordering | not flagged | the thesis' hips | thesis all | thesis interior |\n"
      << "|---|---|---|---|---|---|---|---|---|---|\n";
   for (int c = 0; c < 2; ++c) {
-    for (int method = 0; method < 3; ++method) {
+    for (int method = 0; method < kMethods; ++method) {
       const Group& g = groups[c][method];
+      if (g.all != g.all) continue;  // a method without rows (depth_nn without depths)
       md << "| " << c + 1 << " (" << summary.hips[c] << " hips) | " << stats::to_string(stats::kEstimatorMethods[method])
          << " | " << fixed(g.all) << " | " << fixed(g.grid_interior) << " | " << fixed(g.grid_border) << " | "
          << fixed(g.flagged) << " | " << fixed(g.unflagged) << " | " << fixed(g.thesis_hips) << " (" << g.thesis_count
@@ -494,7 +515,7 @@ EstimatorValidateSummary validate_estimator(const EstimatorValidateOptions& opti
        << "| case | method | impinging | not impinging | flagged bordering or impinging | neither |\n"
        << "|---|---|---|---|---|---|\n";
     for (int c = 0; c < 2; ++c) {
-      for (int method = 0; method < 3; ++method) {
+      for (int method = 0; method < kMethods; ++method) {
         std::vector<double> impinging, clear, either, neither;
         for (const int i : eligible[c]) {
           const HipError* e = find(c, i, method, max_e);
@@ -504,6 +525,7 @@ EstimatorValidateSummary validate_estimator(const EstimatorValidateOptions& opti
           const HipError* flag = find(c, i, 0, max_e);
           (e->impinging == 1 || (flag && flag->bordering) ? either : neither).push_back(e->mean_abs);
         }
+        if (impinging.empty() && clear.empty()) continue;
         const auto cell = [](const std::vector<double>& v) { return fixed(mean_of(v)) + " (" + std::to_string(v.size()) + ")"; };
         md << "| " << c + 1 << " | " << stats::to_string(stats::kEstimatorMethods[method]) << " | " << cell(impinging)
            << " | " << cell(clear) << " | " << cell(either) << " | " << cell(neither) << " |\n";
@@ -540,9 +562,9 @@ EstimatorValidateSummary validate_estimator(const EstimatorValidateOptions& opti
   }
 
   md << "## Per hip: methods side by side (e' = " << max_e << ", %)\n\n"
-     << "| hip | grid border | flag (case 1) | Mahalanobis | case 1 pca_nn | knn | ridge | best | case 2 pca_nn | knn | ridge | best |\n"
-     << "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
-  int wins[2][3] = {};
+     << "| hip | grid border | flag (case 1) | Mahalanobis | case 1 pca_nn | knn | ridge | depth_nn | best | case 2 pca_nn | knn | ridge | depth_nn | best |\n"
+     << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  int wins[2][kMethods] = {};
   for (Eigen::Index i = 0; i < m; ++i) {
     const TrainingHip& hip = model.hips[static_cast<std::size_t>(i)];
     const HipError* flag = find(0, static_cast<int>(i), 0, max_e);
@@ -551,7 +573,7 @@ EstimatorValidateSummary validate_estimator(const EstimatorValidateOptions& opti
        << " |";
     for (int c = 0; c < 2; ++c) {
       int best = -1;
-      for (int method = 0; method < 3; ++method) {
+      for (int method = 0; method < kMethods; ++method) {
         const HipError* e = find(c, static_cast<int>(i), method, max_e);
         md << ' ' << (e ? fixed(e->mean_abs) : "-") << " |";
         if (e && (best < 0 || e->mean_abs < find(c, static_cast<int>(i), best, max_e)->mean_abs)) best = method;
@@ -564,7 +586,7 @@ EstimatorValidateSummary validate_estimator(const EstimatorValidateOptions& opti
   md << "\nWins (lowest error per hip): ";
   for (int c = 0; c < 2; ++c) {
     md << "case " << c + 1 << ":";
-    for (int method = 0; method < 3; ++method) md << ' ' << stats::to_string(stats::kEstimatorMethods[method]) << ' ' << wins[c][method];
+    for (int method = 0; method < kMethods; ++method) md << ' ' << stats::to_string(stats::kEstimatorMethods[method]) << ' ' << wins[c][method];
     md << (c == 0 ? "; " : ".\n\n");
   }
 
@@ -598,9 +620,9 @@ EstimatorValidateSummary validate_estimator(const EstimatorValidateOptions& opti
      << fixed(mean_of(feature_ms), 1) << " / " << fixed(*std::max_element(feature_ms.begin(), feature_ms.end()), 1)
      << " ms |\n"
      << "| train on " << m << " hips (PCA + correlations, features given) | " << fixed(train_ms, 2) << " ms |\n"
-     << "| one prediction, e' = " << e_all << ", all " << p << " steps: pca_nn / knn / ridge | "
-     << fixed(predict_ms[0], 3) << " / " << fixed(predict_ms[1], 3) << " / " << fixed(predict_ms[2], 3) << " ms |\n"
-     << "| leave-one-out, both cases, 3 methods x e' 1.." << max_e << " | " << fixed(loo_ms / 1000.0, 2) << " s |\n"
+     << "| one prediction, e' = " << e_all << ", all " << p << " steps, depths given: pca_nn / knn / ridge / depth_nn | "
+     << fixed(predict_ms[0], 3) << " / " << fixed(predict_ms[1], 3) << " / " << fixed(predict_ms[2], 3) << " / " << fixed(predict_ms[3], 3) << " ms |\n"
+     << "| leave-one-out, both cases, every method x e' 1.." << max_e << " | " << fixed(loo_ms / 1000.0, 2) << " s |\n"
      << "| whole training pipeline (load, features, train) | " << fixed(pipeline_ms / 1000.0, 2) << " s |\n\n"
      << "Files: `loo.csv`, `estimates.csv`, `hips.csv`, `model.h5` (trained on all " << m << " hips).\n";
   summary.report = options.out_dir / "report.md";

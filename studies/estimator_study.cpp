@@ -6,6 +6,8 @@
 #include "core/version.h"
 #include "geometry/hip_model.h"
 #include "studies/hip_source.h"
+#include "studies/motion.h"
+#include "studies/penetration_run.h"
 #include "studies/results_file.h"
 #include "studies/segmented_hip.h"
 #include "studies/validation_study.h"
@@ -173,7 +175,7 @@ FeSweep read_fem_sweep_folder(const std::filesystem::path& dir, const std::strin
     if (sweep.hips.empty()) sweep.angle_deg = angles;
     check_same_motion(sweep.angle_deg, angles, csv.string() + " vs the sweep's other models");
     // fem-sweep tables have no penetration depths: depth_mm stays empty (impinging unknown).
-    sweep.hips.push_back({ce, alpha, kNaN, values[static_cast<std::size_t>(which - measures.begin())], {}});
+    sweep.hips.push_back({ce, alpha, kNaN, values[static_cast<std::size_t>(which - measures.begin())], {}, {}, {}});
   }
   if (sweep.hips.empty()) throw_error(dir.string(), ": no model of the sweep has its table (<model>.csv)");
   return sweep;
@@ -215,7 +217,7 @@ FeSweep read_fe_sweep(const std::filesystem::path& fe, const std::string& measur
   FeSweep sweep;
   sweep.measure = measure;
   struct Row {
-    double angle, value, depth;
+    double angle, value, curvilinear, radial;
   };
   std::map<std::pair<double, double>, std::map<int, Row>> rows;  // hip -> step -> row
   int line_number = 1;
@@ -232,15 +234,15 @@ FeSweep read_fe_sweep(const std::filesystem::path& fe, const std::string& measur
         s != std::floor(s)) {
       throw_error(file.string(), ":", line_number, ": bad ce_deg, alpha_deg, step or angle_deg");
     }
-    double depth = kNaN;
+    double c_mm = kNaN, r_mm = kNaN;
     if (curvilinear < header.size() && radial < header.size()) {
-      const double c_mm = parse_number(cells[curvilinear]), r_mm = parse_number(cells[radial]);
+      c_mm = parse_number(cells[curvilinear]);
+      r_mm = parse_number(cells[radial]);
       if (!(c_mm >= 0.0) || !(r_mm >= 0.0) || !std::isfinite(c_mm) || !std::isfinite(r_mm)) {
         throw_error(file.string(), ":", line_number, ": bad max_curvilinear_mm or max_radial_mm (a depth >= 0 in mm)");
       }
-      depth = std::max(c_mm, r_mm);
     }
-    rows[{c, a}][static_cast<int>(s)] = {g, parse_number(cells[value]), depth};
+    rows[{c, a}][static_cast<int>(s)] = {g, parse_number(cells[value]), c_mm, r_mm};
   }
   if (rows.empty()) throw_error(file.string(), ": no rows");
   int steps = 0;
@@ -248,8 +250,8 @@ FeSweep read_fe_sweep(const std::filesystem::path& fe, const std::string& measur
   sweep.angle_deg.assign(static_cast<std::size_t>(steps), kNaN);
   const auto edges = read_edges(file.parent_path() / "timings.csv");
   for (const auto& [hip, by_step] : rows) {
-    FeSweepHip entry{hip.first, hip.second, kNaN, std::vector<double>(static_cast<std::size_t>(steps), kNaN),
-                     std::vector<double>(static_cast<std::size_t>(steps), kNaN)};
+    const std::vector<double> unknown(static_cast<std::size_t>(steps), kNaN);
+    FeSweepHip entry{hip.first, hip.second, kNaN, unknown, unknown, unknown, unknown};
     if (const auto it = edges.find(hip); it != edges.end()) entry.edge_mm = it->second;
     for (const auto& [s, row] : by_step) {
       double& known = sweep.angle_deg[static_cast<std::size_t>(s - 1)];
@@ -259,7 +261,9 @@ FeSweep read_fe_sweep(const std::filesystem::path& fe, const std::string& measur
                     row.angle, " deg, another hip's at ", known, " deg: one motion per table");
       }
       entry.values[static_cast<std::size_t>(s - 1)] = row.value;
-      entry.depth_mm[static_cast<std::size_t>(s - 1)] = row.depth;
+      entry.curvilinear_mm[static_cast<std::size_t>(s - 1)] = row.curvilinear;
+      entry.radial_mm[static_cast<std::size_t>(s - 1)] = row.radial;
+      entry.depth_mm[static_cast<std::size_t>(s - 1)] = std::max(row.curvilinear, row.radial);
     }
     sweep.hips.push_back(std::move(entry));
   }
@@ -267,6 +271,23 @@ FeSweep read_fe_sweep(const std::filesystem::path& fe, const std::string& measur
     if (std::isnan(sweep.angle_deg[k])) throw_error(file.string(), ": no hip has step ", k + 1);
   }
   return sweep;
+}
+
+stats::PenetrationDepths training_depths(const std::vector<TrainingHip>& hips, Eigen::Index steps) {
+  const auto m = static_cast<Eigen::Index>(hips.size());
+  stats::PenetrationDepths depths{Eigen::MatrixXd(m, steps), Eigen::MatrixXd(m, steps)};
+  for (Eigen::Index i = 0; i < m; ++i) {
+    const TrainingHip& hip = hips[static_cast<std::size_t>(i)];
+    if (hip.curvilinear_mm.size() < static_cast<std::size_t>(steps) || hip.radial_mm.size() < static_cast<std::size_t>(steps)) {
+      return {};
+    }
+    for (Eigen::Index j = 0; j < steps; ++j) {
+      depths.curvilinear_mm(i, j) = hip.curvilinear_mm[static_cast<std::size_t>(j)];
+      depths.radial_mm(i, j) = hip.radial_mm[static_cast<std::size_t>(j)];
+    }
+  }
+  if (m == 0 || !depths.curvilinear_mm.allFinite() || !depths.radial_mm.allFinite()) return {};
+  return depths;
 }
 
 EstimatorModel train_estimator_model(const EstimatorTrainOptions& options, std::vector<std::string>* notes) {
@@ -344,6 +365,8 @@ EstimatorModel train_estimator_model(const EstimatorTrainOptions& options, std::
         hip.misses = features.misses;
         hip.values = fe_hip.values;
         hip.depth_mm = fe_hip.depth_mm;
+        hip.curvilinear_mm = fe_hip.curvilinear_mm;
+        hip.radial_mm = fe_hip.radial_mm;
         // The same hip again (another FE level, a re-run): the newer FE values replace the older.
         // Same = same sampled meshes AND same CE/alpha: a grid of bones only (femur_bone) samples
         // the same meshes for hips that differ in their sockets, which stay separate hips.
@@ -369,11 +392,50 @@ EstimatorModel train_estimator_model(const EstimatorTrainOptions& options, std::
     features.row(i) = hip.features.transpose();
     for (Eigen::Index j = 0; j < values.cols(); ++j) values(i, j) = hip.values[static_cast<std::size_t>(j)];
   }
-  model.estimator = stats::train_estimator(features, values, settings);
+  model.estimator = stats::train_estimator(features, values, settings, training_depths(model.hips, values.cols()));
   model.code_version = std::string(kVersion) + " " + kGitSha;
   return model;
 }
 
+
+namespace {
+
+// The hip's curvilinear and radial depth at each step of the model's motion, computed as `hipfai
+// study validate` computes the FE table's (same method, default options).
+stats::PenetrationDepths penetration_over_model_motion(const EstimatorModel& model, const geometry::HipModel& hip,
+                                                       const std::filesystem::path& hip_dir) {
+  if (!model.estimator.depths.known()) {
+    throw_error("depth_nn needs the training hips' penetration depths, and this model has none (trained from an FE "
+                "table without max_curvilinear_mm / max_radial_mm)");
+  }
+  const auto p = static_cast<int>(model.angle_deg.size());
+  const Motion motion = standing_to_sitting(p);
+  for (int j = 0; j < p; ++j) {
+    if (std::abs(motion.steps[static_cast<std::size_t>(j)].angle_deg - model.angle_deg[static_cast<std::size_t>(j)]) > 1e-6) {
+      throw_error("depth_nn: the model's motion (", p, " steps to ", model.angle_deg.back(),
+                  " deg) is not standing-to-sitting in ", p, " sub-motions, the only motion whose axis predict knows");
+    }
+  }
+  std::string missing;
+  for (const char* tissue : {"femur_bone", "labrum", "femoral_cartilage", "acetabular_cartilage"}) {
+    if (!hip.tissues.count(tissue)) missing += (missing.empty() ? "" : ", ") + std::string(tissue);
+  }
+  if (!missing.empty()) {
+    throw_error(hip_dir.string(), ": no ", missing, "; depth_nn computes the curvilinear and radial penetration, "
+                "which need them");
+  }
+  const LoadedHip loaded = loaded_hip_from_model(hip, hip_dir.filename().string());
+  StageLog log;
+  const PenetrationRun run = compute_penetration(loaded, motion, PenetrationOptions{}, log);
+  stats::PenetrationDepths depths{Eigen::MatrixXd(1, p), Eigen::MatrixXd(1, p)};
+  for (int j = 0; j < p; ++j) {
+    depths.curvilinear_mm(0, j) = run.steps[static_cast<std::size_t>(j)].curvilinear_max_mm();
+    depths.radial_mm(0, j) = run.steps[static_cast<std::size_t>(j)].radial_max_mm();
+  }
+  return depths;
+}
+
+}  // namespace
 
 HipPrediction predict_hip(const EstimatorModel& model, const std::filesystem::path& hip_dir,
                           stats::EstimatorMethod method, int e_prime) {
@@ -402,8 +464,13 @@ HipPrediction predict_hip(const EstimatorModel& model, const std::filesystem::pa
   const HipFeatures features = extract_hip_features(hip, model.grid);
   prediction.feature_ms = features.extraction_ms;
   prediction.misses = features.misses;
+  if (stats::needs_depths(method)) {
+    start = std::chrono::steady_clock::now();
+    prediction.depths = penetration_over_model_motion(model, hip, hip_dir);
+    prediction.penetration_ms = elapsed_ms(start);
+  }
   start = std::chrono::steady_clock::now();
-  prediction.result = stats::estimate(model.estimator, features.values, method, e_prime);
+  prediction.result = stats::estimate(model.estimator, features.values, method, e_prime, prediction.depths);
   prediction.predict_ms = elapsed_ms(start);
   return prediction;
 }

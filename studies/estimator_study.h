@@ -35,6 +35,8 @@ struct FeSweepHip {
   // The penetration method's depth at each step (max of the curvilinear and radial maxima, mm),
   // from the table's max_curvilinear_mm / max_radial_mm columns; NaN where the table has none.
   std::vector<double> depth_mm;
+  // The two depths themselves (same columns); NaN where the table has none.
+  std::vector<double> curvilinear_mm, radial_mm;
 };
 
 struct FeSweep {
@@ -54,10 +56,17 @@ struct TrainingHip {
   std::filesystem::path dir;
   Eigen::VectorXd features;
   std::vector<double> values;
-  std::vector<double> depth_mm;      // FeSweepHip::depth_mm (not stored in the model file)
+  std::vector<double> depth_mm;      // FeSweepHip::depth_mm (max of the two below)
+  // FeSweepHip::curvilinear_mm / radial_mm; stored in the model file (depth_nn) when every hip
+  // has both at every step.
+  std::vector<double> curvilinear_mm, radial_mm;
   double load_ms = 0, feature_ms = 0;
   int misses = 0;
 };
+
+// The hips' penetration depths as the estimator takes them: hips x steps each when every hip has
+// both depths at every one of the `steps`, empty otherwise (then depth_nn is unavailable).
+stats::PenetrationDepths training_depths(const std::vector<TrainingHip>& hips, Eigen::Index steps);
 
 struct EstimatorTrainOptions {
   std::vector<std::filesystem::path> fe;   // one or more sweeps (same motion)
@@ -97,11 +106,18 @@ struct HipPrediction {
   int misses = 0;
   // A segmented hip (hip.json): its hip frame is approximate (studies/segmented_hip.h).
   bool approximate_frame = false;
+  // depth_nn only: the target's penetration depths over the model's motion (thesis §4.3, the
+  // study's own method, studies/penetration_run.h), 1 x steps each, and their time.
+  stats::PenetrationDepths depths;
+  double penetration_ms = 0;
 };
 
 // Loads the hip folder — a model folder (model.json) or a segmented hip (hip.json, bones in the
 // scan's frame, studies/segmented_hip.h) — refusing, with what is missing, one the model's
 // features cannot be taken from; extracts its features on the model's grid and estimates every step.
+// depth_nn also computes the hip's penetration depths over the model's motion, which must then be
+// standing-to-sitting (studies/motion.h: the motion of `hipfai study validate`, recognised by its
+// angles); another motion, or a hip without the four tissues, is refused.
 HipPrediction predict_hip(const EstimatorModel& model, const std::filesystem::path& hip_dir,
                           stats::EstimatorMethod method, int e_prime);
 
@@ -123,8 +139,9 @@ struct EstimatorValidateOptions {
 struct EstimatorValidateSummary {
   // Mean over eligible hips of the per-hip mean |error| % at e' = max, per case (0: first half,
   // 1: whole motion) and method (index of stats::kEstimatorMethods).
-  double mean_error[2][3] = {};
-  double interior_error[2][3] = {};        // hips off the CE/alpha grid's border (thesis §4.5.4)
+  // NaN for depth_nn when the FE table has no penetration depths.
+  double mean_error[2][stats::kNumEstimatorMethods] = {};
+  double interior_error[2][stats::kNumEstimatorMethods] = {};        // hips off the CE/alpha grid's border (thesis §4.5.4)
   int hips[2] = {};
   int bordering[2] = {};                   // flagged hips
   // Hips the penetration method finds impinging within the case's steps (depth > 0 at a step),

@@ -24,11 +24,14 @@ if(HIPFAI_WITH_FEM)
 \"$1\" estimator validate --quick --out \"$2/a\" --cache \"$2/cache\" > \"$2/a.log\" 2>&1 || { tail -5 \"$2/a.log\"; exit 1; }; \
 head -1 \"$2/a/loo.csv\" | grep -qx 'hip,case,e_prime,method,mean_abs_error_percent,bordering,impinging' || { echo 'loo.csv columns' >&2; exit 1; }; \
 head -1 \"$2/a/estimates.csv\" | grep -qx 'hip,case,e_prime,method,step,estimate,fe,error_percent' || { echo 'estimates.csv columns' >&2; exit 1; }; \
-for m in pca_nn knn ridge; do grep -q \",$m,\" \"$2/a/loo.csv\" || { echo \"no $m rows\" >&2; exit 1; }; done; \
+for m in pca_nn knn ridge depth_nn; do grep -q \",$m,\" \"$2/a/loo.csv\" || { echo \"no $m rows\" >&2; exit 1; }; done; \
 hip=$(ls -d \"$2\"/cache/hip-ce20_alpha60-* | grep -v partial | head -1); \
 \"$1\" estimator predict --model \"$2/a/model.h5\" --hip \"$hip\" --csv \"$2/predict.csv\" > /dev/null; \
 head -1 \"$2/predict.csv\" | grep -qx 'step,estimate,low,high,bordering' || { echo 'predict.csv columns' >&2; exit 1; }; \
 test $(wc -l < \"$2/predict.csv\") -eq 7 || { echo 'predict.csv: 6 steps expected' >&2; exit 1; }; \
+\"$1\" estimator predict --model \"$2/a/model.h5\" --hip \"$hip\" --method depth_nn --csv \"$2/depth.csv\" > \"$2/depth.log\"; \
+grep -q '^impinging: ' \"$2/depth.log\" || { echo 'depth_nn: no impinging line' >&2; exit 1; }; \
+test $(wc -l < \"$2/depth.csv\") -eq 7 || { echo 'depth.csv: 6 steps expected' >&2; exit 1; }; \
 \"$1\" estimator validate --quick --out \"$2/b\" --cache \"$2/cache\" > \"$2/b.log\" 2>&1; \
 cmp \"$2/a/loo.csv\" \"$2/b/loo.csv\" || { echo 'a rerun from the cache changed loo.csv' >&2; exit 1; }"
                    sh $<TARGET_FILE:hipfai> ${estimator_tmp})

@@ -124,6 +124,37 @@ TEST(PressureEstimator, RejectsMismatches) {
   EXPECT_THROW(estimate(model, data.features.row(0).transpose(), EstimatorMethod::kPcaNn, 0), Error);
   EXPECT_THROW(parse_estimator_method("svm"), Error);
   EXPECT_EQ(parse_estimator_method("ridge"), EstimatorMethod::kRidge);
+  EXPECT_EQ(parse_estimator_method("depth_nn"), EstimatorMethod::kDepthNn);
+  // depth_nn needs depths: the model's (none here) and the target's.
+  EXPECT_THROW(estimate(model, data.features.row(0).transpose(), EstimatorMethod::kDepthNn, 1), Error);
+  const PenetrationDepths depths{Eigen::MatrixXd::Zero(27, 5), Eigen::MatrixXd::Zero(27, 5)};
+  const TrainedEstimator with_depths = train_estimator(data.features, data.values, {}, depths);
+  EXPECT_THROW(estimate(with_depths, data.features.row(0).transpose(), EstimatorMethod::kDepthNn, 1), Error);
+  EXPECT_THROW(train_estimator(data.features, data.values, {},
+                               {Eigen::MatrixXd::Zero(27, 4), Eigen::MatrixXd::Zero(27, 4)}),
+               Error);
+}
+
+TEST(PressureEstimator, LeaveOneOutRunsDepthNnOnlyWithDepths) {
+  const Synthetic data;
+  const EstimatorSettings settings{.pca = {.components = 4}};
+  const auto count = [](const std::vector<LeaveOneOutRow>& rows) {
+    int n = 0;
+    for (const auto& row : rows) n += row.method == EstimatorMethod::kDepthNn;
+    return n;
+  };
+  EXPECT_EQ(count(leave_one_out(data.features, data.values, settings, 2, {0, 1})), 0);
+  // No hip in contact: depth_nn = the level of the nearest hips times the common profile, which
+  // is exact here (value = (1 + 0.1 j) (10 + a)) whenever the 4 nearest hips share the target's a.
+  const PenetrationDepths depths{Eigen::MatrixXd::Zero(27, 5), Eigen::MatrixXd::Zero(27, 5)};
+  const auto rows = leave_one_out(data.features, data.values, settings, 2, {0, 1}, {}, depths);
+  EXPECT_EQ(count(rows), 4);  // 2 hips x e' 1..2
+  for (const auto& row : rows) {
+    if (row.method != EstimatorMethod::kDepthNn) continue;
+    for (std::size_t j = 0; j < 5; ++j) {
+      EXPECT_NEAR(row.result.steps[j].estimate / row.result.steps[0].estimate, 1.0 + 0.1 * static_cast<double>(j), 1e-12);
+    }
+  }
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "geometry/hip_model.h"
 #include "geometry/primitive_meshes.h"
+#include "studies/motion.h"
 #include "studies/results_file.h"
 
 #include <gtest/gtest.h>
@@ -12,6 +13,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <iomanip>
 #include <iterator>
 #include <sstream>
 #include <string>
@@ -187,6 +189,7 @@ TEST(EstimatorStudy, LeaveOneOutOnSphereHipsAndModelFile) {
   EXPECT_EQ(reloaded.hips[3].hash, model.hips[3].hash);
   geometry::write_hip_model(sphere_hip(23.5), dir / "target");
   for (const auto method : stats::kEstimatorMethods) {
+    if (stats::needs_depths(method)) continue;  // this table has no depths (DepthNn... below)
     const auto a = predict_hip(model, dir / "target", method, 3).result;
     const auto b = predict_hip(reloaded, dir / "target", method, 3).result;
     ASSERT_EQ(a.steps.size(), 4u);
@@ -307,6 +310,89 @@ TEST(EstimatorStudy, RealBonesOnlyHip) {
   EXPECT_EQ(prediction.result.steps.size(), 2u);
 }
 
+// depth_nn end to end: an FE table of standing-to-sitting (4 sub-motions) with penetration depths
+// (hips of radius 25 and 26 mm impinge from step 3, their pressure doubled there), a model that
+// keeps the depths through its file, and a prediction that computes the target's own depths.
+TEST(EstimatorStudy, DepthNnComputesTheTargetsPenetrationAndKeepsTheDepthsInTheModelFile) {
+  // The sphere study with depths, at the given step angles, written into `dir`.
+  const auto write_study = [](const fs::path& dir, const std::vector<double>& angles) {
+    fs::create_directories(dir / "fe");
+    std::ofstream csv(dir / "fe" / "steps.csv");
+    csv << std::setprecision(17) << "ce_deg,alpha_deg,step,angle_deg,max_curvilinear_mm,max_radial_mm,pressure_max_mpa\n";
+    for (const double r : {20.0, 21.0, 22.0, 23.0, 24.0, 25.0, 26.0}) {
+      geometry::write_hip_model(sphere_hip(r), dir / "hips" / ("hip-" + std::to_string(static_cast<int>(r))));
+      for (int s = 1; s <= static_cast<int>(angles.size()); ++s) {
+        const bool impinging = r >= 25 && s >= 3;
+        csv << r << ",50," << s << ',' << angles[static_cast<std::size_t>(s - 1)] << ',' << (impinging ? 0.5 * s : 0.0)
+            << ',' << (impinging ? 0.2 : 0.0) << ',' << (1 + 0.1 * s) * (r - 15) * (impinging ? 2.0 : 1.0) << '\n';
+      }
+    }
+  };
+  const fs::path dir = scratch("depth-nn");
+  std::vector<double> angles;
+  for (const MotionStep& step : standing_to_sitting(4).steps) angles.push_back(step.angle_deg);
+  write_study(dir, angles);
+  EstimatorTrainOptions train;
+  train.fe = {dir / "fe"};
+  train.hips = dir / "hips";
+  train.progress = false;
+  const EstimatorModel model = train_estimator_model(train);
+  ASSERT_TRUE(model.estimator.depths.known());
+  EXPECT_EQ(model.estimator.depths.curvilinear_mm(5, 3), 2.0);  // radius 25, step 4
+  write_estimator_model(model, dir / "model.h5");
+  const EstimatorModel reloaded = read_estimator_model(dir / "model.h5");
+  ASSERT_TRUE(reloaded.estimator.depths.known());
+  EXPECT_EQ(reloaded.estimator.depths.curvilinear_mm, model.estimator.depths.curvilinear_mm);
+  EXPECT_EQ(reloaded.estimator.depths.radial_mm, model.estimator.depths.radial_mm);
+
+  // A target whose labrum is a small ball beside the joint (concentric closed spheres would put the
+  // femur inside the labrum from the start, which compute_penetration refuses): nothing penetrates
+  // over the motion, the depths computed for it are 0 at every step, and depth_nn gives the
+  // nearest hips' level times the contact-free profile (1 + 0.1 s) / 1.1.
+  geometry::HipModel target = sphere_hip(22.5);
+  target.tissues["labrum"] = geometry::make_octasphere(geometry::Vec3(32.5, 0, 0), 3.0, 3);
+  target.tissues["acetabular_cartilage"] = geometry::make_octasphere(geometry::Vec3(-32.5, 0, 0), 3.0, 3);
+  geometry::write_hip_model(target, dir / "target");
+  const HipPrediction a = predict_hip(model, dir / "target", stats::EstimatorMethod::kDepthNn, 3);
+  const HipPrediction b = predict_hip(reloaded, dir / "target", stats::EstimatorMethod::kDepthNn, 3);
+  ASSERT_TRUE(a.depths.known());
+  EXPECT_EQ(a.depths.curvilinear_mm.cols(), 4);
+  EXPECT_EQ(a.depths.curvilinear_mm.maxCoeff(), 0.0);
+  EXPECT_EQ(a.depths.radial_mm.maxCoeff(), 0.0);
+  ASSERT_EQ(a.result.steps.size(), 4u);
+  for (std::size_t j = 0; j < 4; ++j) {
+    EXPECT_NEAR(a.result.steps[j].estimate / a.result.steps[0].estimate, (1.1 + 0.1 * static_cast<double>(j)) / 1.1, 1e-12);
+    EXPECT_EQ(a.result.steps[j].estimate, b.result.steps[j].estimate);
+    EXPECT_EQ(a.result.steps[j].low, b.result.steps[j].low);
+    EXPECT_EQ(a.result.steps[j].high, b.result.steps[j].high);
+  }
+
+  // The leave-one-out has depth_nn rows, and on the impinging hips it beats the plain kNN, which
+  // copies non-impinging neighbours' curves (radius 25's 4 nearest: 23, 24, 26, 22).
+  EstimatorValidateOptions options = sphere_validate_options(dir, 2);
+  const auto summary = validate_estimator(options);
+  EXPECT_TRUE(std::isfinite(summary.mean_error[1][3]));
+  EXPECT_LT(summary.mean_error[1][3], summary.mean_error[1][1]);
+
+  // A model without depths refuses depth_nn (its file says so too).
+  const EstimatorTrainOptions plain = four_sphere_training("depth-nn-plain", 3);
+  const EstimatorModel plain_model = train_estimator_model(plain);
+  EXPECT_FALSE(plain_model.estimator.depths.known());
+  expect_error([&] { predict_hip(plain_model, dir / "target", stats::EstimatorMethod::kDepthNn, 1); },
+               "depth_nn needs the training hips' penetration depths");
+  write_estimator_model(plain_model, dir / "plain.h5");
+  EXPECT_FALSE(read_estimator_model(dir / "plain.h5").estimator.depths.known());
+  // Another motion: predict does not know its axis and refuses depth_nn.
+  const fs::path other = scratch("depth-nn-other");
+  write_study(other, {10, 20, 30, 40});
+  train.fe = {other / "fe"};
+  train.hips = other / "hips";
+  const EstimatorModel other_model = train_estimator_model(train);
+  EXPECT_TRUE(other_model.estimator.depths.known());
+  expect_error([&] { predict_hip(other_model, dir / "target", stats::EstimatorMethod::kDepthNn, 1); },
+               "is not standing-to-sitting");
+}
+
 }  // namespace
 }  // namespace hipfai::studies
 
@@ -378,6 +464,7 @@ TEST(EstimatorStudy, ReadsAFemSweepFolder) {
   write_sweep_model(dir, "left_hip", {10, 20, 30}, 1.0, Eigen::Vector3d::UnitZ());
   EXPECT_THROW(read_fe_sweep(dir, "pressure_max_mpa"), Error);
 }
+
 
 }  // namespace
 }  // namespace hipfai::studies
