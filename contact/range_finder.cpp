@@ -1,5 +1,6 @@
 #include "contact/range_finder.h"
 
+#include "contact/axis_reach.h"
 #include "core/parallel.h"
 
 #include <algorithm>
@@ -323,11 +324,63 @@ RangeOfMotion range_of_motion_with_edges(const CylindricalPoseCache& mobile_on_f
   return to_range(anticlockwise, clockwise);
 }
 
+bool finite_with_valid_indices(const geometry::TriMesh& mesh) {
+  const auto n = static_cast<std::int32_t>(mesh.vertices.size());
+  for (const Vec3& p : mesh.vertices) {
+    if (!p.allFinite()) return false;
+  }
+  for (const auto& tri : mesh.triangles) {
+    for (const std::int32_t v : tri) {
+      if (v < 0 || v >= n) return false;
+    }
+  }
+  return !mesh.vertices.empty() && !mesh.triangles.empty();
+}
+
+// Indices of the kept sub-meshes back to the input meshes'.
+void to_input_indices(LimitingContact& contact, const AxisReach& reach) {
+  const auto map = [](std::int32_t& index, const std::vector<std::int32_t>& original) {
+    if (index >= 0) index = original[static_cast<std::size_t>(index)];
+  };
+  switch (contact.kind) {
+    case ContactKind::kNone: break;
+    case ContactKind::kMobileVertexOnFixedTriangle:
+      map(contact.vertex, reach.mobile_vertices);
+      map(contact.triangle, reach.fixed_triangles);
+      break;
+    case ContactKind::kFixedVertexOnMobileTriangle:
+      map(contact.vertex, reach.fixed_vertices);
+      map(contact.triangle, reach.mobile_triangles);
+      break;
+    case ContactKind::kEdgeOnEdge:
+      for (auto& v : contact.mobile_edge) map(v, reach.mobile_vertices);
+      for (auto& v : contact.fixed_edge) map(v, reach.fixed_vertices);
+      break;
+  }
+}
+
 }  // namespace
 
 RangeOfMotion range_of_motion(const geometry::TriMesh& fixed, const geometry::TriMesh& mobile,
                               const Vec3& centre, const Vec3& axis,
                               const RangeOfMotionOptions& options) {
+  if (options.cull_unreachable && make_axis_frame(centre, axis).valid && finite_with_valid_indices(fixed) &&
+      finite_with_valid_indices(mobile)) {
+    const AxisReach reach = reach_about_axis(fixed, mobile, centre, axis);
+    if (reach.fixed.triangles.empty() && reach.mobile.triangles.empty()) {
+      return to_range(DirectionBest{}, DirectionBest{});  // nothing can meet: free both ways
+    }
+    // (One side with nothing left but the other with triangles is left to the full meshes: only
+    // isolated vertices could do that.)
+    if (!reach.fixed.triangles.empty() && !reach.mobile.triangles.empty()) {
+      RangeOfMotionOptions whole = options;
+      whole.cull_unreachable = false;
+      RangeOfMotion range = range_of_motion(reach.fixed, reach.mobile, centre, axis, whole);
+      to_input_indices(range.anticlockwise_limit, reach);
+      to_input_indices(range.clockwise_limit, reach);
+      return range;
+    }
+  }
   const CylindricalTable fixed_table =
       CylindricalTable::build(fixed, centre, axis, options.table, &mobile);
   if (fixed_table.status() == QueryStatus::kInvalidInput) return invalid_range(fixed_table.message());

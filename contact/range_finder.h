@@ -75,6 +75,11 @@ struct RangeOfMotion {
 struct RangeOfMotionOptions {
   bool include_fixed_vertices = true;  // also fixed vertices against mobile triangles
   bool include_edge_edge = true;       // also edge-edge first contacts (exact, closed form)
+  // Drop, once per body pair and axis, every vertex, triangle and edge whose (r, z) about the axis
+  // lies where the other body has nothing (contact/axis_reach.h): they meet nothing at any angle,
+  // so the ranges and limiting contacts are the same (indices are of the input meshes); every
+  // pass then runs on what is left. false: every pass over the whole meshes (the reference).
+  bool cull_unreachable = true;
   CylindricalTableOptions table;
   CylindricalQueryOptions query;
 };

@@ -5,7 +5,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <unordered_set>
+#include <cstdint>
+#include <utility>
+#include <vector>
 
 namespace hipfai::geometry {
 
@@ -37,20 +39,42 @@ double triangle_area(const TriMesh& mesh, std::size_t t) {
 }
 
 double mean_edge_length(const TriMesh& mesh) {
-  std::unordered_set<std::uint64_t> seen;
-  seen.reserve(mesh.triangles.size() * 2);
+  // Each undirected edge counted once, at its first appearance in triangle order (the order of
+  // the sum, so the result does not depend on how duplicates are found). Duplicates are found by
+  // buckets on the lower vertex, sorted per bucket: linear in the mesh, no hashing.
+  const std::size_t num_half = 3 * mesh.triangles.size();
+  const std::size_t num_vertices = mesh.vertices.size();
+  std::vector<std::uint32_t> start(num_vertices + 1, 0);
+  const auto ends = [&](std::size_t h) {
+    const Triangle& tri = mesh.triangles[h / 3];
+    const auto a = static_cast<std::uint32_t>(tri[h % 3]), b = static_cast<std::uint32_t>(tri[(h % 3 + 1) % 3]);
+    return std::pair{std::min(a, b), std::max(a, b)};
+  };
+  for (std::size_t h = 0; h < num_half; ++h) ++start[ends(h).first + 1];
+  for (std::size_t v = 0; v < num_vertices; ++v) start[v + 1] += start[v];
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> bucket(num_half);  // (upper vertex, half-edge)
+  std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+  for (std::size_t h = 0; h < num_half; ++h) {
+    const auto [lo, hi] = ends(h);
+    bucket[fill[lo]++] = {hi, static_cast<std::uint32_t>(h)};
+  }
+  std::vector<std::uint8_t> first(num_half, 0);
+  for (std::size_t v = 0; v < num_vertices; ++v) {
+    const auto begin = bucket.begin() + start[v], end = bucket.begin() + start[v + 1];
+    std::sort(begin, end);
+    for (auto it = begin; it != end; ++it) {
+      if (it == begin || it->first != (it - 1)->first) first[it->second] = 1;
+    }
+  }
   double total = 0.0;
   std::size_t count = 0;
-  for (const Triangle& tri : mesh.triangles) {
-    for (int e = 0; e < 3; ++e) {
-      const auto a = static_cast<std::uint32_t>(tri[e]);
-      const auto b = static_cast<std::uint32_t>(tri[(e + 1) % 3]);
-      const std::uint64_t key =
-          (static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
-      if (!seen.insert(key).second) continue;
-      total += (mesh.vertices[a] - mesh.vertices[b]).norm();
-      ++count;
-    }
+  for (std::size_t h = 0; h < num_half; ++h) {
+    if (!first[h]) continue;
+    const Triangle& tri = mesh.triangles[h / 3];
+    total += (mesh.vertices[static_cast<std::size_t>(tri[h % 3])] -
+              mesh.vertices[static_cast<std::size_t>(tri[(h % 3 + 1) % 3])])
+                 .norm();
+    ++count;
   }
   return count ? total / static_cast<double>(count) : 0.0;
 }
