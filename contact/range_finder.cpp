@@ -14,6 +14,9 @@ namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 constexpr double kDegPerRad = 180.0 / std::numbers::pi;
+// Widening of the edges' angular extents: far above the rounding of atan2 and of the edge-edge
+// roots (acos near +-1 loses about sqrt(ulp), ~1e-8 rad), far below any angle that matters.
+constexpr double kAngularMarginRad = 1e-6;
 
 struct DirectionBest {
   double angle_rad = kTwoPi;
@@ -65,6 +68,101 @@ void scan(const CylindricalPoseCache& cache, ContactKind kind, int num_threads,
   }
 }
 
+// ------------------------------------------------------------------ vertex passes from a table
+
+// A triangle's angular extent about the axis: theta in [lo, lo + width].
+struct AngularExtent {
+  double lo = -std::numbers::pi, width = kTwoPi;
+};
+
+// True unless every rotation that brings an angle `theta` into `extent` is at least as far as the
+// running minima in both directions (then nothing of it can be offered: offers are strict). The
+// rotation phi puts theta in the extent for phi in [start, start + width] (mod 2 pi).
+bool may_beat(double theta, const AngularExtent& extent, const DirectionBest& forward, const DirectionBest& backward) {
+  if (extent.width >= kTwoPi) return true;
+  double start = extent.lo - theta;  // in (-3 pi, 3 pi)
+  while (start < 0.0) start += kTwoPi;
+  while (start >= kTwoPi) start -= kTwoPi;
+  if (start + extent.width >= kTwoPi) return true;  // the set holds phi = 0
+  return start < forward.angle_rad || kTwoPi - (start + extent.width) < backward.angle_rad;
+}
+
+// Seen from the axis, a triangle off it lies in an open half-plane through the axis, so its
+// vertices' angles span its whole extent (less than pi); one that reaches the axis spans all
+// angles. Widened by kAngularMarginRad (crossing angles come from acos, ~1e-8 rad near tangency).
+std::vector<AngularExtent> triangle_extents(const CylindricalTable& table) {
+  std::vector<AngularExtent> extents(table.num_triangles());
+  for (std::size_t t = 0; t < extents.size(); ++t) {
+    const auto& tri = table.triangle(static_cast<std::int32_t>(t));
+    const Vec3& a = table.local_vertex(tri[0]);
+    const Vec3& b = table.local_vertex(tri[1]);
+    const Vec3& c = table.local_vertex(tri[2]);
+    if (!(a.head<2>().squaredNorm() > 0.0 && b.head<2>().squaredNorm() > 0.0 && c.head<2>().squaredNorm() > 0.0)) {
+      continue;  // a vertex on the axis: all angles
+    }
+    const double theta_a = std::atan2(a.y(), a.x());
+    const double db = wrap_angle(std::atan2(b.y(), b.x()) - theta_a);
+    const double dc = wrap_angle(std::atan2(c.y(), c.x()) - theta_a);
+    const double lo = std::min({0.0, db, dc}), hi = std::max({0.0, db, dc});
+    if (hi - lo >= 0.9 * std::numbers::pi) continue;  // around the axis, or nearly: all angles
+    extents[t] = {theta_a + lo - kAngularMarginRad, hi - lo + 2.0 * kAngularMarginRad};
+  }
+  return extents;
+}
+
+// The vertex pass of a pose cache built from `table` and `points` followed by scan(), without
+// storing the crossings: the same candidates, crossings, order and offers, except that a candidate
+// triangle whose angular extent cannot beat the running minima is not evaluated (it could offer
+// nothing). Each chunk starts from the minima it is given.
+void scan_table(const CylindricalTable& table, const geometry::TriMesh& points, ContactKind kind, double touching_mm,
+                bool prune, int num_threads, DirectionBest& forward, DirectionBest& backward) {
+  if (table.status() != QueryStatus::kOk) return;
+  // Without pruning every extent is the whole turn, which may_beat never rejects.
+  const std::vector<AngularExtent> extents =
+      prune ? triangle_extents(table) : std::vector<AngularExtent>(table.num_triangles());
+  const AxisFrame& frame = table.frame();
+  const int threads = resolve_threads(num_threads);
+  std::vector<DirectionBest> chunk_forward(static_cast<std::size_t>(threads), forward);
+  std::vector<DirectionBest> chunk_backward(static_cast<std::size_t>(threads), backward);
+  parallel_chunks(points.vertices.size(), threads, [&](std::size_t begin, std::size_t end, int c) {
+    DirectionBest& fwd = chunk_forward[static_cast<std::size_t>(c)];
+    DirectionBest& bwd = chunk_backward[static_cast<std::size_t>(c)];
+    std::array<double, 2> angles{};
+    std::vector<std::pair<std::int32_t, double>> found;
+    for (std::size_t v = begin; v < end; ++v) {
+      const Vec3 local = frame.to_local(points.vertices[v]);
+      if (!table.distance_may_touch(local.norm())) continue;
+      const Cylindrical cyl = to_cylindrical(local);
+      found.clear();
+      table.for_each_candidate(cyl.r, cyl.z, [&](std::int32_t t) {
+        if (!may_beat(cyl.theta, extents[static_cast<std::size_t>(t)], fwd, bwd)) return;
+        const auto& tri = table.triangle(t);
+        const int n = circle_triangle_crossings(cyl.r, cyl.z, table.local_vertex(tri[0]), table.local_vertex(tri[1]),
+                                                table.local_vertex(tri[2]), angles);
+        for (int i = 0; i < n; ++i) found.emplace_back(t, angles[static_cast<std::size_t>(i)]);
+      });
+      std::sort(found.begin(), found.end());
+      found.erase(std::unique(found.begin(), found.end()), found.end());
+      for (const auto& [triangle, theta] : found) {
+        const LimitingContact contact{kind, static_cast<std::int32_t>(v), triangle};
+        const double delta = wrap_angle(theta - cyl.theta);
+        if (cyl.r * std::abs(delta) <= touching_mm) {
+          const double exit = crossing_exit_sign(theta, table.local_normal(triangle));
+          if (exit < 0.0) fwd.offer(0.0, contact);
+          if (exit > 0.0) bwd.offer(0.0, contact);
+          continue;
+        }
+        fwd.offer(delta > 0.0 ? delta : delta + kTwoPi, contact);
+        bwd.offer(delta < 0.0 ? -delta : kTwoPi - delta, contact);
+      }
+    }
+  });
+  for (int c = 0; c < threads; ++c) {
+    forward.offer(chunk_forward[static_cast<std::size_t>(c)].angle_rad, chunk_forward[static_cast<std::size_t>(c)].contact);
+    backward.offer(chunk_backward[static_cast<std::size_t>(c)].angle_rad, chunk_backward[static_cast<std::size_t>(c)].contact);
+  }
+}
+
 // ------------------------------------------------------------------ edge-edge contacts
 
 // An edge in the axis frame with its extent in radius and height (both kept by the rotation),
@@ -72,6 +170,9 @@ void scan(const CylindricalPoseCache& cache, ContactKind kind, int num_threads,
 struct LocalEdge {
   Vec3 p, d;  // start and direction (end - start), local coordinates
   double r_lo, r_hi, z_lo, z_hi;
+  // Angular extent about the axis: theta in [theta_lo, theta_lo + theta_width] (width <= pi for a
+  // segment off the axis; 2 pi, i.e. anything, when it passes within its length of the axis).
+  double theta_lo, theta_width;
   std::array<std::int32_t, 2> ends;
 };
 
@@ -121,6 +222,16 @@ std::vector<LocalEdge> local_edges(const geometry::TriMesh& mesh, const AxisFram
     e.r_hi = std::sqrt(std::max(p.x() * p.x() + p.y() * p.y(), q.x() * q.x() + q.y() * q.y())) + margin;
     e.z_lo = std::min(p.z(), q.z()) - margin;
     e.z_hi = std::max(p.z(), q.z()) + margin;
+    // Seen from the axis, a segment that does not pass through it sweeps the shorter arc between
+    // its ends' angles. Widened by kAngularMarginRad for rounding (also of the roots below).
+    const double theta_p = std::atan2(p.y(), p.x()), sweep = wrap_angle(std::atan2(q.y(), q.x()) - theta_p);
+    if (e.r_lo > 0.0 && std::abs(sweep) < 0.9 * std::numbers::pi) {
+      e.theta_lo = (sweep >= 0.0 ? theta_p : theta_p + sweep) - kAngularMarginRad;
+      e.theta_width = std::abs(sweep) + 2.0 * kAngularMarginRad;
+    } else {
+      e.theta_lo = -std::numbers::pi;
+      e.theta_width = kTwoPi;
+    }
     e.ends = {a, b};
     edges.push_back(e);
   }
@@ -227,9 +338,23 @@ void edge_pair(const LocalEdge& m, const Vec3& w, const LocalEdge& f, const Vec3
   }
 }
 
+// False when every rotation that brings the two edges' angular extents together is at least as
+// far as the running minima in both directions: then no root of edge_pair can be offered (a
+// contact point lies in both extents). The mobile edge turned by phi meets the fixed edge's extent
+// for phi in [start, start + width] (mod 2 pi).
+bool may_beat(const LocalEdge& m, const LocalEdge& f, const DirectionBest& forward, const DirectionBest& backward) {
+  const double width = m.theta_width + f.theta_width;
+  if (width >= kTwoPi) return true;
+  double start = f.theta_lo - m.theta_lo - m.theta_width;  // in (-5 pi, 3 pi)
+  while (start < 0.0) start += kTwoPi;
+  while (start >= kTwoPi) start -= kTwoPi;
+  if (start + width >= kTwoPi) return true;  // the set holds phi = 0
+  return start < forward.angle_rad || kTwoPi - (start + width) < backward.angle_rad;
+}
+
 // Every edge-edge first contact that beats the running minima `forward` / `backward`.
 void scan_edges(const geometry::TriMesh& fixed, const geometry::TriMesh& mobile, const AxisFrame& frame,
-                int num_threads, DirectionBest& forward, DirectionBest& backward) {
+                bool prune, int num_threads, DirectionBest& forward, DirectionBest& backward) {
   const std::vector<LocalEdge> fixed_edges = local_edges(fixed, frame);
   const std::vector<LocalEdge> mobile_edges = local_edges(mobile, frame);
   if (fixed_edges.empty() || mobile_edges.empty()) return;
@@ -257,6 +382,7 @@ void scan_edges(const geometry::TriMesh& fixed, const geometry::TriMesh& mobile,
             if (f.r_hi < m.r_lo || f.r_lo > m.r_hi || f.z_hi < m.z_lo || f.z_lo > m.z_hi) continue;
             // Each pair once: in the cell of the lower corner of the two extents' overlap.
             if (std::max(r_first, grid.ir(f.r_lo)) != r || std::max(z_first, grid.iz(f.z_lo)) != z) continue;
+            if (prune && !may_beat(m, f, fwd, bwd)) continue;
             edge_pair(m, w, f, g[fi], fwd, bwd);
           }
         }
@@ -307,22 +433,6 @@ RangeOfMotion range_of_motion(const CylindricalPoseCache& mobile_on_fixed,
 }
 
 namespace {
-
-// The vertex passes, then the edge-edge pass bounded by their ranges.
-RangeOfMotion range_of_motion_with_edges(const CylindricalPoseCache& mobile_on_fixed,
-                                         const CylindricalPoseCache* fixed_on_mobile,
-                                         const geometry::TriMesh& fixed, const geometry::TriMesh& mobile,
-                                         const AxisFrame& frame, int num_threads) {
-  RangeOfMotion vertices = range_of_motion(mobile_on_fixed, fixed_on_mobile, num_threads);
-  if (vertices.status != QueryStatus::kOk) return vertices;
-  DirectionBest anticlockwise, clockwise;
-  anticlockwise.angle_rad = vertices.anticlockwise_deg / kDegPerRad;
-  anticlockwise.contact = vertices.anticlockwise_limit;
-  clockwise.angle_rad = vertices.clockwise_deg / kDegPerRad;
-  clockwise.contact = vertices.clockwise_limit;
-  scan_edges(fixed, mobile, frame, num_threads, anticlockwise, clockwise);
-  return to_range(anticlockwise, clockwise);
-}
 
 bool finite_with_valid_indices(const geometry::TriMesh& mesh) {
   const auto n = static_cast<std::int32_t>(mesh.vertices.size());
@@ -384,24 +494,29 @@ RangeOfMotion range_of_motion(const geometry::TriMesh& fixed, const geometry::Tr
   const CylindricalTable fixed_table =
       CylindricalTable::build(fixed, centre, axis, options.table, &mobile);
   if (fixed_table.status() == QueryStatus::kInvalidInput) return invalid_range(fixed_table.message());
-  CylindricalQueryOptions crossings_only = options.query;
-  crossings_only.pose_index = false;  // the finder reads the crossings; it never queries a pose
-  const CylindricalPoseCache mobile_on_fixed(fixed_table, mobile, crossings_only);
-  std::unique_ptr<CylindricalPoseCache> fixed_on_mobile;
+  // The vertex passes straight from the tables (what a pose cache per body would store, then
+  // scan(), without storing it), then the edge-edge pass bounded by their ranges.
+  DirectionBest anticlockwise, clockwise;
+  const double touching_mm = options.query.touching_mm;
+  const int threads = options.query.num_threads;
+  const bool prune = options.angular_pruning;
+  scan_table(fixed_table, mobile, ContactKind::kMobileVertexOnFixedTriangle, touching_mm, prune, threads, anticlockwise,
+             clockwise);
   if (options.include_fixed_vertices) {
     const CylindricalTable mobile_table =
         CylindricalTable::build(mobile, centre, axis, options.table, &fixed);
     if (mobile_table.status() == QueryStatus::kInvalidInput) {
       return invalid_range(mobile_table.message());
     }
-    fixed_on_mobile = std::make_unique<CylindricalPoseCache>(mobile_table, fixed, crossings_only);
+    // The mobile mesh turning anticlockwise moves the fixed vertices clockwise relative to it.
+    scan_table(mobile_table, fixed, ContactKind::kFixedVertexOnMobileTriangle, touching_mm, prune, threads, clockwise,
+               anticlockwise);
   }
-  if (!options.include_edge_edge) {
-    return range_of_motion(mobile_on_fixed, fixed_on_mobile.get(), options.query.num_threads);
+  if (options.include_edge_edge) {
+    // Same frame as the tables' (make_axis_frame of the same centre and axis).
+    scan_edges(fixed, mobile, make_axis_frame(centre, axis).frame, prune, threads, anticlockwise, clockwise);
   }
-  // Same frame as the tables' (make_axis_frame of the same centre and axis).
-  return range_of_motion_with_edges(mobile_on_fixed, fixed_on_mobile.get(), fixed, mobile,
-                                    make_axis_frame(centre, axis).frame, options.query.num_threads);
+  return to_range(anticlockwise, clockwise);
 }
 
 std::vector<AxisRangeOfMotion> range_of_motion_fan(const geometry::TriMesh& fixed,

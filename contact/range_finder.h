@@ -80,6 +80,10 @@ struct RangeOfMotionOptions {
   // so the ranges and limiting contacts are the same (indices are of the input meshes); every
   // pass then runs on what is left. false: every pass over the whole meshes (the reference).
   bool cull_unreachable = true;
+  // Skip a candidate (triangle for a vertex, edge for an edge) when the rotations that bring their
+  // angular extents about the axis together are all at least as far as the ranges found so far:
+  // it could not limit either direction. false: every candidate evaluated (the reference).
+  bool angular_pruning = true;
   CylindricalTableOptions table;
   CylindricalQueryOptions query;
 };

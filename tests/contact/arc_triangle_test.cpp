@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <numbers>
 #include <random>
 #include <vector>
@@ -30,6 +31,35 @@ TEST(ArcTriangle, WrapAngleMapsToHalfOpenInterval) {
     // Same direction: differ by a multiple of 2 pi (1e-12: rounding of |a| <= 50).
     EXPECT_NEAR(std::cos(w), std::cos(a), 1e-12);
     EXPECT_NEAR(std::sin(w), std::sin(a), 1e-12);
+  }
+}
+
+// The fast path of wrap_angle (|angle| < 2 pi, where angle -+ 2 pi is exact) against the library's
+// exact remainder, bit for bit, signs of zero included, on random angles and on the seams.
+TEST(ArcTriangle, WrapAngleEqualsTheExactRemainderBitForBit) {
+  const auto reference = [](double angle) {
+    double wrapped = std::remainder(angle, 2.0 * std::numbers::pi);
+    if (wrapped <= -std::numbers::pi) wrapped += 2.0 * std::numbers::pi;
+    return wrapped;
+  };
+  const auto same_bits = [](double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; };
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-7.0, 7.0);
+  std::vector<double> angles;
+  for (int i = 0; i < 200000; ++i) angles.push_back(u(rng));
+  const double pi = std::numbers::pi, two_pi = 2.0 * std::numbers::pi;
+  for (const double seam : {0.0, pi, -pi, two_pi, -two_pi, 3 * pi, -3 * pi}) {
+    double below = seam, above = seam;
+    for (int k = 0; k < 4; ++k) {
+      angles.push_back(below);
+      angles.push_back(above);
+      below = std::nextafter(below, -10.0);
+      above = std::nextafter(above, 10.0);
+    }
+  }
+  angles.push_back(-0.0);
+  for (const double angle : angles) {
+    ASSERT_TRUE(same_bits(wrap_angle(angle), reference(angle))) << std::hexfloat << angle;
   }
 }
 

@@ -2,6 +2,8 @@
 // against a brute force over every pair of boxes, and on exact borders), and the range finder on
 // what it keeps equals the range finder on the whole meshes, bit for bit, contacts included.
 #include "contact/axis_reach.h"
+#include "contact/cylindrical_segmenting.h"
+#include "contact/cylindrical_table.h"
 #include "contact/range_finder.h"
 #include "geometry/mesh_io.h"
 #include "geometry/primitive_meshes.h"
@@ -174,6 +176,76 @@ TEST(AxisReach, BodiesThatCanNeverMeetAreFreeBothWays) {
   EXPECT_EQ(range.anticlockwise_deg, 360.0);
   EXPECT_EQ(range.clockwise_deg, 360.0);
   expect_same_range(fixed, mobile, Vec3::Zero(), Vec3::UnitZ(), "apart");
+}
+
+// The range finder's vertex passes read the crossings straight from the tables and skip the
+// triangles whose angular extent cannot beat the running minima: the ranges and contacts equal
+// those of pose caches that store every crossing (range_of_motion of two caches), on random scenes
+// and the CT, with 1 and 2 threads.
+TEST(AxisReach, TableScanEqualsThePoseCachesScan) {
+  const auto check = [](const TriMesh& fixed, const TriMesh& mobile, const Vec3& centre, const Vec3& axis,
+                        const std::string& what) {
+    RangeOfMotionOptions vertices_only;
+    vertices_only.include_edge_edge = false;
+    vertices_only.cull_unreachable = false;
+    CylindricalQueryOptions query;
+    query.pose_index = false;
+    const CylindricalPoseCache mobile_on_fixed(CylindricalTable::build(fixed, centre, axis, {}, &mobile), mobile, query);
+    const CylindricalPoseCache fixed_on_mobile(CylindricalTable::build(mobile, centre, axis, {}, &fixed), fixed, query);
+    const RangeOfMotion reference = range_of_motion(mobile_on_fixed, &fixed_on_mobile, 1);
+    for (const int threads : {1, 2}) {
+      vertices_only.query.num_threads = threads;
+      const RangeOfMotion range = range_of_motion(fixed, mobile, centre, axis, vertices_only);
+      const std::string label = what + ", " + std::to_string(threads) + " threads";
+      EXPECT_EQ(range.anticlockwise_deg, reference.anticlockwise_deg) << label;
+      EXPECT_EQ(range.clockwise_deg, reference.clockwise_deg) << label;
+      expect_same_contact(range.anticlockwise_limit, reference.anticlockwise_limit, label + " anticlockwise");
+      expect_same_contact(range.clockwise_limit, reference.clockwise_limit, label + " clockwise");
+    }
+  };
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int trial = 0; trial < 30; ++trial) {
+    const TriMesh fixed = random_shape(rng, trial % 3);
+    TriMesh mobile = random_shape(rng, (trial + 2) % 3);
+    for (Vec3& p : mobile.vertices) p += Vec3(8.0 + 12.0 * u(rng), 0, 0);
+    check(fixed, mobile, Vec3(4 * u(rng) - 2, 4 * u(rng) - 2, 4 * u(rng) - 2), test_shapes::random_unit(rng),
+          "trial " + std::to_string(trial));
+  }
+  const std::string folder = std::string(HIPFAI_SOURCE_DIR) + "/meshes/real-hips/LHDL_CT/";
+  check(geometry::read_mesh(folder + "pelvis_no_sacrum.ply"), geometry::read_mesh(folder + "femur_r.ply"),
+        Vec3(143.80, 243.46, -432.58), Vec3(0, 0, 1), "CT");
+}
+
+// Angular pruning (vertex and edge candidates) changes nothing: on boxes against boxes, where sharp
+// edges often meet first, and on the CT, with and without the edge-edge pass.
+TEST(AxisReach, AngularPruningChangesNoRangeNorContact) {
+  const auto check = [](const TriMesh& fixed, const TriMesh& mobile, const Vec3& centre, const Vec3& axis,
+                        const std::string& what) {
+    RangeOfMotionOptions pruned, reference;
+    reference.angular_pruning = false;
+    const RangeOfMotion a = range_of_motion(fixed, mobile, centre, axis, pruned);
+    const RangeOfMotion b = range_of_motion(fixed, mobile, centre, axis, reference);
+    EXPECT_EQ(a.anticlockwise_deg, b.anticlockwise_deg) << what;
+    EXPECT_EQ(a.clockwise_deg, b.clockwise_deg) << what;
+    expect_same_contact(a.anticlockwise_limit, b.anticlockwise_limit, what + " anticlockwise");
+    expect_same_contact(a.clockwise_limit, b.clockwise_limit, what + " clockwise");
+    return (a.anticlockwise_limit.kind == ContactKind::kEdgeOnEdge) + (a.clockwise_limit.kind == ContactKind::kEdgeOnEdge);
+  };
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  int edge_limited = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    const TriMesh fixed = random_shape(rng, 2);
+    TriMesh mobile = random_shape(rng, trial % 2 == 0 ? 2 : 1);
+    for (Vec3& p : mobile.vertices) p += Vec3(14.0 + 8.0 * u(rng), 0, 0);
+    edge_limited += check(fixed, mobile, Vec3(4 * u(rng) - 2, 4 * u(rng) - 2, 4 * u(rng) - 2),
+                          test_shapes::random_unit(rng), "trial " + std::to_string(trial));
+  }
+  EXPECT_GT(edge_limited, 5);  // edge-edge contacts do limit in these scenes
+  const std::string folder = std::string(HIPFAI_SOURCE_DIR) + "/meshes/real-hips/LHDL_CT/";
+  check(geometry::read_mesh(folder + "pelvis_no_sacrum.ply"), geometry::read_mesh(folder + "femur_r.ply"),
+        Vec3(143.80, 243.46, -432.58), Vec3(0.3, -0.4, 0.866).normalized(), "CT");
 }
 
 }  // namespace
