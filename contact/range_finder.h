@@ -2,11 +2,18 @@
 // one pass, without stepping.
 //
 // For every mobile vertex whose circle about the axis crosses the fixed mesh (ring table of
-// cylindrical_table.h), all crossing angles are known (CylindricalPoseCache). Rotating the mobile
+// cylindrical_table.h), the crossing angles follow in closed form (App. C). Rotating the mobile
 // mesh anticlockwise (right-hand rule about the axis) by phi, a vertex at theta_v first meets the
 // crossing at theta_k after phi = (theta_k - theta_v) mod 2pi; clockwise after
 // (theta_v - theta_k) mod 2pi. The range of motion in each direction is the smallest such angle
 // over all vertices and crossings: the rotation before the first contact.
+//
+// Work (the mesh overload). Once per body pair and axis, everything whose (r, z) lies where the
+// other body has nothing is dropped (contact/axis_reach.h). The vertex passes then read the
+// crossings straight from the tables (the overload of two pose caches reads stored ones), and a
+// candidate triangle, or edge pair, is evaluated only if the rotations that bring their angular
+// extents together include one shorter than the ranges found so far (offers are strict, so a
+// skipped candidate could have changed nothing). Both are exact; options switch them off.
 //
 // Contact types. A contact between two triangle meshes starts as vertex-on-triangle or
 // edge-on-edge. Both vertex-on-triangle types are covered: mobile vertices against fixed
