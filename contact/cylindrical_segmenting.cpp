@@ -125,24 +125,13 @@ CylindricalPoseCache::CylindricalPoseCache(const CylindricalTable& table,
   parallel_chunks(mobile.vertices.size(), threads,
                           [&](std::size_t begin, std::size_t end, int chunk_id) {
     Chunk& chunk = chunks[static_cast<std::size_t>(chunk_id)];
-    std::array<double, 2> angles{};
     std::vector<std::pair<std::int32_t, double>> found;
     for (std::size_t v = begin; v < end; ++v) {
       const Vec3 local = frame.to_local(mobile.vertices[v]);
       if (!table.distance_may_touch(local.norm())) continue;
       const Cylindrical cyl = to_cylindrical(local);
-      found.clear();
-      table.for_each_candidate(cyl.r, cyl.z, [&](std::int32_t t) {
-        const auto& tri = table.triangle(t);
-        const int n = circle_triangle_crossings(cyl.r, cyl.z, table.local_vertex(tri[0]),
-                                                table.local_vertex(tri[1]),
-                                                table.local_vertex(tri[2]), angles);
-        for (int i = 0; i < n; ++i) found.emplace_back(t, angles[static_cast<std::size_t>(i)]);
-      });
+      circle_crossings(table, cyl.r, cyl.z, [](std::int32_t) { return true; }, found);
       if (found.empty()) continue;
-      // neighbour_cells > 0 offers a triangle several times: keep each crossing once.
-      std::sort(found.begin(), found.end());
-      found.erase(std::unique(found.begin(), found.end()), found.end());
       TrackedVertex tracked{static_cast<std::int32_t>(v), cyl.r, cyl.z, cyl.theta,
                             chunk.theta.size(), chunk.theta.size() + found.size()};
       for (const auto& [t, theta] : found) {

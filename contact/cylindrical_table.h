@@ -35,11 +35,13 @@
 #include "geometry/tri_mesh.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <functional>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace hipfai::contact {
@@ -171,5 +173,24 @@ class CylindricalTable {
 void update_triangles(CylindricalTable& table, const geometry::TriMesh& fixed_now,
                       std::span<const std::int32_t> changed_triangles,
                       TableUpdate mode = TableUpdate::kRebin);
+
+// The crossings (triangle, angle) of the circle (r, z) with the table's candidate triangles for
+// which keep(triangle) holds, into `found` (cleared first), sorted and each once
+// (neighbour_cells > 0 offers a triangle several times).
+template <typename Keep>
+void circle_crossings(const CylindricalTable& table, double r, double z, Keep&& keep,
+                      std::vector<std::pair<std::int32_t, double>>& found) {
+  found.clear();
+  std::array<double, 2> angles{};
+  table.for_each_candidate(r, z, [&](std::int32_t t) {
+    if (!keep(t)) return;
+    const auto& tri = table.triangle(t);
+    const int n = circle_triangle_crossings(r, z, table.local_vertex(tri[0]), table.local_vertex(tri[1]),
+                                            table.local_vertex(tri[2]), angles);
+    for (int i = 0; i < n; ++i) found.emplace_back(t, angles[static_cast<std::size_t>(i)]);
+  });
+  std::sort(found.begin(), found.end());
+  found.erase(std::unique(found.begin(), found.end()), found.end());
+}
 
 }  // namespace hipfai::contact

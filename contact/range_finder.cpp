@@ -29,6 +29,31 @@ struct DirectionBest {
   }
 };
 
+// A vertex at (r, theta0) whose circle crosses `triangle` at `theta`: the rotation to reach it in
+// each direction. Within touching_mm of it (a resting contact) it limits only the direction that
+// enters the other solid, to 0.
+void offer_crossing(double r, double theta0, double theta, const Vec3& normal, const LimitingContact& contact,
+                    double touching_mm, DirectionBest& forward, DirectionBest& backward) {
+  const double delta = wrap_angle(theta - theta0);
+  if (r * std::abs(delta) <= touching_mm) {
+    const double exit = crossing_exit_sign(theta, normal);
+    if (exit < 0.0) forward.offer(0.0, contact);
+    if (exit > 0.0) backward.offer(0.0, contact);
+    return;
+  }
+  forward.offer(delta > 0.0 ? delta : delta + kTwoPi, contact);
+  backward.offer(delta < 0.0 ? -delta : kTwoPi - delta, contact);
+}
+
+// The chunks' minima into the overall ones, in chunk order (a tie keeps the earlier chunk's).
+void merge_chunks(const std::vector<DirectionBest>& chunk_forward, const std::vector<DirectionBest>& chunk_backward,
+                  DirectionBest& forward, DirectionBest& backward) {
+  for (std::size_t c = 0; c < chunk_forward.size(); ++c) {
+    forward.offer(chunk_forward[c].angle_rad, chunk_forward[c].contact);
+    backward.offer(chunk_backward[c].angle_rad, chunk_backward[c].contact);
+  }
+}
+
 // Smallest anticlockwise ("forward") and clockwise ("backward") motion of the cached vertices
 // before they meet a crossing; one pass over the stored crossings.
 void scan(const CylindricalPoseCache& cache, ContactKind kind, int num_threads,
@@ -44,28 +69,13 @@ void scan(const CylindricalPoseCache& cache, ContactKind kind, int num_threads,
     for (std::size_t i = begin; i < end; ++i) {
       const auto& vertex = tracked[i];
       for (std::size_t k = vertex.first; k < vertex.last; ++k) {
-        const double theta = cache.crossing_theta_rad(k);
         const std::int32_t triangle = cache.crossing_triangle(k);
-        const LimitingContact contact{kind, vertex.vertex, triangle};
-        const double delta = wrap_angle(theta - vertex.theta0_rad);
-        if (vertex.r * std::abs(delta) <= touching_mm) {
-          // Resting contact: limits only the direction that enters the other solid.
-          const double exit = crossing_exit_sign(theta, cache.local_normal(triangle));
-          if (exit < 0.0) fwd.offer(0.0, contact);
-          if (exit > 0.0) bwd.offer(0.0, contact);
-          continue;
-        }
-        fwd.offer(delta > 0.0 ? delta : delta + kTwoPi, contact);
-        bwd.offer(delta < 0.0 ? -delta : kTwoPi - delta, contact);
+        offer_crossing(vertex.r, vertex.theta0_rad, cache.crossing_theta_rad(k), cache.local_normal(triangle),
+                       {kind, vertex.vertex, triangle}, touching_mm, fwd, bwd);
       }
     }
   });
-  for (int c = 0; c < threads; ++c) {
-    forward.offer(chunk_forward[static_cast<std::size_t>(c)].angle_rad,
-                  chunk_forward[static_cast<std::size_t>(c)].contact);
-    backward.offer(chunk_backward[static_cast<std::size_t>(c)].angle_rad,
-                   chunk_backward[static_cast<std::size_t>(c)].contact);
-  }
+  merge_chunks(chunk_forward, chunk_backward, forward, backward);
 }
 
 // ------------------------------------------------------------------ vertex passes from a table
@@ -80,7 +90,7 @@ struct AngularExtent {
 // rotation phi puts theta in the extent for phi in [start, start + width] (mod 2 pi).
 bool may_beat(double theta, const AngularExtent& extent, const DirectionBest& forward, const DirectionBest& backward) {
   if (extent.width >= kTwoPi) return true;
-  double start = extent.lo - theta;  // in (-3 pi, 3 pi)
+  double start = extent.lo - theta;
   while (start < 0.0) start += kTwoPi;
   while (start >= kTwoPi) start -= kTwoPi;
   if (start + extent.width >= kTwoPi) return true;  // the set holds phi = 0
@@ -127,40 +137,20 @@ void scan_table(const CylindricalTable& table, const geometry::TriMesh& points, 
   parallel_chunks(points.vertices.size(), threads, [&](std::size_t begin, std::size_t end, int c) {
     DirectionBest& fwd = chunk_forward[static_cast<std::size_t>(c)];
     DirectionBest& bwd = chunk_backward[static_cast<std::size_t>(c)];
-    std::array<double, 2> angles{};
     std::vector<std::pair<std::int32_t, double>> found;
     for (std::size_t v = begin; v < end; ++v) {
       const Vec3 local = frame.to_local(points.vertices[v]);
       if (!table.distance_may_touch(local.norm())) continue;
       const Cylindrical cyl = to_cylindrical(local);
-      found.clear();
-      table.for_each_candidate(cyl.r, cyl.z, [&](std::int32_t t) {
-        if (!may_beat(cyl.theta, extents[static_cast<std::size_t>(t)], fwd, bwd)) return;
-        const auto& tri = table.triangle(t);
-        const int n = circle_triangle_crossings(cyl.r, cyl.z, table.local_vertex(tri[0]), table.local_vertex(tri[1]),
-                                                table.local_vertex(tri[2]), angles);
-        for (int i = 0; i < n; ++i) found.emplace_back(t, angles[static_cast<std::size_t>(i)]);
-      });
-      std::sort(found.begin(), found.end());
-      found.erase(std::unique(found.begin(), found.end()), found.end());
+      const auto beats = [&](std::int32_t t) { return may_beat(cyl.theta, extents[static_cast<std::size_t>(t)], fwd, bwd); };
+      circle_crossings(table, cyl.r, cyl.z, beats, found);
       for (const auto& [triangle, theta] : found) {
-        const LimitingContact contact{kind, static_cast<std::int32_t>(v), triangle};
-        const double delta = wrap_angle(theta - cyl.theta);
-        if (cyl.r * std::abs(delta) <= touching_mm) {
-          const double exit = crossing_exit_sign(theta, table.local_normal(triangle));
-          if (exit < 0.0) fwd.offer(0.0, contact);
-          if (exit > 0.0) bwd.offer(0.0, contact);
-          continue;
-        }
-        fwd.offer(delta > 0.0 ? delta : delta + kTwoPi, contact);
-        bwd.offer(delta < 0.0 ? -delta : kTwoPi - delta, contact);
+        offer_crossing(cyl.r, cyl.theta, theta, table.local_normal(triangle),
+                       {kind, static_cast<std::int32_t>(v), triangle}, touching_mm, fwd, bwd);
       }
     }
   });
-  for (int c = 0; c < threads; ++c) {
-    forward.offer(chunk_forward[static_cast<std::size_t>(c)].angle_rad, chunk_forward[static_cast<std::size_t>(c)].contact);
-    backward.offer(chunk_backward[static_cast<std::size_t>(c)].angle_rad, chunk_backward[static_cast<std::size_t>(c)].contact);
-  }
+  merge_chunks(chunk_forward, chunk_backward, forward, backward);
 }
 
 // ------------------------------------------------------------------ edge-edge contacts
@@ -343,13 +333,8 @@ void edge_pair(const LocalEdge& m, const Vec3& w, const LocalEdge& f, const Vec3
 // contact point lies in both extents). The mobile edge turned by phi meets the fixed edge's extent
 // for phi in [start, start + width] (mod 2 pi).
 bool may_beat(const LocalEdge& m, const LocalEdge& f, const DirectionBest& forward, const DirectionBest& backward) {
-  const double width = m.theta_width + f.theta_width;
-  if (width >= kTwoPi) return true;
-  double start = f.theta_lo - m.theta_lo - m.theta_width;  // in (-5 pi, 3 pi)
-  while (start < 0.0) start += kTwoPi;
-  while (start >= kTwoPi) start -= kTwoPi;
-  if (start + width >= kTwoPi) return true;  // the set holds phi = 0
-  return start < forward.angle_rad || kTwoPi - (start + width) < backward.angle_rad;
+  // The mobile edge's start angle must reach [f.lo - m.width, f.lo + f.width].
+  return may_beat(m.theta_lo, {f.theta_lo - m.theta_width, m.theta_width + f.theta_width}, forward, backward);
 }
 
 // Every edge-edge first contact that beats the running minima `forward` / `backward`.
@@ -389,10 +374,7 @@ void scan_edges(const geometry::TriMesh& fixed, const geometry::TriMesh& mobile,
       }
     }
   });
-  for (int c = 0; c < threads; ++c) {
-    forward.offer(chunk_forward[static_cast<std::size_t>(c)].angle_rad, chunk_forward[static_cast<std::size_t>(c)].contact);
-    backward.offer(chunk_backward[static_cast<std::size_t>(c)].angle_rad, chunk_backward[static_cast<std::size_t>(c)].contact);
-  }
+  merge_chunks(chunk_forward, chunk_backward, forward, backward);
 }
 
 RangeOfMotion to_range(const DirectionBest& anticlockwise, const DirectionBest& clockwise) {

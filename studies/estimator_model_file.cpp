@@ -212,7 +212,6 @@ EstimatorModel read_estimator_model(const std::filesystem::path& path) {
         for (Eigen::Index j = 0; j < p; ++j) {
           hip.curvilinear_mm.push_back(e.depths.curvilinear_mm(i, j));
           hip.radial_mm.push_back(e.depths.radial_mm(i, j));
-          hip.depth_mm.push_back(std::max(hip.curvilinear_mm.back(), hip.radial_mm.back()));
         }
       }
       model.hips.push_back(std::move(hip));

@@ -101,12 +101,14 @@ struct HipError {
 // 1 when the hip's penetration depth is > 0 at one of the first `steps` steps, 0 when it is 0 at
 // every one, -1 when the FE table gave no depths for one of them.
 int impinging_within(const TrainingHip& hip, int steps) {
-  if (hip.depth_mm.size() < static_cast<std::size_t>(steps)) return -1;
+  if (hip.curvilinear_mm.size() < static_cast<std::size_t>(steps) || hip.radial_mm.size() < static_cast<std::size_t>(steps)) {
+    return -1;
+  }
   bool any = false;
   for (int j = 0; j < steps; ++j) {
-    const double depth = hip.depth_mm[static_cast<std::size_t>(j)];
-    if (!std::isfinite(depth)) return -1;
-    any = any || depth > 0.0;
+    const double c = hip.curvilinear_mm[static_cast<std::size_t>(j)], r = hip.radial_mm[static_cast<std::size_t>(j)];
+    if (!std::isfinite(c) || !std::isfinite(r)) return -1;
+    any = any || c > 0.0 || r > 0.0;
   }
   return any ? 1 : 0;
 }

@@ -174,8 +174,8 @@ FeSweep read_fem_sweep_folder(const std::filesystem::path& dir, const std::strin
     }
     if (sweep.hips.empty()) sweep.angle_deg = angles;
     check_same_motion(sweep.angle_deg, angles, csv.string() + " vs the sweep's other models");
-    // fem-sweep tables have no penetration depths: depth_mm stays empty (impinging unknown).
-    sweep.hips.push_back({ce, alpha, kNaN, values[static_cast<std::size_t>(which - measures.begin())], {}, {}, {}});
+    // fem-sweep tables have no penetration depths: they stay empty (impinging unknown).
+    sweep.hips.push_back({ce, alpha, kNaN, values[static_cast<std::size_t>(which - measures.begin())], {}, {}});
   }
   if (sweep.hips.empty()) throw_error(dir.string(), ": no model of the sweep has its table (<model>.csv)");
   return sweep;
@@ -251,7 +251,7 @@ FeSweep read_fe_sweep(const std::filesystem::path& fe, const std::string& measur
   const auto edges = read_edges(file.parent_path() / "timings.csv");
   for (const auto& [hip, by_step] : rows) {
     const std::vector<double> unknown(static_cast<std::size_t>(steps), kNaN);
-    FeSweepHip entry{hip.first, hip.second, kNaN, unknown, unknown, unknown, unknown};
+    FeSweepHip entry{hip.first, hip.second, kNaN, unknown, unknown, unknown};
     if (const auto it = edges.find(hip); it != edges.end()) entry.edge_mm = it->second;
     for (const auto& [s, row] : by_step) {
       double& known = sweep.angle_deg[static_cast<std::size_t>(s - 1)];
@@ -263,7 +263,6 @@ FeSweep read_fe_sweep(const std::filesystem::path& fe, const std::string& measur
       entry.values[static_cast<std::size_t>(s - 1)] = row.value;
       entry.curvilinear_mm[static_cast<std::size_t>(s - 1)] = row.curvilinear;
       entry.radial_mm[static_cast<std::size_t>(s - 1)] = row.radial;
-      entry.depth_mm[static_cast<std::size_t>(s - 1)] = std::max(row.curvilinear, row.radial);
     }
     sweep.hips.push_back(std::move(entry));
   }
@@ -364,7 +363,6 @@ EstimatorModel train_estimator_model(const EstimatorTrainOptions& options, std::
         hip.feature_ms = features.extraction_ms;
         hip.misses = features.misses;
         hip.values = fe_hip.values;
-        hip.depth_mm = fe_hip.depth_mm;
         hip.curvilinear_mm = fe_hip.curvilinear_mm;
         hip.radial_mm = fe_hip.radial_mm;
         // The same hip again (another FE level, a re-run): the newer FE values replace the older.

@@ -32,10 +32,8 @@ struct FeSweepHip {
   double ce_deg = 0, alpha_deg = 0;
   double edge_mm = 0;  // NaN when the sweep does not say
   std::vector<double> values;
-  // The penetration method's depth at each step (max of the curvilinear and radial maxima, mm),
-  // from the table's max_curvilinear_mm / max_radial_mm columns; NaN where the table has none.
-  std::vector<double> depth_mm;
-  // The two depths themselves (same columns); NaN where the table has none.
+  // The penetration method's depths at each step (mm), from the table's max_curvilinear_mm /
+  // max_radial_mm columns; NaN where the table has none, empty for tables without the columns.
   std::vector<double> curvilinear_mm, radial_mm;
 };
 
@@ -56,7 +54,6 @@ struct TrainingHip {
   std::filesystem::path dir;
   Eigen::VectorXd features;
   std::vector<double> values;
-  std::vector<double> depth_mm;      // FeSweepHip::depth_mm (max of the two below)
   // FeSweepHip::curvilinear_mm / radial_mm; stored in the model file (depth_nn) when every hip
   // has both at every step.
   std::vector<double> curvilinear_mm, radial_mm;
