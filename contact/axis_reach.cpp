@@ -9,14 +9,10 @@ namespace {
 
 constexpr double kRelativePad = 1e-9;
 
-struct Box {
-  double r_lo, r_hi, z_lo, z_hi;
-};
-
 // A body in the axis frame: each vertex's (r, z) and each triangle's (r, z) box.
 struct Body {
   std::vector<double> r, z;
-  std::vector<Box> triangles;
+  std::vector<CylindricalBounds> triangles;
 };
 
 Body body_in_frame(const geometry::TriMesh& mesh, const AxisFrame& frame) {
@@ -34,7 +30,7 @@ Body body_in_frame(const geometry::TriMesh& mesh, const AxisFrame& frame) {
     const CylindricalBounds b = triangle_cylindrical_bounds(local[static_cast<std::size_t>(tri[0])],
                                                             local[static_cast<std::size_t>(tri[1])],
                                                             local[static_cast<std::size_t>(tri[2])]);
-    body.triangles.push_back({b.r_min, b.r_max, b.z_min, b.z_max});
+    body.triangles.push_back(b);
   }
   return body;
 }
@@ -47,13 +43,13 @@ class Footprint {
 
   void mark(const Body& body, double pad) {
     std::vector<std::uint8_t> marked(static_cast<std::size_t>(nr_ * nz_), 0);
-    const auto fill = [&](const Box& box) {
+    const auto fill = [&](const CylindricalBounds& box) {
       const Cells c = cells(box, pad);
       for (long long z = c.z0; z <= c.z1; ++z) {
         std::fill(marked.begin() + z * nr_ + c.r0, marked.begin() + z * nr_ + c.r1 + 1, std::uint8_t{1});
       }
     };
-    for (const Box& box : body.triangles) fill(box);
+    for (const CylindricalBounds& box : body.triangles) fill(box);
     for (std::size_t v = 0; v < body.r.size(); ++v) fill({body.r[v], body.r[v], body.z[v], body.z[v]});
     sums_.assign(static_cast<std::size_t>((nz_ + 1) * (nr_ + 1)), 0);
     for (long long z = 0; z < nz_; ++z) {
@@ -65,7 +61,7 @@ class Footprint {
   }
 
   // True when the box, widened by `pad`, overlaps a marked cell.
-  bool reaches(const Box& box, double pad) const {
+  bool reaches(const CylindricalBounds& box, double pad) const {
     const Cells c = cells(box, pad);
     return sums_[at(c.z1 + 1, c.r1 + 1)] + sums_[at(c.z0, c.r0)] - sums_[at(c.z0, c.r1 + 1)] -
                sums_[at(c.z1 + 1, c.r0)] > 0;
@@ -82,9 +78,9 @@ class Footprint {
     if (!(scaled >= 0.0)) return 0;
     return scaled >= static_cast<double>(n - 1) ? n - 1 : static_cast<long long>(scaled);
   }
-  Cells cells(const Box& box, double pad) const {
-    return {index(box.r_lo - pad, r0_, nr_), index(box.r_hi + pad, r0_, nr_), index(box.z_lo - pad, z0_, nz_),
-            index(box.z_hi + pad, z0_, nz_)};
+  Cells cells(const CylindricalBounds& box, double pad) const {
+    return {index(box.r_min - pad, r0_, nr_), index(box.r_max + pad, r0_, nr_), index(box.z_min - pad, z0_, nz_),
+            index(box.z_max + pad, z0_, nz_)};
   }
   std::size_t at(long long z, long long r) const { return static_cast<std::size_t>(z * (nr_ + 1) + r); }
 
