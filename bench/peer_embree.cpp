@@ -55,7 +55,7 @@ EmbreeRadialCaster::EmbreeRadialCaster(const geometry::TriMesh& fixed,
 
 EmbreeRadialCaster::~EmbreeRadialCaster() = default;
 
-contact::PenetrationResult EmbreeRadialCaster::query(const geometry::TriMesh& posed_mobile,
+contact::PenetrationResult EmbreeRadialCaster::query(const geometry::TriMesh& mobile, const Eigen::Isometry3d& pose,
                                                      contact::RadialConfiguration configuration,
                                                      int num_threads) const {
   contact::PenetrationResult result;
@@ -63,12 +63,12 @@ contact::PenetrationResult EmbreeRadialCaster::query(const geometry::TriMesh& po
   const int threads = num_threads < 1 ? 1 : num_threads;
   std::vector<std::vector<contact::PenetrationPair>> per_chunk(static_cast<std::size_t>(threads));
   parallel_chunks(
-      posed_mobile.vertices.size(), threads, [&](std::size_t begin, std::size_t end, int chunk) {
+      mobile.vertices.size(), threads, [&](std::size_t begin, std::size_t end, int chunk) {
         auto& pairs = per_chunk[static_cast<std::size_t>(chunk)];
         RTCIntersectContext context;
         rtcInitIntersectContext(&context);
         for (std::size_t v = begin; v < end; ++v) {
-          const Eigen::Vector3d p = posed_mobile.vertices[v] - impl_->centre;
+          const Eigen::Vector3d p = pose * mobile.vertices[v] - impl_->centre;
           const double r = p.norm();
           if (!(r > 0.0)) continue;
           const Eigen::Vector3d outward = p / r;

@@ -1,7 +1,7 @@
 // hipfai — Embree 3 radial ray casting, the ray-tracer peer of radial segmenting.
 //
 // The way a user computes radial depth with a ray tracer: one BVH of the fixed mesh (the
-// pre-processing), then per posed mobile vertex v one ray along the line from the centre O through
+// pre-processing), then per posed mobile vertex v (posed as its ray is made) one ray along the line from the centre O through
 // v, and the crossing adjacent to v decides (the crossing rule of contact/radial_segmenting.h):
 //   kMobileInsideFixed: ray from v towards O, limited to |v - O|; the first hit is the last
 //     crossing between O and v; v penetrates iff that surface is entered when going from O
@@ -33,11 +33,11 @@ class EmbreeRadialCaster {
   EmbreeRadialCaster(const EmbreeRadialCaster&) = delete;
   EmbreeRadialCaster& operator=(const EmbreeRadialCaster&) = delete;
 
-  // One ray per vertex of `posed_mobile`, over `num_threads` threads (1 or 2). Pairs sorted by
-  // vertex; depth_mm as in radial_segmenting.h.
-  contact::PenetrationResult query(const geometry::TriMesh& posed_mobile,
-                                   contact::RadialConfiguration configuration,
-                                   int num_threads = 1) const;
+  // One ray per vertex of `mobile` posed by `pose` (each vertex posed as the ray is made, so no
+  // posed copy of the mesh is built: Embree's best use for a rigid pose), over `num_threads`
+  // threads (1 or 2). Pairs sorted by vertex; depth_mm as in radial_segmenting.h.
+  contact::PenetrationResult query(const geometry::TriMesh& mobile, const Eigen::Isometry3d& pose,
+                                   contact::RadialConfiguration configuration, int num_threads = 1) const;
 
  private:
   struct Impl;

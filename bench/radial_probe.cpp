@@ -74,7 +74,7 @@ RadialProbeReport run_radial_probe(const RadialProbeOptions& options) {
       << "|---|---|---|---|---|---|---|\n";
   EmbreeRadialCaster caster(s.fixed, s.centre, options.threads);
   contact::PenetrationResult reference;
-  const TimingStats embree = time_repeated([&] { reference = caster.query(posed, s.configuration, options.threads); },
+  const TimingStats embree = time_repeated([&] { reference = caster.query(s.mobile, s.pose(), s.configuration, options.threads); },
                                            options.repeats, options.repeats, 1e12);
   auto vertices_of = [](const contact::PenetrationResult& r) {
     std::vector<std::int32_t> v;
@@ -93,8 +93,8 @@ RadialProbeReport run_radial_probe(const RadialProbeOptions& options) {
     const std::string name = std::string("radial_") + contact::to_string(mapping) + (variant.cull ? "" : " (no spans)");
     contact::RadialTableOptions table_options;
     table_options.mapping = mapping;
-    // As in the full benchmark: about two cells per fixed triangle.
-    table_options.table_size = std::max<std::int64_t>(4096, 2 * static_cast<std::int64_t>(s.fixed.num_triangles()));
+    // As in the full benchmark: about one cell per fixed triangle.
+    table_options.table_size = std::max<std::int64_t>(4096, static_cast<std::int64_t>(s.fixed.num_triangles()));
     contact::RadialTable table;
     const TimingStats pre = time_repeated([&] { table = contact::build_radial_table(s.fixed, s.centre, table_options); },
                                           1, 1, 0.0);
@@ -116,7 +116,7 @@ RadialProbeReport run_radial_probe(const RadialProbeOptions& options) {
   {
     // The body pair prepared once (contact::RadialPoseQuery): takes the pose, poses what it keeps.
     contact::RadialTableOptions table_options;
-    table_options.table_size = std::max<std::int64_t>(4096, 2 * static_cast<std::int64_t>(s.fixed.num_triangles()));
+    table_options.table_size = std::max<std::int64_t>(4096, static_cast<std::int64_t>(s.fixed.num_triangles()));
     const contact::RadialTable table = contact::build_radial_table(s.fixed, s.centre, table_options);
     contact::RadialQueryOptions q;
     q.configuration = s.configuration;

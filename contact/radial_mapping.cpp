@@ -234,10 +234,51 @@ void cube_cells(const RadialGrid& grid, std::span<const Vec3> units, std::vector
       low2 = std::min(low2, r2), high2 = std::max(high2, r2);
     }
     const double quarter = kPi / 2.0;
-    append_rectangle(grid, face, index_low(std::atan(low1) + kPi / 4, 0.0, quarter, n),
-                     index_high(std::atan(high1) + kPi / 4, 0.0, quarter, n),
-                     index_low(std::atan(low2) + kPi / 4, 0.0, quarter, n),
-                     index_high(std::atan(high2) + kPi / 4, 0.0, quarter, n), cells);
+    const int i_low = index_low(std::atan(low1) + kPi / 4, 0.0, quarter, n);
+    const int i_high = index_high(std::atan(high1) + kPi / 4, 0.0, quarter, n);
+    const int j_low = index_low(std::atan(low2) + kPi / 4, 0.0, quarter, n);
+    const int j_high = index_high(std::atan(high2) + kPi / 4, 0.0, quarter, n);
+    if (i_low == i_high && j_low == j_high) {
+      append_rectangle(grid, face, i_low, i_high, j_low, j_high, cells);
+      continue;
+    }
+    // The rectangle bounds the polygon's cone; a triangle covers about half of it. A cell is a
+    // convex cone too (its borders are planes through O: d[k1] / |d[k]| = tan(border)), spanned by
+    // its four corner rays, and two convex cones within a half-space are disjoint exactly when a
+    // face plane of one separates them. So a cell whose four corners lie beyond one of the
+    // polygon's edge planes (through O) by more than kSeparation (as an angle) holds no direction
+    // within kSeparation of the cone, far beyond the rounding of the lookup and the ray test; it is
+    // left out. Cells separated only by their own borders are already outside the rectangle.
+    std::vector<double> tan1, tan2;
+    for (int i = i_low; i <= i_high + 1; ++i) tan1.push_back(std::tan(i * quarter / n - kPi / 4));
+    for (int j = j_low; j <= j_high + 1; ++j) tan2.push_back(std::tan(j * quarter / n - kPi / 4));
+    const double orientation = cone_orientation(units);
+    std::vector<Vec3> edge_normals;
+    for (std::size_t e = 0; e < units.size(); ++e) {
+      const Vec3 normal = units[e].cross(units[(e + 1) % units.size()]);
+      const double length = normal.norm();
+      if (length > 0.0) edge_normals.push_back(orientation * normal / length);
+    }
+    constexpr double kSeparation = 1e-6;
+    for (int j = j_low; j <= j_high; ++j) {
+      for (int i = i_low; i <= i_high; ++i) {
+        std::array<Vec3, 4> corners;
+        for (int c = 0; c < 4; ++c) {
+          Vec3 d;
+          d[k] = sign;
+          d[k1] = tan1[static_cast<std::size_t>(i - i_low + (c & 1))];
+          d[k2] = tan2[static_cast<std::size_t>(j - j_low + (c >> 1))];
+          corners[static_cast<std::size_t>(c)] = d.normalized();
+        }
+        bool separated = false;
+        for (const Vec3& normal : edge_normals) {
+          separated = std::all_of(corners.begin(), corners.end(),
+                                  [&](const Vec3& corner) { return normal.dot(corner) < -kSeparation; });
+          if (separated) break;
+        }
+        if (!separated) cells.push_back((face * grid.dimension + j) * grid.dimension + i);
+      }
+    }
   }
 }
 

@@ -85,7 +85,9 @@ Vec3 cell_centre_direction(const RadialGrid& grid, int cell);
 //     the arc point closest to the axis; over the cone's interior only if the axis is inside;
 //   - azimuth is monotone along any arc that avoids the poles (full ring if a pole is inside);
 //   - cube coordinates are linear-fractional on the polygon clipped to the face's pyramid, so
-//     their extremes are at the clipped polygon's vertices.
+//     their extremes are at the clipped polygon's vertices; inside that rectangle of cells, a cell
+//     whose four corner rays all lie beyond one of the polygon's edge planes (through O) by more
+//     than 1e-6 rad is left out (both are convex cones: such a plane separates them).
 void cells_of_polygon(const RadialGrid& grid, std::span<const Vec3> polygon,
                       std::vector<int>& cells);
 

@@ -65,10 +65,36 @@ RayCrossing crossing_of(const geometry::TriMesh& fixed, const Vec3& centre, cons
   return line_crossing_with_facing(direction, a, b, c, verdict);
 }
 
-// Offers one candidate triangle to the running choice.
-void offer(const geometry::TriMesh& fixed, const Vec3& centre, const Vec3& direction, double m_d,
-           RadialConfiguration configuration, std::int32_t t, Adjacent& adjacent) {
-  const RayCrossing crossing = crossing_of(fixed, centre, direction, m_d, t);
+// crossing_of with the triangle's pre-computed values (RadialSpans::TrianglePlanes, valid for the
+// fixed coordinates the spans were computed for): the same filter on the same edge-function values
+// (d . (a x b) with a x b computed once), the same tail of line_crossing_with_facing on the same
+// N and det, and the exact test on the vertices when the filter cannot decide. Same answers bit
+// for bit.
+RayCrossing crossing_with_planes(const geometry::TriMesh& fixed, const Vec3& centre, const Vec3& direction,
+                                 double m_d, const RadialSpans::TrianglePlanes& planes, std::int32_t t) {
+  const double e_ab = direction.dot(planes.edge_ab), e_bc = direction.dot(planes.edge_bc),
+               e_ca = direction.dot(planes.edge_ca);
+  const double bound_ab = planes.bound_ab * m_d, bound_bc = planes.bound_bc * m_d, bound_ca = planes.bound_ca * m_d;
+  const int pos = (e_ab > bound_ab) + (e_bc > bound_bc) + (e_ca > bound_ca);
+  const int neg = (e_ab < -bound_ab) + (e_bc < -bound_bc) + (e_ca < -bound_ca);
+  if (pos > 0 && neg > 0) return {};
+  if (pos != 3 && neg != 3) return crossing_of(fixed, centre, direction, m_d, t);
+  const int facing = pos == 3 ? 1 : -1;
+  const Vec3& normal = planes.area_normal;
+  if (normal.x() == 0.0 && normal.y() == 0.0 && normal.z() == 0.0) return {};
+  const double along_normal = direction.dot(normal);
+  if (along_normal == 0.0 || (along_normal > 0.0) != (facing > 0)) return {};
+  const double crossing_t = planes.det / along_normal;
+  if (!(crossing_t > 0.0) || !std::isfinite(crossing_t)) return {};
+  RayCrossing crossing;
+  crossing.hit = true;
+  crossing.t = crossing_t;
+  crossing.facing = facing;
+  return crossing;
+}
+
+// Offers one candidate triangle's crossing to the running choice.
+void offer(const RayCrossing& crossing, RadialConfiguration configuration, std::int32_t t, Adjacent& adjacent) {
   if (!crossing.hit) return;
   if (configuration == RadialConfiguration::kMobileInsideFixed) {
     if (crossing.t > 1.0) return;
@@ -212,11 +238,13 @@ struct VertexQuery {
     scratch.crossings.clear();
     const double m_d = max_abs(direction);
     auto offer_triangle = [&](std::int32_t t) {
+      const RayCrossing crossing =
+          use_spans ? crossing_with_planes(fixed, table.centre, direction, m_d, spans.planes[static_cast<std::size_t>(t)], t)
+                    : crossing_of(fixed, table.centre, direction, m_d, t);
       if (union_rule || beyond_rule) {
-        const RayCrossing crossing = crossing_of(fixed, table.centre, direction, m_d, t);
         if (crossing.hit) scratch.crossings.push_back({crossing.t, crossing.facing, t});
       } else {
-        offer(fixed, table.centre, direction, m_d, options.configuration, t, adjacent);
+        offer(crossing, options.configuration, t, adjacent);
       }
     };
     auto visit = [&](const std::vector<std::int32_t>& candidates) {
@@ -277,14 +305,6 @@ struct VertexQuery {
   }
 };
 
-void query_range(const VertexQuery& query, const geometry::TriMesh& mobile, std::size_t begin, std::size_t end,
-                 std::vector<PenetrationPair>& slots, std::vector<std::uint8_t>& hits) {
-  VertexQuery::Scratch scratch;
-  for (std::size_t v = begin; v < end; ++v) {
-    if (query.penetrates(static_cast<std::int32_t>(v), mobile.vertices[v], scratch, slots[v])) hits[v] = 1;
-  }
-}
-
 std::string check_inputs(const RadialTable& table, const geometry::TriMesh& fixed,
                          const geometry::TriMesh& mobile, const RadialQueryOptions& options) {
   if (fixed.num_triangles() != table.num_triangles) {
@@ -309,6 +329,47 @@ std::string check_inputs(const RadialTable& table, const geometry::TriMesh& fixe
     }
   }
   return {};
+}
+
+// Runs test(k, scratch, pair) -> bool over k in [0, count) in blocks of kBlock taken dynamically by
+// the workers, and returns the pairs of the k that penetrate in increasing k. Each block keeps its
+// own few hits: no per-vertex output array is allocated (a query of 262 k vertices would otherwise
+// touch 6 MiB of fresh memory per pose).
+template <typename Test>
+std::vector<PenetrationPair> gather_hits(std::size_t count, int threads, const Test& test) {
+  constexpr std::size_t kBlock = 2048;
+  const std::size_t blocks = (count + kBlock - 1) / kBlock;
+  std::vector<std::vector<PenetrationPair>> per_block(blocks);
+  parallel_blocks(blocks, threads, 1, [&](std::size_t first_block, std::size_t last_block) {
+    VertexQuery::Scratch scratch;
+    for (std::size_t b = first_block; b < last_block; ++b) {
+      PenetrationPair pair;
+      for (std::size_t k = b * kBlock, end = std::min(count, (b + 1) * kBlock); k < end; ++k) {
+        if (test(k, scratch, pair)) per_block[b].push_back(pair);
+      }
+    }
+  });
+  std::size_t total = 0;
+  for (const auto& hits : per_block) total += hits.size();
+  std::vector<PenetrationPair> pairs;
+  pairs.reserve(total);
+  for (const auto& hits : per_block) pairs.insert(pairs.end(), hits.begin(), hits.end());
+  return pairs;
+}
+
+// Stable LSD radix sort of pairs by mobile_vertex (all in [0, num_vertices)): 11-bit digits, as
+// many passes as the indices need (two up to 4 M vertices); linear in the number of pairs.
+void sort_by_vertex(std::vector<PenetrationPair>& pairs, std::size_t num_vertices) {
+  constexpr int kBits = 11;
+  constexpr std::size_t kRadix = std::size_t{1} << kBits;
+  std::vector<PenetrationPair> buffer(pairs.size());
+  for (int shift = 0; shift < 32 && (num_vertices - 1) >> shift != 0; shift += kBits) {
+    std::array<std::size_t, kRadix + 1> start{};
+    for (const PenetrationPair& p : pairs) ++start[((static_cast<std::uint32_t>(p.mobile_vertex) >> shift) & (kRadix - 1)) + 1];
+    for (std::size_t d = 1; d <= kRadix; ++d) start[d] += start[d - 1];
+    for (const PenetrationPair& p : pairs) buffer[start[(static_cast<std::uint32_t>(p.mobile_vertex) >> shift) & (kRadix - 1)]++] = p;
+    pairs.swap(buffer);
+  }
 }
 
 }  // namespace
@@ -342,20 +403,14 @@ PenetrationResult radial_segmenting(const RadialTable& table, const geometry::Tr
     result.status = QueryStatus::kInvalidInput;
     return result;
   }
-  const std::size_t count = mobile.num_vertices();
-  std::vector<PenetrationPair> slots(count);
-  std::vector<std::uint8_t> hits(count, 0);
   const bool use_spans = options.cull && radial_spans_valid(table.spans, fixed);
-  // Each block writes its own slots: no sharing, and the output order is fixed afterwards. Blocks
-  // are taken dynamically: culled vertices cost almost nothing, so the work is uneven.
+  // Blocks are taken dynamically: culled vertices cost almost nothing, so the work is uneven.
   const VertexQuery query(table, fixed, options, use_spans);
-  parallel_blocks(count, options.num_threads, 2048, [&](std::size_t begin, std::size_t end) {
-    query_range(query, mobile, begin, end, slots, hits);
-  });
-  for (std::size_t v = 0; v < count; ++v) {
-    if (hits[v]) result.pairs.push_back(slots[v]);
-  }
-  return result;  // built in vertex order: already sorted
+  result.pairs = gather_hits(mobile.num_vertices(), options.num_threads,
+                             [&](std::size_t v, VertexQuery::Scratch& scratch, PenetrationPair& pair) {
+                               return query.penetrates(static_cast<std::int32_t>(v), mobile.vertices[v], scratch, pair);
+                             });
+  return result;  // gathered in vertex order: already sorted
 }
 
 PenetrationResult radial_swap_roles(const geometry::TriMesh& fixed,
@@ -379,66 +434,134 @@ RadialPoseQuery::RadialPoseQuery(const RadialTable& table, const geometry::TriMe
   if (!message_.empty()) return;
   status_ = QueryStatus::kOk;
   use_spans_ = options.cull && radial_spans_valid(table.spans, fixed);
-  // Sorted by distance in shells of kShellMm, then by the table cell of the rest direction: a pose
-  // keeps a contiguous run of shells (found by bisection) and walks its vertices cell by cell. A
-  // rotation keeps neighbouring directions together, so consecutive vertices read the same or
-  // adjacent cell records and triangles (mesh order, after midpoint subdivision, jumps around).
+  // Buckets: the rest direction's cell on a coarse cube map (about kBucketVertices vertices per
+  // cell over the sphere) and the rest distance in shells of kShellMm. Vertices are stored bucket by
+  // bucket, coarse cell by coarse cell, and by the table's own cell inside a bucket: a rotation keeps
+  // neighbouring directions together, so consecutive vertices read the same or adjacent cell
+  // records and triangles (mesh order, after midpoint subdivision, jumps around).
+  const std::size_t count = mobile.num_vertices();
+  const RadialGrid coarse = make_radial_grid(
+      RadialMapping::kCube, std::max<std::int64_t>(6, static_cast<std::int64_t>(count / kBucketVertices)));
   struct Key {
+    int coarse_cell;
     std::int64_t shell;
     int cell;
     std::int32_t vertex;
-    double distance;
   };
-  std::vector<Key> order(mobile.num_vertices());
-  for (std::size_t v = 0; v < order.size(); ++v) {
+  std::vector<Key> order(count);
+  std::vector<double> distance(count);
+  for (std::size_t v = 0; v < count; ++v) {
     const Vec3 direction = mobile.vertices[v] - table.centre;
-    const double distance = direction.norm();
-    const int cell = direction.isZero(0.0) ? -1 : cell_of_direction(table.grid, direction);
-    order[v] = {static_cast<std::int64_t>(std::floor(distance / kShellMm)), cell, static_cast<std::int32_t>(v), distance};
+    distance[v] = direction.norm();
+    const bool at_centre = direction.isZero(0.0);
+    order[v] = {at_centre ? -1 : cell_of_direction(coarse, direction),
+                static_cast<std::int64_t>(std::floor(distance[v] / kShellMm)),
+                at_centre ? -1 : cell_of_direction(table.grid, direction), static_cast<std::int32_t>(v)};
   }
   std::sort(order.begin(), order.end(), [](const Key& a, const Key& b) {
+    if (a.coarse_cell != b.coarse_cell) return a.coarse_cell < b.coarse_cell;
     if (a.shell != b.shell) return a.shell < b.shell;
     return a.cell != b.cell ? a.cell < b.cell : a.vertex < b.vertex;
   });
-  sorted_distance_.reserve(order.size());
-  sorted_position_.reserve(order.size());
-  sorted_index_.reserve(order.size());
-  for (const Key& key : order) {
-    sorted_distance_.push_back(key.distance);
-    sorted_position_.push_back(mobile.vertices[static_cast<std::size_t>(key.vertex)]);
-    sorted_index_.push_back(key.vertex);
+  sorted_position_.reserve(count);
+  sorted_index_.reserve(count);
+  for (std::size_t k = 0; k < count;) {
+    std::size_t end = k;
+    while (end < count && order[end].coarse_cell == order[k].coarse_cell && order[end].shell == order[k].shell) ++end;
+    Bucket bucket;
+    bucket.begin = static_cast<std::uint32_t>(k);
+    bucket.end = static_cast<std::uint32_t>(end);
+    Vec3 sum = Vec3::Zero();
+    bool has_centre = false;
+    for (std::size_t m = k; m < end; ++m) {
+      const auto v = static_cast<std::size_t>(order[m].vertex);
+      sorted_position_.push_back(mobile.vertices[v]);
+      sorted_index_.push_back(order[m].vertex);
+      bucket.r_lo = std::min(bucket.r_lo, distance[v]);
+      bucket.r_hi = std::max(bucket.r_hi, distance[v]);
+      if (!(distance[v] > 0.0)) has_centre = true;
+      else sum += (mobile.vertices[v] - table.centre) / distance[v];
+    }
+    // The members' cone of directions: around their mean direction, out to the widest of them
+    // (plus 1e-9 rad for the rounding of these angles); a bucket holding O has none.
+    if (!has_centre && sum.norm() > 0.0) {
+      bucket.axis = sum.normalized();
+      double widest = 0.0;
+      for (std::size_t m = k; m < end; ++m) {
+        const auto v = static_cast<std::size_t>(order[m].vertex);
+        const Vec3 unit = (mobile.vertices[v] - table.centre) / distance[v];
+        widest = std::max(widest, std::atan2(unit.cross(bucket.axis).norm(), unit.dot(bucket.axis)));
+      }
+      bucket.half_angle_rad = widest + 1e-9;
+    }
+    buckets_.push_back(bucket);
+    k = end;
   }
-  // Largest distance up to k and smallest from k on: both non-decreasing in k, so the kept run is
-  // found by bisection, exactly (no reliance on the shells' rounding).
-  prefix_max_.resize(order.size());
-  suffix_min_.resize(order.size());
-  double running = -1.0;
-  for (std::size_t k = 0; k < order.size(); ++k) prefix_max_[k] = running = std::max(running, sorted_distance_[k]);
-  running = std::numeric_limits<double>::infinity();
-  for (std::size_t k = order.size(); k-- > 0;) suffix_min_[k] = running = std::min(running, sorted_distance_[k]);
-  const auto [first, last] = kept_range(0.0, 0.0);
-  kept_index_.assign(sorted_index_.begin() + static_cast<std::ptrdiff_t>(first),
-                     sorted_index_.begin() + static_cast<std::ptrdiff_t>(last));
+  // Kept about O (a rotation without translation): the buckets whose rest distances the spans allow.
+  for (const Bucket& bucket : buckets_) {
+    if (!distance_culled(bucket, 0.0, 0.0)) num_kept_ += bucket.end - bucket.begin;
+  }
 }
 
-std::pair<std::size_t, std::size_t> RadialPoseQuery::kept_range(double shift_mm, double scale_mm) const {
-  const std::size_t count = sorted_distance_.size();
-  if (!use_spans_) return {0, count};
+bool RadialPoseQuery::distance_culled(const Bucket& bucket, double shift_mm, double scale_mm) const {
+  if (!use_spans_) return false;
   const RadialSpans& spans = table_->spans;
   // The full query culls a vertex whose computed |d| is outside the span (radial_spans.h); a
   // posed vertex's |d| is within shift_mm of its rest distance, up to rounding (1e-9 of the
-  // coordinates' scale, far above it), so these are culled at this pose.
+  // coordinates' scale, far above it), so every vertex of such a bucket is culled at this pose.
   const double slack = shift_mm + 1e-9 * scale_mm;
-  // Vertices before `first` (after `last`) all have rest distances beyond the bound; the kept run
-  // may hold a few more of them around its ends, which the query's own span test culls exactly.
-  if (span_side(options_) == SpanCull::kBelowLo) {
-    const double below = spans.lo * (1.0 - 1e-12) - slack;  // r + slack < lo (1 - 1e-12): culled
-    const auto first = std::lower_bound(prefix_max_.begin(), prefix_max_.end(), below);
-    return {static_cast<std::size_t>(first - prefix_max_.begin()), count};
+  if (span_side(options_) == SpanCull::kBelowLo) return bucket.r_hi + slack < spans.lo * (1.0 - 1e-12);
+  return bucket.r_lo - slack > spans.hi * (1.0 + 1e-12);
+}
+
+bool RadialPoseQuery::cap_culled(const Bucket& bucket, const Vec3& rest_cap_axis, double cap_angle_rad,
+                                 double shift_mm) const {
+  // Posed, a vertex's direction is R (v - c') with c' = pose^-1 O, |c' - O| = shift_mm: (v - c')
+  // turns away from (v - O) by at most asin(shift / |v - O|), and (v - O) lies within the bucket's
+  // cone. If even the nearest such direction is farther from the cap's axis (taken back to the rest
+  // frame, R^T axis) than the cap's half-angle plus 1e-4 rad, d . axis < |d| cos(cap) by far more
+  // than the rounding of the per-vertex test (radial_spans.h), so that test culls every vertex.
+  if (!use_spans_ || !(bucket.half_angle_rad < 4.0) || !(shift_mm < bucket.r_lo)) return false;
+  const double turn = std::asin(std::min(1.0, shift_mm / bucket.r_lo));
+  const double angle = std::atan2(bucket.axis.cross(rest_cap_axis).norm(), bucket.axis.dot(rest_cap_axis));
+  return angle > cap_angle_rad + bucket.half_angle_rad + turn + 1e-4;
+}
+
+RadialPoseQuery::KeptBuckets RadialPoseQuery::kept_buckets(const Eigen::Isometry3d& pose) const {
+  // |pose v - O| = |v - c'| with c' = pose^-1 O: the rest distance moves by at most |c' - O|.
+  const Vec3& centre = table_->centre;
+  const Vec3 moved_centre = pose.inverse(Eigen::Isometry) * centre;
+  const double shift = (moved_centre - centre).norm();
+  double largest = 0.0;
+  for (const Bucket& bucket : buckets_) largest = std::max(largest, bucket.r_hi);
+  const double scale = largest + 2.0 * centre.norm() + pose.translation().norm() + shift;
+  const RadialSpans& spans = table_->spans;
+  const bool has_cap = use_spans_ && spans.cap_cos > -1.0;
+  const Vec3 rest_cap_axis = pose.linear().transpose() * spans.cap_axis;
+  const double cap_angle = has_cap ? std::acos(std::max(-1.0, std::min(1.0, spans.cap_cos))) : 0.0;
+  // The buckets this pose keeps, cut into blocks of about kBlockVertices vertices for the workers.
+  KeptBuckets kept;
+  kept.block_start.push_back(0);
+  std::size_t in_block = 0;
+  for (std::size_t b = 0; b < buckets_.size(); ++b) {
+    const Bucket& bucket = buckets_[b];
+    if (distance_culled(bucket, shift, scale)) continue;
+    if (has_cap && cap_culled(bucket, rest_cap_axis, cap_angle, shift)) continue;
+    kept.buckets.push_back(static_cast<std::uint32_t>(b));
+    kept.num_vertices += bucket.end - bucket.begin;
+    in_block += bucket.end - bucket.begin;
+    if (in_block >= kBlockVertices) {
+      kept.block_start.push_back(kept.buckets.size());
+      in_block = 0;
+    }
   }
-  const double above = spans.hi * (1.0 + 1e-12) + slack;  // r - slack > hi (1 + 1e-12): culled
-  const auto last = std::upper_bound(suffix_min_.begin(), suffix_min_.end(), above);
-  return {0, static_cast<std::size_t>(last - suffix_min_.begin())};
+  if (kept.block_start.back() != kept.buckets.size()) kept.block_start.push_back(kept.buckets.size());
+  return kept;
+}
+
+std::size_t RadialPoseQuery::num_tested_vertices(const Eigen::Isometry3d& pose) const {
+  if (status_ != QueryStatus::kOk || !pose.matrix().allFinite()) return 0;
+  return kept_buckets(pose).num_vertices;
 }
 
 PenetrationResult RadialPoseQuery::query(const Eigen::Isometry3d& pose) const {
@@ -453,27 +576,28 @@ PenetrationResult RadialPoseQuery::query(const Eigen::Isometry3d& pose) const {
     result.message = "radial pose query: the pose is not finite";
     return result;
   }
-  // |pose v - O| = |v - c'| with c' = pose^-1 O: the rest distance moves by at most |c' - O|.
-  const Vec3& centre = table_->centre;
-  const Vec3 moved_centre = pose.inverse(Eigen::Isometry) * centre;
-  const double shift = (moved_centre - centre).norm();
-  const double largest = sorted_distance_.empty() ? 0.0 : sorted_distance_.back();
-  const double scale = largest + 2.0 * centre.norm() + pose.translation().norm() + shift;
-  const auto [first, last] = kept_range(shift, scale);
-  const std::size_t count = last - first;
-  std::vector<PenetrationPair> slots(count);
-  std::vector<std::uint8_t> hits(count, 0);
+  const KeptBuckets kept_buckets_of_pose = kept_buckets(pose);
+  const std::vector<std::uint32_t>& kept = kept_buckets_of_pose.buckets;
+  const std::vector<std::size_t>& block_start = kept_buckets_of_pose.block_start;
+  const std::size_t blocks = block_start.size() - 1;
   std::atomic<bool> finite{true};
   const VertexQuery query(*table_, *fixed_, options_, use_spans_);
-  parallel_blocks(count, options_.num_threads, 2048, [&](std::size_t begin, std::size_t end) {
+  std::vector<std::vector<PenetrationPair>> per_block(blocks);
+  parallel_blocks(blocks, options_.num_threads, 1, [&](std::size_t first_block, std::size_t last_block) {
     VertexQuery::Scratch scratch;
-    for (std::size_t k = begin; k < end; ++k) {
-      const Vec3 position = pose * sorted_position_[first + k];
-      if (!position.allFinite()) {
-        finite = false;
-        continue;
+    PenetrationPair pair;
+    for (std::size_t block = first_block; block < last_block; ++block) {
+      for (std::size_t i = block_start[block]; i < block_start[block + 1]; ++i) {
+        const Bucket& bucket = buckets_[kept[i]];
+        for (std::uint32_t k = bucket.begin; k < bucket.end; ++k) {
+          const Vec3 position = pose * sorted_position_[k];
+          if (!position.allFinite()) {
+            finite = false;
+            continue;
+          }
+          if (query.penetrates(sorted_index_[k], position, scratch, pair)) per_block[block].push_back(pair);
+        }
       }
-      if (query.penetrates(sorted_index_[first + k], position, scratch, slots[k])) hits[k] = 1;
     }
   });
   if (!finite) {
@@ -481,11 +605,11 @@ PenetrationResult RadialPoseQuery::query(const Eigen::Isometry3d& pose) const {
     result.message = "radial pose query: a posed mobile vertex is not finite";
     return result;
   }
-  for (std::size_t k = 0; k < count; ++k) {
-    if (hits[k]) result.pairs.push_back(slots[k]);
-  }
-  std::sort(result.pairs.begin(), result.pairs.end(),
-            [](const PenetrationPair& a, const PenetrationPair& b) { return a.mobile_vertex < b.mobile_vertex; });
+  std::size_t total = 0;
+  for (const auto& hits : per_block) total += hits.size();
+  result.pairs.reserve(total);
+  for (const auto& hits : per_block) result.pairs.insert(result.pairs.end(), hits.begin(), hits.end());
+  sort_by_vertex(result.pairs, sorted_index_.size());
   return result;
 }
 

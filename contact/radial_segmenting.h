@@ -37,6 +37,7 @@
 #include "geometry/tri_mesh.h"
 
 #include <string>
+#include <limits>
 #include <utility>
 #include <vector>
 
@@ -101,11 +102,15 @@ PenetrationResult radial_segmenting(const RadialTable& table, const geometry::Tr
                                     const RadialQueryOptions& options);
 
 // A rigid body pair prepared for many poses (issue 18): the fixed mesh with its table, and the
-// mobile mesh at rest. Rotation about the centre keeps each mobile vertex's distance from O, so
-// the vertices the radial spans rule out at every pose (radial_spans.h: the rule needs a crossing
-// on a side of v where the fixed mesh has none) are dropped once here; query(pose) poses and
-// tests only the others. A pose that also translates moves that distance by at most |c' - O|
-// (c' = pose^-1 O), which widens the kept range. Same answer as radial_segmenting(table, fixed,
+// mobile mesh at rest, its vertices stored in buckets (a coarse rest direction about O and a
+// 0.5 mm shell of rest distance). Rotation about the centre keeps each mobile vertex's distance
+// from O and turns a bucket's cone of directions as a whole, so query(pose) drops whole buckets
+// without posing a vertex: those whose distances the radial spans rule out (radial_spans.h: the
+// rule needs a crossing on a side of v where the fixed mesh has none) and those whose cone the
+// pose turns away from the spans' cap (every fixed point lies within the cap). It poses and tests
+// only the vertices of the other buckets. A pose that also translates moves a distance by at
+// most s = |c' - O| (c' = pose^-1 O) and a direction by at most asin(s / |v - O|), which widens
+// both tests. Same answer as radial_segmenting(table, fixed,
 // pose * mobile, options) bit for bit (each kept vertex is posed as pose * v, like
 // bench::transformed and geometry::apply_transform).
 // `table` and `fixed` are referenced, not copied: they must outlive this object and not change
@@ -118,12 +123,32 @@ class RadialPoseQuery {
   QueryStatus status() const { return status_; }
   const std::string& message() const { return message_; }
   // Mobile vertices that may penetrate at some pose (the others were dropped once).
-  std::size_t num_kept_vertices() const { return kept_index_.size(); }
+  std::size_t num_kept_vertices() const { return num_kept_; }
   PenetrationResult query(const Eigen::Isometry3d& pose) const;
+  // Mobile vertices query(pose) poses and tests (those of the buckets it does not drop).
+  std::size_t num_tested_vertices(const Eigen::Isometry3d& pose) const;
 
  private:
-  // [first, last) of the sorted vertices a pose keeps, when posed distances move by <= shift_mm.
-  std::pair<std::size_t, std::size_t> kept_range(double shift_mm, double scale_mm) const;
+  // A run of stored vertices sharing a coarse rest direction and a shell of rest distance.
+  struct Bucket {
+    std::uint32_t begin = 0, end = 0;  // [begin, end) of sorted_position_ / sorted_index_
+    double r_lo = std::numeric_limits<double>::infinity(), r_hi = 0.0;  // rest distances from O
+    Vec3 axis = Vec3::UnitZ();  // unit mean rest direction
+    double half_angle_rad = 8.0;  // every member's direction within this of axis (8: no cone)
+  };
+  // The buckets a pose keeps, in blocks of about kBlockVertices vertices (block b: buckets
+  // [block_start[b], block_start[b + 1]) of `buckets`).
+  struct KeptBuckets {
+    std::vector<std::uint32_t> buckets;
+    std::vector<std::size_t> block_start;
+    std::size_t num_vertices = 0;
+  };
+  KeptBuckets kept_buckets(const Eigen::Isometry3d& pose) const;
+  // Is every vertex of the bucket culled by the spans' distance test, its distance moved by <= shift_mm?
+  bool distance_culled(const Bucket& bucket, double shift_mm, double scale_mm) const;
+  // Is every vertex of the bucket outside the spans' cap (radial_spans.h) at a pose whose rotation
+  // takes rest_cap_axis to the cap's axis and whose centre moves by shift_mm?
+  bool cap_culled(const Bucket& bucket, const Vec3& rest_cap_axis, double cap_angle_rad, double shift_mm) const;
 
   const RadialTable* table_ = nullptr;
   const geometry::TriMesh* fixed_ = nullptr;
@@ -132,12 +157,12 @@ class RadialPoseQuery {
   std::string message_;
   bool use_spans_ = false;
   static constexpr double kShellMm = 0.5;
-  // Every mobile vertex sorted by its rest distance from O in shells of kShellMm (a pose keeps one
-  // contiguous range), by index within a shell.
-  std::vector<double> sorted_distance_, prefix_max_, suffix_min_;
+  static constexpr std::size_t kBucketVertices = 32;  // mean vertices per coarse direction cell
+  static constexpr std::size_t kBlockVertices = 2048;  // vertices per unit of parallel work
+  std::vector<Bucket> buckets_;
   std::vector<Vec3> sorted_position_;
   std::vector<std::int32_t> sorted_index_;
-  std::vector<std::int32_t> kept_index_;  // vertices kept at a pose about O (for num_kept_vertices)
+  std::size_t num_kept_ = 0;  // vertices kept at a pose about O (for num_kept_vertices)
 };
 
 // Role swap (thesis §3.3.1, §4.3: "repeated by exchanging the role"): the vertices of `fixed`

@@ -33,6 +33,21 @@ double distance_to_origin(const Vec3& a, const Vec3& b, const Vec3& c) {
   return (a + ab * (vb * denominator) + ac * (vc * denominator)).norm();
 }
 
+RadialSpans::TrianglePlanes triangle_planes(const Vec3& a, const Vec3& b, const Vec3& c) {
+  auto max_abs = [](const Vec3& v) { return std::max({std::abs(v.x()), std::abs(v.y()), std::abs(v.z())}); };
+  RadialSpans::TrianglePlanes planes;
+  planes.edge_ab = a.cross(b);
+  planes.edge_bc = b.cross(c);
+  planes.edge_ca = c.cross(a);
+  planes.area_normal = (b - a).cross(c - a);
+  planes.det = a.dot(b.cross(c));
+  const double m_a = max_abs(a), m_b = max_abs(b), m_c = max_abs(c);
+  planes.bound_ab = 1e-13 * m_a * m_b;
+  planes.bound_bc = 1e-13 * m_b * m_c;
+  planes.bound_ca = 1e-13 * m_c * m_a;
+  return planes;
+}
+
 void triangle_radial_span(const Vec3& a, const Vec3& b, const Vec3& c, double& lo, double& hi) {
   constexpr double kEps = 1.2e-16;  // unit roundoff, rounded up
   const double na = a.norm(), nb = b.norm(), nc = c.norm();
@@ -83,12 +98,14 @@ void compute_radial_spans(RadialTable& table, const geometry::TriMesh& fixed) {
   const std::size_t num_triangles = fixed.num_triangles();
   spans.triangle_lo.resize(num_triangles);
   spans.triangle_hi.resize(num_triangles);
+  spans.planes.resize(num_triangles);
   for (std::size_t t = 0; t < num_triangles; ++t) {
     const auto& tri = fixed.triangles[t];
-    triangle_radial_span(fixed.vertices[static_cast<std::size_t>(tri[0])] - table.centre,
-                         fixed.vertices[static_cast<std::size_t>(tri[1])] - table.centre,
-                         fixed.vertices[static_cast<std::size_t>(tri[2])] - table.centre, spans.triangle_lo[t],
-                         spans.triangle_hi[t]);
+    const Vec3 a = fixed.vertices[static_cast<std::size_t>(tri[0])] - table.centre;
+    const Vec3 b = fixed.vertices[static_cast<std::size_t>(tri[1])] - table.centre;
+    const Vec3 c = fixed.vertices[static_cast<std::size_t>(tri[2])] - table.centre;
+    triangle_radial_span(a, b, c, spans.triangle_lo[t], spans.triangle_hi[t]);
+    spans.planes[t] = triangle_planes(a, b, c);
     spans.lo = std::min(spans.lo, spans.triangle_lo[t]);
     spans.hi = std::max(spans.hi, spans.triangle_hi[t]);
   }

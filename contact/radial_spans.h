@@ -58,6 +58,19 @@ struct RadialSpans {
     std::int32_t triangle = -1;
     float lo = 0.0F, hi = 0.0F;
   };
+  // What the crossing test of a ray from O needs of one fixed triangle abc (coordinates relative
+  // to O), computed once with the very expressions the per-ray test used, so every value is the
+  // same bit for bit (ray_triangle.h): the three edge vectors a x b, b x c, c x a (the edge
+  // function of a ray d is d . (p x q)), the area normal N = (b - a) x (c - a) and
+  // det(a, b, c) = a . (b x c) (the crossing is at t = det / (d . N)). bound_* = 1e-13 |a|_inf
+  // |b|_inf (and so on): times |d|_inf they bound the rounding of an edge function by far
+  // (radial_segmenting.cpp). A ray is then tested with three dot products instead of three cross
+  // products and three dot products over vertices fetched through the triangle's indices.
+  struct TrianglePlanes {
+    Eigen::Vector3d edge_ab, edge_bc, edge_ca, area_normal;
+    double det = 0.0;
+    double bound_ab = 0.0, bound_bc = 0.0, bound_ca = 0.0;
+  };
   // The cube mapping's cell without atan: the a1 (a2) borders atan(u) + pi/4 = i pi / (2 n) sit at
   // u = tan(i pi / (2 n) - pi/4); a lookup over u in [-1, 1] (4 n bins) gives the cell of the bin's
   // lower end, and at most a step or two against the borders finishes. It may differ from
@@ -91,6 +104,7 @@ struct RadialSpans {
   CubeLocator cube;
   std::vector<Eigen::Vector3d> vertices;  // fixed coordinates the spans are valid for
   std::vector<double> triangle_lo, triangle_hi;  // widened span per fixed triangle
+  std::vector<TrianglePlanes> planes;            // per fixed triangle
   std::vector<Cell> cells;
   std::vector<Entry> entries;
   double lo = kInfinity, hi = -kInfinity;        // whole mesh
@@ -100,6 +114,9 @@ struct RadialSpans {
 
 // Distance from O to the closed triangle abc given relative to O (Ericson 2005 §5.1.5).
 double distance_to_origin(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c);
+
+// The crossing test's per-triangle values of a triangle given relative to O (TrianglePlanes).
+RadialSpans::TrianglePlanes triangle_planes(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c);
 
 // The widened radial span of a triangle given relative to O (see EXACTNESS above).
 void triangle_radial_span(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,

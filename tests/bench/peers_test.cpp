@@ -56,7 +56,7 @@ TEST(RadialPeers, EmbreeMatchesTheOracle) {
     ASSERT_FALSE(oracle.pairs.empty());
     EmbreeRadialCaster caster(s.fixed, s.centre, 1);
     for (int threads : {1, 2}) {
-      const auto result = caster.query(posed, s.configuration, threads);
+      const auto result = caster.query(s.mobile, s.pose(), s.configuration, threads);
       EXPECT_EQ(vertex_set(result), vertex_set(oracle)) << s.name;
       ASSERT_EQ(result.pairs.size(), oracle.pairs.size());
       for (std::size_t i = 0; i < result.pairs.size(); ++i) {

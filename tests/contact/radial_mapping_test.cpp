@@ -172,6 +172,38 @@ TEST(RadialMapping, TriangleCellsAreExactForRandomTriangles) {
   }
 }
 
+// The cube mapping drops the cells of a triangle's rectangle that one of its edge planes
+// separates from it (radial_mapping.h). A thin triangle along a face's diagonal keeps about one
+// cell per diagonal step, not its whole square; and where an edge passes exactly through a cell
+// corner, the four cells meeting there are all kept (each touches the cone at that corner ray).
+TEST(RadialMapping, CubeCellsLeaveOutOnlyCellsAnEdgePlaneSeparates) {
+  const RadialGrid grid = make_radial_grid(RadialMapping::kCube, 6 * 40 * 40);
+  const int n = grid.dimension;
+  const double r = 20.0;
+  const Vec3 a(-0.8 * r, -0.8 * r, r), b(0.8 * r, 0.8 * r, r), c(0.8 * r, 0.81 * r, r);
+  std::vector<int> cells;
+  cells_of_polygon(grid, std::vector<Vec3>{a, b, c}, cells);
+  const int across = cell_of_direction(grid, b) % n - cell_of_direction(grid, a) % n + 1;  // the square's side
+  EXPECT_LT(static_cast<int>(cells.size()), 4 * across);
+  EXPECT_GT(across * across, 8 * static_cast<int>(cells.size()));
+  expect_covers(grid, a, b, c, "diagonal sliver");
+  // A corner of the face's grid: u = tan(i pi / (2n) - pi / 4) on both axes.
+  const double t = std::tan(12 * (kPi / 2.0) / n - kPi / 4.0), w = std::tan(25 * (kPi / 2.0) / n - kPi / 4.0);
+  const Vec3 corner = r * Vec3(t, w, 1.0);
+  const Vec3 along(1.0, -1.0, 0.0);
+  const Vec3 p = corner + 2.0 * along, q = corner - 2.0 * along, s = corner + Vec3(3.0, 3.0, 0.0);
+  cells.clear();
+  cells_of_polygon(grid, std::vector<Vec3>{p, q, s}, cells);
+  const std::set<int> stored(cells.begin(), cells.end());
+  const int face = 4;  // +z
+  for (const int i : {11, 12}) {
+    for (const int j : {24, 25}) {
+      EXPECT_TRUE(stored.count((face * n + j) * n + i)) << "cell " << i << ", " << j << " at the corner";
+    }
+  }
+  expect_covers(grid, p, q, s, "edge through a corner");
+}
+
 // Documents why the vertex bounding range of Fig. 25 is not enough: a triangle whose edge bulges
 // toward the pole occupies a polar cell none of its vertices is in.
 TEST(RadialMapping, VertexRangeAloneMissesCellsThatExactCoverageFinds) {

@@ -315,6 +315,68 @@ TEST(RadialSpans, PoseQueryEqualsTheUnculledQueryOnThePosedMesh) {
   EXPECT_LE(prepared.num_kept_vertices(), ball.num_vertices());  // the core is dropped
 }
 
+// The pose query's bucket rules against the spans' cap (a box beside O: every fixed point within
+// a cone of directions). A ball of mobile vertices around O, turned and shifted: most buckets face
+// away from the box and are dropped whole, and the answer equals the unculled query on the posed
+// mesh at every pose, every rule and configuration, 1 and 2 threads.
+TEST(RadialSpans, PoseQueryDropsBucketsOutsideTheCapAndStaysExact) {
+  const TriMesh box = box_above();
+  const RadialTable table = build_radial_table(box, Vec3::Zero(), {});
+  ASSERT_GT(table.spans.cap_cos, 0.0);
+  TriMesh ball = geometry::make_octasphere(Vec3::Zero(), 14.0, 4);
+  std::mt19937_64 rng(31);
+  std::normal_distribution<double> g;
+  std::uniform_real_distribution<double> u(-0.3, 0.3);
+  for (auto& v : ball.vertices) v *= 1.0 + 0.4 * u(rng);  // radii 12.3-15.7: the box's bottom at 10
+  std::vector<Eigen::Isometry3d> poses{Eigen::Isometry3d::Identity()};
+  for (int k = 0; k < 6; ++k) {
+    poses.push_back(turn_about(Vec3::Zero(), Vec3(g(rng), g(rng), g(rng)), 60.0 * g(rng),
+                               k < 3 ? Vec3::Zero() : Vec3(g(rng), g(rng), g(rng))));
+  }
+  expect_pose_query_exact(table, box, ball, poses, "ball beside a box");
+  const RadialPoseQuery prepared(table, box, ball, {});
+  for (const auto& pose : poses) {
+    const std::size_t tested = prepared.num_tested_vertices(pose);
+    EXPECT_LT(tested, ball.num_vertices() / 2);  // the cap is ~50 deg wide: most buckets dropped
+    TriMesh posed = ball;
+    geometry::apply_transform(posed, pose);
+    EXPECT_GE(tested, query(table, box, posed, RadialConfiguration::kMobileInsideFixed, RadialCrossingRule::kAdjacent, true)
+                          .pairs.size());
+  }
+}
+
+// Must not cull: a vertex inside the box next to the corner that bounds the cap (its direction
+// within 1e-9 rad of the cap's border), alone and among far vertices that widen its bucket's cone,
+// at rest and turned into place from elsewhere (its rest direction then far outside the cap).
+TEST(RadialSpans, PoseQueryKeepsAVertexOnTheCapBorder) {
+  const TriMesh box = box_above();
+  const RadialTable table = build_radial_table(box, Vec3::Zero(), {});
+  Vec3 corner = box.vertices.front();  // the box's widest direction from O: a bottom corner
+  for (const Vec3& v : box.vertices) {
+    if (v.normalized().dot(table.spans.cap_axis) < corner.normalized().dot(table.spans.cap_axis)) corner = v;
+  }
+  ASSERT_NEAR(std::acos(corner.normalized().dot(table.spans.cap_axis)), std::acos(table.spans.cap_cos), 1e-9);
+  const Vec3 inside = corner + 1e-6 * (Vec3(0, 0, 16) - corner);  // in the box, beside the corner
+  const Eigen::Isometry3d away = turn_about(Vec3::Zero(), Vec3(1, -1, 0.3), 150.0, Vec3::Zero());
+  for (const bool crowded : {false, true}) {
+    TriMesh mobile = one_vertex(inside);
+    if (crowded) {
+      for (int k = 1; k <= 40; ++k) mobile.vertices.push_back(Vec3(-20.0 + k, 30.0 - k, -10.0 + 0.5 * k));
+    }
+    for (const bool turned : {false, true}) {
+      // Turned: the mobile mesh rests turned away, and the pose brings it back.
+      TriMesh rest = mobile;
+      if (turned) geometry::apply_transform(rest, away.inverse());
+      const Eigen::Isometry3d pose = turned ? away : Eigen::Isometry3d::Identity();
+      const RadialPoseQuery prepared(table, box, rest, {});
+      const auto result = prepared.query(pose);
+      ASSERT_FALSE(result.pairs.empty()) << "crowded " << crowded << " turned " << turned;
+      EXPECT_EQ(result.pairs[0].mobile_vertex, 0);
+      expect_pose_query_exact(table, box, rest, {pose}, "cap border");
+    }
+  }
+}
+
 TEST(RadialSpans, PoseQueryRejectsANonFinitePose) {
   const TriMesh fixed = box_above();
   const RadialTable table = build_radial_table(fixed, Vec3::Zero(), {});
