@@ -9,6 +9,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 namespace hipfai::contact {
 
@@ -493,10 +494,13 @@ RadialPoseQuery::RadialPoseQuery(const RadialTable& table, const geometry::TriMe
         widest = std::max(widest, std::atan2(unit.cross(bucket.axis).norm(), unit.dot(bucket.axis)));
       }
       bucket.half_angle_rad = widest + 1e-9;
+      bucket.cos_half_angle = std::cos(bucket.half_angle_rad);
+      bucket.sin_half_angle = std::sin(bucket.half_angle_rad);
     }
     buckets_.push_back(bucket);
     k = end;
   }
+  for (const Bucket& bucket : buckets_) largest_distance_ = std::max(largest_distance_, bucket.r_hi);
   // Kept about O (a rotation without translation): the buckets whose rest distances the spans allow.
   for (const Bucket& bucket : buckets_) {
     if (!distance_culled(bucket, 0.0, 0.0)) num_kept_ += bucket.end - bucket.begin;
@@ -514,17 +518,23 @@ bool RadialPoseQuery::distance_culled(const Bucket& bucket, double shift_mm, dou
   return bucket.r_lo - slack > spans.hi * (1.0 + 1e-12);
 }
 
-bool RadialPoseQuery::cap_culled(const Bucket& bucket, const Vec3& rest_cap_axis, double cap_angle_rad,
+bool RadialPoseQuery::cap_culled(const Bucket& bucket, const Vec3& rest_cap_axis, const CapAngle& cap,
                                  double shift_mm) const {
   // Posed, a vertex's direction is R (v - c') with c' = pose^-1 O, |c' - O| = shift_mm: (v - c')
   // turns away from (v - O) by at most asin(shift / |v - O|), and (v - O) lies within the bucket's
   // cone. If even the nearest such direction is farther from the cap's axis (taken back to the rest
   // frame, R^T axis) than the cap's half-angle plus 1e-4 rad, d . axis < |d| cos(cap) by far more
   // than the rounding of the per-vertex test (radial_spans.h), so that test culls every vertex.
+  // The angles add up to total = cap + 1e-4 + half_angle + asin(x), x = shift / r_lo; below pi
+  // (checked with asin(x) <= pi x / 2) "angle > total" is "cos(angle) < cos(total)", and cos(total)
+  // follows from the sines and cosines by the addition formulas (no inverse trigonometry per bucket).
   if (!use_spans_ || !(bucket.half_angle_rad < 4.0) || !(shift_mm < bucket.r_lo)) return false;
-  const double turn = std::asin(std::min(1.0, shift_mm / bucket.r_lo));
-  const double angle = std::atan2(bucket.axis.cross(rest_cap_axis).norm(), bucket.axis.dot(rest_cap_axis));
-  return angle > cap_angle_rad + bucket.half_angle_rad + turn + 1e-4;
+  const double x = shift_mm / bucket.r_lo;
+  if (!(cap.angle_rad + bucket.half_angle_rad + 0.5 * std::numbers::pi * x < std::numbers::pi - 1e-3)) return false;
+  const double cos_ab = cap.cos * bucket.cos_half_angle - cap.sin * bucket.sin_half_angle;
+  const double sin_ab = cap.sin * bucket.cos_half_angle + cap.cos * bucket.sin_half_angle;
+  const double cos_total = cos_ab * std::sqrt(1.0 - x * x) - sin_ab * x;
+  return bucket.axis.dot(rest_cap_axis) < cos_total;
 }
 
 RadialPoseQuery::KeptBuckets RadialPoseQuery::kept_buckets(const Eigen::Isometry3d& pose) const {
@@ -532,13 +542,16 @@ RadialPoseQuery::KeptBuckets RadialPoseQuery::kept_buckets(const Eigen::Isometry
   const Vec3& centre = table_->centre;
   const Vec3 moved_centre = pose.inverse(Eigen::Isometry) * centre;
   const double shift = (moved_centre - centre).norm();
-  double largest = 0.0;
-  for (const Bucket& bucket : buckets_) largest = std::max(largest, bucket.r_hi);
-  const double scale = largest + 2.0 * centre.norm() + pose.translation().norm() + shift;
+  const double scale = largest_distance_ + 2.0 * centre.norm() + pose.translation().norm() + shift;
   const RadialSpans& spans = table_->spans;
   const bool has_cap = use_spans_ && spans.cap_cos > -1.0;
   const Vec3 rest_cap_axis = pose.linear().transpose() * spans.cap_axis;
-  const double cap_angle = has_cap ? std::acos(std::max(-1.0, std::min(1.0, spans.cap_cos))) : 0.0;
+  CapAngle cap;
+  if (has_cap) {
+    cap.angle_rad = std::acos(std::max(-1.0, std::min(1.0, spans.cap_cos))) + 1e-4;
+    cap.cos = std::cos(cap.angle_rad);
+    cap.sin = std::sin(cap.angle_rad);
+  }
   // The buckets this pose keeps, cut into blocks of about kBlockVertices vertices for the workers.
   KeptBuckets kept;
   kept.block_start.push_back(0);
@@ -546,7 +559,7 @@ RadialPoseQuery::KeptBuckets RadialPoseQuery::kept_buckets(const Eigen::Isometry
   for (std::size_t b = 0; b < buckets_.size(); ++b) {
     const Bucket& bucket = buckets_[b];
     if (distance_culled(bucket, shift, scale)) continue;
-    if (has_cap && cap_culled(bucket, rest_cap_axis, cap_angle, shift)) continue;
+    if (has_cap && cap_culled(bucket, rest_cap_axis, cap, shift)) continue;
     kept.buckets.push_back(static_cast<std::uint32_t>(b));
     kept.num_vertices += bucket.end - bucket.begin;
     in_block += bucket.end - bucket.begin;

@@ -135,6 +135,7 @@ class RadialPoseQuery {
     double r_lo = std::numeric_limits<double>::infinity(), r_hi = 0.0;  // rest distances from O
     Vec3 axis = Vec3::UnitZ();  // unit mean rest direction
     double half_angle_rad = 8.0;  // every member's direction within this of axis (8: no cone)
+    double cos_half_angle = -1.0, sin_half_angle = 0.0;
   };
   // The buckets a pose keeps, in blocks of about kBlockVertices vertices (block b: buckets
   // [block_start[b], block_start[b + 1]) of `buckets`).
@@ -148,7 +149,10 @@ class RadialPoseQuery {
   bool distance_culled(const Bucket& bucket, double shift_mm, double scale_mm) const;
   // Is every vertex of the bucket outside the spans' cap (radial_spans.h) at a pose whose rotation
   // takes rest_cap_axis to the cap's axis and whose centre moves by shift_mm?
-  bool cap_culled(const Bucket& bucket, const Vec3& rest_cap_axis, double cap_angle_rad, double shift_mm) const;
+  struct CapAngle {
+    double angle_rad = 0.0, cos = 1.0, sin = 0.0;  // the spans' cap half-angle + 1e-4 rad
+  };
+  bool cap_culled(const Bucket& bucket, const Vec3& rest_cap_axis, const CapAngle& cap, double shift_mm) const;
 
   const RadialTable* table_ = nullptr;
   const geometry::TriMesh* fixed_ = nullptr;
@@ -163,6 +167,7 @@ class RadialPoseQuery {
   std::vector<Vec3> sorted_position_;
   std::vector<std::int32_t> sorted_index_;
   std::size_t num_kept_ = 0;  // vertices kept at a pose about O (for num_kept_vertices)
+  double largest_distance_ = 0.0;  // largest rest distance from O
 };
 
 // Role swap (thesis §3.3.1, §4.3: "repeated by exchanging the role"): the vertices of `fixed`
