@@ -578,6 +578,17 @@ std::size_t RadialPoseQuery::num_tested_vertices(const Eigen::Isometry3d& pose) 
 }
 
 PenetrationResult RadialPoseQuery::query(const Eigen::Isometry3d& pose) const {
+  return run(pose, [&pose](const Vec3& v) -> Vec3 { return pose * v; });
+}
+
+PenetrationResult RadialPoseQuery::query_rotation(const Eigen::Matrix3d& rotation) const {
+  const Vec3 centre = table_ != nullptr ? table_->centre : Vec3::Zero();
+  const Eigen::Isometry3d pose = Eigen::Translation3d(centre) * Eigen::Isometry3d(rotation) * Eigen::Translation3d(-centre);
+  return run(pose, [&rotation, &centre](const Vec3& v) -> Vec3 { return centre + rotation * (v - centre); });
+}
+
+template <typename Posing>
+PenetrationResult RadialPoseQuery::run(const Eigen::Isometry3d& pose, const Posing& posing) const {
   PenetrationResult result;
   if (status_ != QueryStatus::kOk) {
     result.status = QueryStatus::kInvalidInput;
@@ -603,7 +614,7 @@ PenetrationResult RadialPoseQuery::query(const Eigen::Isometry3d& pose) const {
       for (std::size_t i = block_start[block]; i < block_start[block + 1]; ++i) {
         const Bucket& bucket = buckets_[kept[i]];
         for (std::uint32_t k = bucket.begin; k < bucket.end; ++k) {
-          const Vec3 position = pose * sorted_position_[k];
+          const Vec3 position = posing(sorted_position_[k]);
           if (!position.allFinite()) {
             finite = false;
             continue;

@@ -125,6 +125,9 @@ class RadialPoseQuery {
   // Mobile vertices that may penetrate at some pose (the others were dropped once).
   std::size_t num_kept_vertices() const { return num_kept_; }
   PenetrationResult query(const Eigen::Isometry3d& pose) const;
+  // A rotation about the table's centre O, each kept vertex posed as O + rotation (v - O) (as the
+  // studies pose a femur): the same answer as radial_segmenting on the mesh posed that way, bit for bit.
+  PenetrationResult query_rotation(const Eigen::Matrix3d& rotation) const;
   // Mobile vertices query(pose) poses and tests (those of the buckets it does not drop).
   std::size_t num_tested_vertices(const Eigen::Isometry3d& pose) const;
 
@@ -145,6 +148,9 @@ class RadialPoseQuery {
     std::size_t num_vertices = 0;
   };
   KeptBuckets kept_buckets(const Eigen::Isometry3d& pose) const;
+  // The query at `pose` (for the culls), each kept vertex posed by posing(v).
+  template <typename Posing>
+  PenetrationResult run(const Eigen::Isometry3d& pose, const Posing& posing) const;
   // Is every vertex of the bucket culled by the spans' distance test, its distance moved by <= shift_mm?
   bool distance_culled(const Bucket& bucket, double shift_mm, double scale_mm) const;
   // Is every vertex of the bucket outside the spans' cap (radial_spans.h) at a pose whose rotation

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <optional>
 
 namespace hipfai::studies {
 
@@ -23,15 +24,6 @@ double ms_since(Clock::time_point start) {
 
 // Copy of `mesh` with vertices rotated by `rotation` about `centre` (triangles are not needed
 // by the queries, which read mobile vertices only, but are kept for VTP output).
-geometry::TriMesh posed(const geometry::TriMesh& mesh, const Eigen::Matrix3d& rotation,
-                        const geometry::Vec3& centre) {
-  geometry::TriMesh out;
-  out.vertices.reserve(mesh.vertices.size());
-  for (const auto& p : mesh.vertices) out.vertices.push_back(centre + rotation * (p - centre));
-  out.triangles = mesh.triangles;
-  return out;
-}
-
 double longest_edge(const geometry::TriMesh& mesh) {
   double longest = 0.0;
   for (const auto& tri : mesh.triangles) {
@@ -239,13 +231,18 @@ PenetrationRun compute_penetration(const LoadedHip& hip, const Motion& motion,
       femur_table = radial_table_for(femur, hip.mesh_hash.at("femur_bone") + hip.mesh_hash.at("femoral_cartilage"),
                                      centre, options, log);
     }
-    run.radial_preprocessing_ms = ms_since(start);
     contact::RadialQueryOptions inside;
     inside.configuration = contact::RadialConfiguration::kMobileInsideFixed;
     inside.rule = options.radial_rule;
     inside.num_threads = options.threads;
     contact::RadialQueryOptions outside = inside;
     outside.configuration = contact::RadialConfiguration::kFixedInsideMobile;
+    // Each side prepared once for the motion (contact::RadialPoseQuery): its vertices in buckets,
+    // those a step's spans rule out dropped whole; the same answers as the query on the posed mesh.
+    const contact::RadialPoseQuery femur_in_socket(socket_table, socket, femur, inside);
+    std::optional<contact::RadialPoseQuery> socket_in_femur;
+    if (options.swap_roles) socket_in_femur.emplace(femur_table, femur, socket, outside);
+    run.radial_preprocessing_ms = ms_since(start);
     // Records a merged side's per-vertex result under its two tissues' names.
     auto record_split = [&](std::size_t k, const contact::PenetrationResult& result, const std::string& first,
                             std::size_t n_first, const std::string& second, std::size_t n_second, double& max_depth,
@@ -269,15 +266,12 @@ PenetrationRun compute_penetration(const LoadedHip& hip, const Motion& motion,
     for (std::size_t k = 0; k < steps; ++k) {
       auto& s = run.steps[k];
       const auto query_start = Clock::now();
-      record_split(k, contact::radial_segmenting(socket_table, socket, posed(femur, rotation[k], centre), inside),
-                   "femur_bone", bone.num_vertices(), "femoral_cartilage", cartilage.num_vertices(), s.radial_mm,
-                   s.radial_vertices);
+      record_split(k, femur_in_socket.query_rotation(rotation[k]), "femur_bone", bone.num_vertices(),
+                   "femoral_cartilage", cartilage.num_vertices(), s.radial_mm, s.radial_vertices);
       log.ran(StageKind::kRadialQuery);
       if (options.swap_roles) {
         // The socket seen from the femur turns by the inverse rotation.
-        record_split(k,
-                     contact::radial_segmenting(femur_table, femur, posed(socket, rotation[k].transpose(), centre),
-                                                outside),
+        record_split(k, socket_in_femur->query_rotation(rotation[k].transpose()),
                      "acetabular_cartilage", acetabular.num_vertices(), "labrum", labrum.num_vertices(),
                      s.radial_swap_mm, s.radial_vertices);
         log.ran(StageKind::kRadialQuery);

@@ -292,6 +292,39 @@ TEST(RadialSpansOnGeneratedHip, CulledEqualsUnculledAtSeveralPoses) {
   }
 }
 
+// query_rotation poses as the studies do, O + R (v - O): equal bit for bit to the unculled query
+// on the mesh posed that way, on a generated hip turned about its centre (the FAI study's use).
+TEST(RadialSpansOnGeneratedHip, RotationQueryEqualsTheQueryOnTheMeshTurnedAboutTheCentre) {
+  geometry::HipParameters parameters;
+  parameters.ce_deg = 40.0;
+  parameters.alpha_deg = 80.0;
+  parameters.edge_mm = 5.5;
+  const geometry::HipModel hip = geometry::generate_hip(parameters).model;
+  const TriMesh socket = geometry::merge_meshes({&hip.tissue("acetabular_cartilage"), &hip.tissue("labrum")});
+  const TriMesh femur = geometry::merge_meshes({&hip.tissue("femur_bone"), &hip.tissue("femoral_cartilage")});
+  const Vec3 centre = hip.hjc_mm;
+  RadialTableOptions table_options;
+  table_options.table_size = static_cast<std::int64_t>(socket.num_triangles());
+  const RadialTable table = build_radial_table(socket, centre, table_options);
+  bool any = false;
+  for (auto rule : {RadialCrossingRule::kAdjacent, RadialCrossingRule::kUnion, RadialCrossingRule::kBeyond}) {
+    RadialQueryOptions options;
+    options.rule = rule;
+    const RadialPoseQuery prepared(table, socket, femur, options);
+    for (const double angle_deg : {0.0, 30.0, 60.0, 90.0}) {
+      const Eigen::Matrix3d rotation =
+          Eigen::AngleAxisd(angle_deg * 3.14159265358979323846 / 180.0, hip.axes.flexion_axis.normalized()).toRotationMatrix();
+      TriMesh posed = femur;
+      for (auto& v : posed.vertices) v = centre + rotation * (v - centre);
+      const auto full = query(table, socket, posed, RadialConfiguration::kMobileInsideFixed, rule, false);
+      expect_identical(prepared.query_rotation(rotation), full,
+                       std::string(to_string(rule)) + " " + std::to_string(angle_deg) + " deg");
+      any = any || !full.pairs.empty();
+    }
+  }
+  EXPECT_TRUE(any);  // the combined hip impinges in deep flexion: the comparison has pairs
+}
+
 TEST(RadialSpans, PoseQueryEqualsTheUnculledQueryOnThePosedMesh) {
   std::mt19937_64 rng(7);
   std::normal_distribution<double> g;
