@@ -36,8 +36,8 @@
 #include "contact/radial_table.h"
 #include "geometry/tri_mesh.h"
 
-#include <string>
 #include <limits>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -138,7 +138,7 @@ class RadialPoseQuery {
     double r_lo = std::numeric_limits<double>::infinity(), r_hi = 0.0;  // rest distances from O
     Vec3 axis = Vec3::UnitZ();  // unit mean rest direction
     double half_angle_rad = 8.0;  // every member's direction within this of axis (8: no cone)
-    double cos_half_angle = -1.0, sin_half_angle = 0.0;
+    double cos_half_angle = -1.0, sin_half_angle = 0.0;  // of half_angle_rad
   };
   // The buckets a pose keeps, in blocks of about kBlockVertices vertices (block b: buckets
   // [block_start[b], block_start[b + 1]) of `buckets`).
@@ -153,11 +153,12 @@ class RadialPoseQuery {
   PenetrationResult run(const Eigen::Isometry3d& pose, const Posing& posing) const;
   // Is every vertex of the bucket culled by the spans' distance test, its distance moved by <= shift_mm?
   bool distance_culled(const Bucket& bucket, double shift_mm, double scale_mm) const;
+  // The spans' cap half-angle + 1e-4 rad, with its cosine and sine.
+  struct CapAngle {
+    double angle_rad = 0.0, cos = 1.0, sin = 0.0;
+  };
   // Is every vertex of the bucket outside the spans' cap (radial_spans.h) at a pose whose rotation
   // takes rest_cap_axis to the cap's axis and whose centre moves by shift_mm?
-  struct CapAngle {
-    double angle_rad = 0.0, cos = 1.0, sin = 0.0;  // the spans' cap half-angle + 1e-4 rad
-  };
   bool cap_culled(const Bucket& bucket, const Vec3& rest_cap_axis, const CapAngle& cap, double shift_mm) const;
 
   const RadialTable* table_ = nullptr;
