@@ -38,18 +38,21 @@ double max_abs(const Vec3& v) {
 // ray_triangle_crossing would find facing = that sign and only its tail remains
 // (line_crossing_with_facing, same t bit for bit). Returns 0 for a clear miss, +-1 for a clear
 // hit with that facing, 2 when the exact test must decide.
-int filter_crossing(const Vec3& d, double m_d, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const double m_a = max_abs(a), m_b = max_abs(b), m_c = max_abs(c);
-  const double e_ab = d.dot(a.cross(b)), e_bc = d.dot(b.cross(c)), e_ca = d.dot(c.cross(a));
-  const double tolerance = 1e-13 * m_d;
-  const double bound_ab = tolerance * m_a * m_b, bound_bc = tolerance * m_b * m_c,
-               bound_ca = tolerance * m_c * m_a;
+// The verdict from the three edge values and their bounds.
+int filter_verdict(double e_ab, double e_bc, double e_ca, double bound_ab, double bound_bc, double bound_ca) {
   const int pos = (e_ab > bound_ab) + (e_bc > bound_bc) + (e_ca > bound_ca);
   const int neg = (e_ab < -bound_ab) + (e_bc < -bound_bc) + (e_ca < -bound_ca);
   if (pos > 0 && neg > 0) return 0;
   if (pos == 3) return 1;
   if (neg == 3) return -1;
   return 2;
+}
+
+int filter_crossing(const Vec3& d, double m_d, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const double m_a = max_abs(a), m_b = max_abs(b), m_c = max_abs(c);
+  const double tolerance = 1e-13 * m_d;
+  return filter_verdict(d.dot(a.cross(b)), d.dot(b.cross(c)), d.dot(c.cross(a)), tolerance * m_a * m_b,
+                        tolerance * m_b * m_c, tolerance * m_c * m_a);
 }
 
 // The exact crossing of the ray along `direction` (|direction|_inf = m_d) with fixed triangle t,
@@ -73,25 +76,12 @@ RayCrossing crossing_of(const geometry::TriMesh& fixed, const Vec3& centre, cons
 // for bit.
 RayCrossing crossing_with_planes(const geometry::TriMesh& fixed, const Vec3& centre, const Vec3& direction,
                                  double m_d, const RadialSpans::TrianglePlanes& planes, std::int32_t t) {
-  const double e_ab = direction.dot(planes.edge_ab), e_bc = direction.dot(planes.edge_bc),
-               e_ca = direction.dot(planes.edge_ca);
-  const double bound_ab = planes.bound_ab * m_d, bound_bc = planes.bound_bc * m_d, bound_ca = planes.bound_ca * m_d;
-  const int pos = (e_ab > bound_ab) + (e_bc > bound_bc) + (e_ca > bound_ca);
-  const int neg = (e_ab < -bound_ab) + (e_bc < -bound_bc) + (e_ca < -bound_ca);
-  if (pos > 0 && neg > 0) return {};
-  if (pos != 3 && neg != 3) return crossing_of(fixed, centre, direction, m_d, t);
-  const int facing = pos == 3 ? 1 : -1;
-  const Vec3& normal = planes.area_normal;
-  if (normal.x() == 0.0 && normal.y() == 0.0 && normal.z() == 0.0) return {};
-  const double along_normal = direction.dot(normal);
-  if (along_normal == 0.0 || (along_normal > 0.0) != (facing > 0)) return {};
-  const double crossing_t = planes.det / along_normal;
-  if (!(crossing_t > 0.0) || !std::isfinite(crossing_t)) return {};
-  RayCrossing crossing;
-  crossing.hit = true;
-  crossing.t = crossing_t;
-  crossing.facing = facing;
-  return crossing;
+  const int verdict = filter_verdict(direction.dot(planes.edge_ab), direction.dot(planes.edge_bc),
+                                     direction.dot(planes.edge_ca), planes.bound_ab * m_d, planes.bound_bc * m_d,
+                                     planes.bound_ca * m_d);
+  if (verdict == 0) return {};
+  if (verdict == 2) return crossing_of(fixed, centre, direction, m_d, t);
+  return plane_crossing_with_facing(direction, planes.area_normal, planes.det, verdict);
 }
 
 // Offers one candidate triangle's crossing to the running choice.
@@ -332,23 +322,16 @@ std::string check_inputs(const RadialTable& table, const geometry::TriMesh& fixe
   return {};
 }
 
-// Runs test(k, scratch, pair) -> bool over k in [0, count) in blocks of kBlock taken dynamically by
-// the workers, and returns the pairs of the k that penetrate in increasing k. Each block keeps its
-// own few hits: no per-vertex output array is allocated (a query of 262 k vertices would otherwise
-// touch 6 MiB of fresh memory per pose).
-template <typename Test>
-std::vector<PenetrationPair> gather_hits(std::size_t count, int threads, const Test& test) {
-  constexpr std::size_t kBlock = 2048;
-  const std::size_t blocks = (count + kBlock - 1) / kBlock;
+// Runs fill(block, scratch, hits) over blocks [0, blocks) taken dynamically by the workers (culled
+// vertices cost almost nothing, so the work is uneven); each block appends its few hits to its own
+// list, and the lists are joined in block order. No per-vertex output array is allocated (a query
+// of 262 k vertices would otherwise zero 6 MiB per pose).
+template <typename Fill>
+std::vector<PenetrationPair> gather_blocks(std::size_t blocks, int threads, const Fill& fill) {
   std::vector<std::vector<PenetrationPair>> per_block(blocks);
   parallel_blocks(blocks, threads, 1, [&](std::size_t first_block, std::size_t last_block) {
     VertexQuery::Scratch scratch;
-    for (std::size_t b = first_block; b < last_block; ++b) {
-      PenetrationPair pair;
-      for (std::size_t k = b * kBlock, end = std::min(count, (b + 1) * kBlock); k < end; ++k) {
-        if (test(k, scratch, pair)) per_block[b].push_back(pair);
-      }
-    }
+    for (std::size_t b = first_block; b < last_block; ++b) fill(b, scratch, per_block[b]);
   });
   std::size_t total = 0;
   for (const auto& hits : per_block) total += hits.size();
@@ -405,12 +388,18 @@ PenetrationResult radial_segmenting(const RadialTable& table, const geometry::Tr
     return result;
   }
   const bool use_spans = options.cull && radial_spans_valid(table.spans, fixed);
-  // Blocks are taken dynamically: culled vertices cost almost nothing, so the work is uneven.
   const VertexQuery query(table, fixed, options, use_spans);
-  result.pairs = gather_hits(mobile.num_vertices(), options.num_threads,
-                             [&](std::size_t v, VertexQuery::Scratch& scratch, PenetrationPair& pair) {
-                               return query.penetrates(static_cast<std::int32_t>(v), mobile.vertices[v], scratch, pair);
-                             });
+  constexpr std::size_t kBlock = 2048;
+  const std::size_t count = mobile.num_vertices();
+  result.pairs = gather_blocks((count + kBlock - 1) / kBlock, options.num_threads,
+                               [&](std::size_t b, VertexQuery::Scratch& scratch, std::vector<PenetrationPair>& hits) {
+                                 PenetrationPair pair;
+                                 for (std::size_t v = b * kBlock, end = std::min(count, v + kBlock); v < end; ++v) {
+                                   if (query.penetrates(static_cast<std::int32_t>(v), mobile.vertices[v], scratch, pair)) {
+                                     hits.push_back(pair);
+                                   }
+                                 }
+                               });
   return result;  // gathered in vertex order: already sorted
 }
 
@@ -603,36 +592,29 @@ PenetrationResult RadialPoseQuery::run(const Eigen::Isometry3d& pose, const Posi
   const KeptBuckets kept_buckets_of_pose = kept_buckets(pose);
   const std::vector<std::uint32_t>& kept = kept_buckets_of_pose.buckets;
   const std::vector<std::size_t>& block_start = kept_buckets_of_pose.block_start;
-  const std::size_t blocks = block_start.size() - 1;
   std::atomic<bool> finite{true};
   const VertexQuery query(*table_, *fixed_, options_, use_spans_);
-  std::vector<std::vector<PenetrationPair>> per_block(blocks);
-  parallel_blocks(blocks, options_.num_threads, 1, [&](std::size_t first_block, std::size_t last_block) {
-    VertexQuery::Scratch scratch;
-    PenetrationPair pair;
-    for (std::size_t block = first_block; block < last_block; ++block) {
-      for (std::size_t i = block_start[block]; i < block_start[block + 1]; ++i) {
-        const Bucket& bucket = buckets_[kept[i]];
-        for (std::uint32_t k = bucket.begin; k < bucket.end; ++k) {
-          const Vec3 position = posing(sorted_position_[k]);
-          if (!position.allFinite()) {
-            finite = false;
-            continue;
-          }
-          if (query.penetrates(sorted_index_[k], position, scratch, pair)) per_block[block].push_back(pair);
-        }
-      }
-    }
-  });
+  result.pairs = gather_blocks(block_start.size() - 1, options_.num_threads,
+                               [&](std::size_t block, VertexQuery::Scratch& scratch, std::vector<PenetrationPair>& hits) {
+                                 PenetrationPair pair;
+                                 for (std::size_t i = block_start[block]; i < block_start[block + 1]; ++i) {
+                                   const Bucket& bucket = buckets_[kept[i]];
+                                   for (std::uint32_t k = bucket.begin; k < bucket.end; ++k) {
+                                     const Vec3 position = posing(sorted_position_[k]);
+                                     if (!position.allFinite()) {
+                                       finite = false;
+                                       continue;
+                                     }
+                                     if (query.penetrates(sorted_index_[k], position, scratch, pair)) hits.push_back(pair);
+                                   }
+                                 }
+                               });
   if (!finite) {
     result.status = QueryStatus::kInvalidInput;
     result.message = "radial pose query: a posed mobile vertex is not finite";
+    result.pairs.clear();
     return result;
   }
-  std::size_t total = 0;
-  for (const auto& hits : per_block) total += hits.size();
-  result.pairs.reserve(total);
-  for (const auto& hits : per_block) result.pairs.insert(result.pairs.end(), hits.begin(), hits.end());
   sort_by_vertex(result.pairs, sorted_index_.size());
   return result;
 }

@@ -63,6 +63,10 @@ RayCrossing ray_triangle_crossing(const Vec3& direction, const Vec3& a, const Ve
 RayCrossing line_crossing_with_facing(const Vec3& direction, const Vec3& a, const Vec3& b, const Vec3& c,
                                       int facing);
 
+// The same tail given the triangle's area normal N = (b - a) x (c - a) and det(a, b, c) =
+// a . (b x c) computed beforehand with those expressions (as line_crossing_with_facing does).
+RayCrossing plane_crossing_with_facing(const Vec3& direction, const Vec3& area_normal, double det, int facing);
+
 // Thesis Eq. 34: distance from O to the triangle's plane along the unit direction of `direction`
 // (a, b, c relative to O), or NaN if the line is parallel to the plane or the triangle has zero
 // area. Signed: negative when the plane is met behind O. Kept for documentation and tests; the
