@@ -52,11 +52,17 @@ const CommandRegistrar registrar("study", [](CLI::App& parent) {
                   "Touching is not penetrating below this (mm); default: max(chord sagitta of the mesh, 0.1 mm "
                   "sphericity), the same tolerance at every resolution when given")
       ->check(CLI::Range(0.0, 5.0));
+  auto samples = std::make_shared<std::string>("vertices");
+  fai->add_option("--curvilinear-samples", *samples,
+                  "Where the curvilinear depth is sampled: 'vertices' (the thesis' method) or 'boundary' (also "
+                  "where the surfaces cross the sphere R + tolerance, the border of the striking region)")
+      ->capture_default_str()->check(CLI::IsMember({"vertices", "boundary"}));
   fai->callback([=] {
     studies::FaiStudyOptions run = *options;
     run.out_dir = *out;
     run.cache_dir = *cache;
     run.resolution_edges_mm = *resolutions;
+    run.sample_striking_boundary = *samples == "boundary";
     run.mapping = *studies::radial_mapping_from_name(*mapping);  // a member: checked by IsMember
     run.radial_rule = *radial_rule == "beyond" ? contact::RadialCrossingRule::kBeyond
                                                : contact::RadialCrossingRule::kUnion;

@@ -49,9 +49,10 @@ inline constexpr double kNotzliPlaneClockDeg = 0.0;  // from anterior towards su
 // model's cam holds its alpha from 3:00 to 1:30 and tapers towards 12 and 4 o'clock.
 inline constexpr double kCamArcBeginDeg = 0.0;   // 3 o'clock
 inline constexpr double kCamArcEndDeg = 45.0;    // 1:30
-// Cam height: Gosvig et al. 2007 (Acta Radiol 48:1011) call a head-neck contour cam-shaped when it
-// stands more than 2 mm outside the head's radius (triangular index); the model's cam stands
-// 2.5 mm out, just beyond that threshold.
+// Cam height: Gosvig et al. 2007 (J Bone Joint Surg Br 89:1309, the triangular index) call a
+// head-neck contour cam-shaped when it stands more than 2 mm outside the head's radius; the model's
+// cam stands 2.5 mm out, just beyond that threshold. (The index's construction is as the team read
+// it; only the paper's abstract was at hand to re-check, and it does not state the construction.)
 inline constexpr double kCamHeightMm = 2.5;
 // The thesis' normal hip has CE 20 deg (§4.3.2.2; Chegini et al. 2009); the model's socket is a
 // hemisphere there (its rim a plane through the HJC) and CE changes its depth all around.

@@ -46,6 +46,7 @@ FaiModelRun run_model(double ce, double alpha, double edge_mm, const Motion& mot
   penetration.threads = options.threads;
   penetration.cache_dir = options.cache_dir;
   penetration.contact_tolerance_mm = options.contact_tolerance_mm;
+  penetration.sample_striking_boundary = options.sample_striking_boundary;
   const auto compute_start = Clock::now();
   const std::string id = model_id(ce, alpha);
   const bool wants_vtp = edge_mm == options.edge_mm &&
@@ -81,7 +82,8 @@ FaiModelRun run_model(double ce, double alpha, double edge_mm, const Motion& mot
   model.summary.first_contact_deg = first_striking_contact_deg(
       model.hip.tissues.at("femur_bone"), model.hip.tissues.at("labrum"), model.hip.hjc_mm,
       (model.hip.frame * motion.steps.front().axis).normalized(),
-      model.hip.articular_radius_mm + model.run.contact_tolerance_mm, options.threads);
+      model.hip.articular_radius_mm + model.run.contact_tolerance_mm, options.threads,
+      options.sample_striking_boundary);
   return model;
 }
 

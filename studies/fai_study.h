@@ -44,6 +44,8 @@ struct FaiStudyOptions {
   // Contact tolerance (mm) of the penetration method; negative: max(sagitta bound, sphericity)
   // of each hip's mesh (studies/penetration_run.h).
   double contact_tolerance_mm = -1.0;
+  // Curvilinear depth sampled also on the border of the striking region (penetration_run.h).
+  bool sample_striking_boundary = false;
   bool progress = true;
   // Per-step VTP files (each tissue with that step's depth fields) for these models and steps
   // (1-based; 0 = the last step): <out>/vtp/<model>_<tissue>_stepNNN.vtp.

@@ -6,6 +6,7 @@
 #include "core/stopwatch.h"
 #include "geometry/hip_generator.h"
 #include "geometry/hip_measure.h"
+#include "geometry/sphere_split.h"
 #include "studies/hip_source.h"
 #include "studies/motion.h"
 #include "studies/penetration_run.h"
@@ -19,9 +20,18 @@
 namespace hipfai::studies {
 namespace {
 
-// The femur bone's triangles whose three vertices lie farther than `min_radius_mm` from `centre`
-// (the striking part; see hip_sensitivity.h), re-indexed.
-geometry::TriMesh striking_part(const geometry::TriMesh& femur, const geometry::Vec3& centre, double min_radius_mm) {
+// The triangles whose three vertices lie farther than `min_radius_mm` from `centre` (the striking
+// part; see hip_sensitivity.h), re-indexed. With `exact_border` the surface is first split along
+// that sphere (geometry::split_at_sphere), so the part is the whole surface beyond it, up to the
+// chords that replace the border's arcs, instead of the triangles that happen to lie wholly beyond.
+geometry::TriMesh striking_part(const geometry::TriMesh& surface, const geometry::Vec3& centre, double min_radius_mm,
+                                bool exact_border) {
+  if (exact_border) {
+    // The new vertices lie on the sphere up to rounding: kept from a hair inside it.
+    return striking_part(geometry::split_at_sphere(surface, centre, min_radius_mm).mesh, centre,
+                         min_radius_mm * (1.0 - 1e-12), false);
+  }
+  const geometry::TriMesh& femur = surface;
   geometry::TriMesh out;
   std::vector<std::int32_t> index(femur.vertices.size(), -1);
   for (const auto& tri : femur.triangles) {
@@ -46,7 +56,7 @@ geometry::TriMesh striking_part(const geometry::TriMesh& femur, const geometry::
 
 double first_striking_contact_deg(const geometry::TriMesh& femur, const geometry::TriMesh& labrum,
                                   const geometry::Vec3& centre, const Eigen::Vector3d& axis, double min_radius_mm,
-                                  int threads) {
+                                  int threads, bool exact_border) {
   // Both roles: the femur's striking part against the whole labrum, and the whole femur against
   // the labrum's striking part (a labrum vertex may enter the femur through a triangle that
   // straddles the R + tol sphere). The articular faces, on the R sphere, touch in neutral and
@@ -54,11 +64,11 @@ double first_striking_contact_deg(const geometry::TriMesh& femur, const geometry
   contact::RangeOfMotionOptions rom;
   rom.query.num_threads = threads;
   double first = std::numeric_limits<double>::infinity();
-  const geometry::TriMesh femur_striking = striking_part(femur, centre, min_radius_mm);
+  const geometry::TriMesh femur_striking = striking_part(femur, centre, min_radius_mm, exact_border);
   if (!femur_striking.triangles.empty()) {
     first = std::min(first, contact::range_of_motion(labrum, femur_striking, centre, axis, rom).anticlockwise_deg);
   }
-  const geometry::TriMesh labrum_striking = striking_part(labrum, centre, min_radius_mm);
+  const geometry::TriMesh labrum_striking = striking_part(labrum, centre, min_radius_mm, exact_border);
   if (!labrum_striking.triangles.empty()) {
     first = std::min(first, contact::range_of_motion(labrum_striking, femur, centre, axis, rom).anticlockwise_deg);
   }

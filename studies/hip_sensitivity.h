@@ -75,10 +75,12 @@ SensitivityResult run_hip_sensitivity(const SensitivityOptions& options);
 
 // First contact (deg, +inf if none within a turn) of `femur` turning about `axis` through `centre`
 // (right-hand rule) against `labrum`, counting only parts farther than `min_radius_mm` from the
-// centre on at least one side (see the header comment).
+// centre on at least one side (see the header comment). With `exact_border` that part is all of
+// the surface beyond the sphere (split along it), as the curvilinear depth's border samples count
+// it (PenetrationOptions::sample_striking_boundary).
 double first_striking_contact_deg(const geometry::TriMesh& femur, const geometry::TriMesh& labrum,
                                   const geometry::Vec3& centre, const Eigen::Vector3d& axis, double min_radius_mm,
-                                  int threads);
+                                  int threads, bool exact_border = false);
 
 // Writes <dir>/sensitivity.csv and <dir>/sensitivity.md (atomically, each).
 void write_sensitivity_report(const SensitivityResult& result, const std::string& dir);

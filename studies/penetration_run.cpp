@@ -6,6 +6,7 @@
 #include "core/error.h"
 #include "core/hash.h"
 #include "core/literature.h"
+#include "geometry/sphere_split.h"
 #include "studies/radial_table_cache.h"
 
 #include <algorithm>
@@ -49,12 +50,18 @@ struct PairFilter {
   }
 };
 
+// Pairs of mobile vertices at or past step_field.size() are samples added on the striking
+// boundary (geometry::split_at_sphere): they count towards the step's maximum depth only.
 void record(const contact::PenetrationResult& result, const PairFilter& filter, std::vector<double>& step_field,
             std::vector<double>& max_field, double& max_depth, int& count) {
   if (result.status == contact::QueryStatus::kInvalidInput) throw_error(result.message);
   for (const auto& pair : result.pairs) {
     if (!filter.keep(pair)) continue;
     const auto v = static_cast<std::size_t>(pair.mobile_vertex);
+    if (v >= step_field.size()) {
+      max_depth = std::max(max_depth, pair.depth_mm);
+      continue;
+    }
     step_field[v] = pair.depth_mm;
     max_field[v] = std::max(max_field[v], pair.depth_mm);
     max_depth = std::max(max_depth, pair.depth_mm);
@@ -174,37 +181,51 @@ PenetrationRun compute_penetration(const LoadedHip& hip, const Motion& motion,
   };
 
   if (options.curvilinear) {
-    const auto& femur = hip.tissues.at("femur_bone");
-    const auto& labrum = hip.tissues.at("labrum");
+    const auto& femur_mesh = hip.tissues.at("femur_bone");
+    const auto& labrum_mesh = hip.tissues.at("labrum");
+    // The striking region of each side begins at the sphere R + tolerance, where its curvilinear
+    // depth is largest (the cam's flank runs along under the labrum's face): sampled there too.
+    const double striking_mm = hip.articular_radius_mm + tolerance;
+    std::optional<geometry::SphereSplit> femur_split, labrum_split;
+    if (options.sample_striking_boundary) {
+      femur_split = geometry::split_at_sphere(femur_mesh, centre, striking_mm);
+      labrum_split = geometry::split_at_sphere(labrum_mesh, centre, striking_mm);
+    }
+    const geometry::TriMesh& femur = femur_split ? femur_split->mesh : femur_mesh;
+    const geometry::TriMesh& labrum = labrum_split ? labrum_split->mesh : labrum_mesh;
+    const std::string femur_hash = femur_split ? geometry::mesh_hash(femur) : hip.mesh_hash.at("femur_bone");
+    const std::string labrum_hash = labrum_split ? geometry::mesh_hash(labrum) : hip.mesh_hash.at("labrum");
+    // Boundary samples lie on the sphere up to rounding: kept from a hair inside it.
+    const double striking_filter_mm = femur_split ? striking_mm * (1.0 - 1e-12) : striking_mm;
     contact::CylindricalQueryOptions query;
     query.num_threads = options.threads;
     for (const auto& shared_axis : distinct_axes(motion)) {
       const Eigen::Vector3d model_axis = (hip.frame * shared_axis).normalized();
       const auto start = Clock::now();
       const contact::CylindricalPoseCache femur_cache = pose_cache_for(
-          labrum, hip.mesh_hash.at("labrum"), femur, hip.mesh_hash.at("femur_bone"), centre, model_axis, options, log);
+          labrum_mesh, hip.mesh_hash.at("labrum"), femur, femur_hash, centre, model_axis, options, log);
       contact::CylindricalPoseCache labrum_cache;
       if (options.swap_roles) {
-        labrum_cache = pose_cache_for(femur, hip.mesh_hash.at("femur_bone"), labrum, hip.mesh_hash.at("labrum"),
-                                      centre, model_axis, options, log);
+        labrum_cache = pose_cache_for(femur_mesh, hip.mesh_hash.at("femur_bone"), labrum, labrum_hash, centre,
+                                      model_axis, options, log);
       }
       run.curvilinear_preprocessing_ms += ms_since(start);
       for (std::size_t k = 0; k < steps; ++k) {
         if ((motion.steps[k].axis - shared_axis).norm() >= 1e-9) continue;
         const auto query_start = Clock::now();
         auto& s = run.steps[k];
-        PairFilter striking_femur{&femur, centre, hip.articular_radius_mm + tolerance, 0.0};
+        PairFilter striking_femur{&femur, centre, striking_filter_mm, 0.0};
         record(femur_cache.query(motion.steps[k].angle_deg), striking_femur,
-               field(step_fields[k], "femur_bone/curvilinear_depth_mm", femur.num_vertices()),
-               field(run.max_fields, "femur_bone/curvilinear_depth_mm", femur.num_vertices()),
+               field(step_fields[k], "femur_bone/curvilinear_depth_mm", femur_mesh.num_vertices()),
+               field(run.max_fields, "femur_bone/curvilinear_depth_mm", femur_mesh.num_vertices()),
                s.curvilinear_mm, s.curvilinear_vertices);
         log.ran(StageKind::kCylindricalQuery);
         if (options.swap_roles) {
           // The femur turning by +angle is the labrum turning by -angle relative to it.
-          PairFilter striking_labrum{&labrum, centre, hip.articular_radius_mm + tolerance, 0.0};
+          PairFilter striking_labrum{&labrum, centre, striking_filter_mm, 0.0};
           record(labrum_cache.query(-motion.steps[k].angle_deg), striking_labrum,
-                 field(step_fields[k], "labrum/curvilinear_depth_mm", labrum.num_vertices()),
-                 field(run.max_fields, "labrum/curvilinear_depth_mm", labrum.num_vertices()),
+                 field(step_fields[k], "labrum/curvilinear_depth_mm", labrum_mesh.num_vertices()),
+                 field(run.max_fields, "labrum/curvilinear_depth_mm", labrum_mesh.num_vertices()),
                  s.curvilinear_swap_mm, s.curvilinear_vertices);
           log.ran(StageKind::kCylindricalQuery);
         }

@@ -53,6 +53,9 @@ struct PenetrationOptions {
   std::filesystem::path cache_dir;  // radial tables are cached here when not empty
   // Negative: max(sagitta bound, sphericity) above; 0 disables the tolerance (raw geometric results).
   double contact_tolerance_mm = -1.0;
+  // Curvilinear depth also sampled where each side's surface crosses the sphere R + tolerance
+  // (geometry::split_at_sphere), the border of its striking region, not only at its vertices.
+  bool sample_striking_boundary = false;
 };
 
 struct StepPenetration {

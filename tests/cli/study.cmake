@@ -5,6 +5,7 @@ hipfai_cli_test(NAME run_bad_units EXIT nonzero STDERR "bad_scene.yaml:2: units.
   COMMAND run ${CMAKE_BINARY_DIR}/cli-tmp/bad_scene.yaml --plan)
 hipfai_cli_test(NAME study_fai_bad_edge EXIT nonzero STDERR "edge-mm" COMMAND study fai --edge-mm 0)
 hipfai_cli_test(NAME study_fai_bad_radial_rule EXIT nonzero STDERR "radial-rule" COMMAND study fai --radial-rule adjacent)
+hipfai_cli_test(NAME study_fai_bad_curvilinear_samples EXIT nonzero STDERR "curvilinear-samples" COMMAND study fai --curvilinear-samples edges)
 # The sensitivity study on one parameter (its two variants and the reference, both hips: 6 hips).
 hipfai_cli_test(NAME study_sensitivity_one_parameter EXIT 0
   COMMAND study sensitivity --parameters cam_height_mm --sub-motions 6 --out @TMP@/sensitivity)
