@@ -1,5 +1,7 @@
 // hipfai study fai: the 25-model FAI penetration study (thesis §4.3).
 #include "app/command_registry.h"
+#include "core/error.h"
+#include "geometry/hip_parameters.h"
 #include "studies/fai_study.h"
 #include "studies/hip_sensitivity.h"
 #include "studies/radial_mapping_name.h"
@@ -7,12 +9,25 @@
 #include "studies/validation_study.h"
 
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 
 #include <iomanip>
 #include <iostream>
 
 namespace hipfai::app {
 namespace {
+
+// A JSON file of hip parameters (a subset of the fields; the others keep their defaults).
+geometry::HipParameters read_hip_parameters_file(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) throw_error(path.string(), ": no such file");
+  std::ifstream in(path);
+  if (!in) throw_error(path.string(), ": cannot open for reading");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return geometry::hip_parameters_from_json(text.str(), path.string());
+}
 
 const CommandRegistrar registrar("study", [](CLI::App& parent) {
   auto* study = parent.add_subcommand("study", "Run a study: fai (thesis §4.3), validate (penetration vs FE, Tables 8-9), sensitivity (hip geometry)");
@@ -57,8 +72,20 @@ const CommandRegistrar registrar("study", [](CLI::App& parent) {
                   "Where the curvilinear depth is sampled: 'vertices' (the thesis' method) or 'boundary' (also "
                   "where the surfaces cross the sphere R + tolerance, the border of the striking region)")
       ->capture_default_str()->check(CLI::IsMember({"vertices", "boundary"}));
+  auto pose_sequence = std::make_shared<std::string>("jcs");
+  fai->add_option("--pose-sequence", *pose_sequence,
+                  "How the end pose's (flexion, adduction, internal rotation) compose: 'jcs' (joint coordinate "
+                  "system, X-Y'-Z'') or 'fixed-axes' (about the fixed pelvic X, then Y, then Z: the thesis' "
+                  "wording read literally)")
+      ->capture_default_str()->check(CLI::IsMember({"jcs", "fixed-axes"}));
+  auto hip_parameters = std::make_shared<std::string>();
+  fai->add_option("--hip-parameters", *hip_parameters,
+                  "JSON file of generator parameters shared by every hip (keys of model.json's 'parameters'; "
+                  "ce_deg, alpha_deg and edge_mm are the grid's)");
   fai->callback([=] {
     studies::FaiStudyOptions run = *options;
+    run.pose_sequence = studies::pose_sequence_from_name(*pose_sequence);  // a member: checked by IsMember
+    if (!hip_parameters->empty()) run.base_parameters = read_hip_parameters_file(*hip_parameters);
     run.out_dir = *out;
     run.cache_dir = *cache;
     run.resolution_edges_mm = *resolutions;

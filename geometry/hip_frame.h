@@ -19,6 +19,14 @@
 // A pose (flexion, adduction, internal rotation) is the intrinsic X-Y'-Z'' Cardan sequence
 // R = Rx(flexion) * Ry(adduction) * Rz(internal_rotation), following the joint coordinate system
 // order of Wu et al. (2002). Generated hips are right hips.
+//
+// The same three angles can also be read as rotations about the FIXED hip-frame axes, in the
+// order listed: flexion about X, then adduction about Y, then internal rotation about Z, i.e.
+// R = Rz(internal_rotation) * Ry(adduction) * Rx(flexion) (PoseSequence::kFixedAxes). That is
+// the literal reading of thesis §4.3.2.3 ("the rotations of the femur head around these axes were
+// defined as flexion, adduction and internal rotation respectively"); the two readings differ by
+// 17.4 deg at the standing-to-sitting end pose (59.6, 13.6, 10.9), and docs/hip-geometry.md
+// measures which one the thesis' cam results follow (the joint coordinate system).
 #pragma once
 
 #include <Eigen/Geometry>
@@ -37,6 +45,12 @@ struct HipFrameAxes {
   Eigen::Vector3d internal_rotation_axis{0.0, 0.0, 1.0};
 };
 
+// How the three angles of a HipPoseDeg compose (see the header comment).
+enum class PoseSequence {
+  kJointCoordinateSystem,  // intrinsic X-Y'-Z'': Rx * Ry * Rz (Wu et al. 2002), the default
+  kFixedAxes,              // about the fixed X, then Y, then Z: Rz * Ry * Rx
+};
+
 struct HipPoseDeg {
   double flexion_deg = 0.0;
   double adduction_deg = 0.0;
@@ -48,6 +62,15 @@ inline Eigen::Matrix3d femur_rotation(const HipPoseDeg& pose, const HipFrameAxes
   return (Eigen::AngleAxisd(pose.flexion_deg * kDegToRad, axes.flexion_axis) *
           Eigen::AngleAxisd(pose.adduction_deg * kDegToRad, axes.adduction_axis) *
           Eigen::AngleAxisd(pose.internal_rotation_deg * kDegToRad, axes.internal_rotation_axis))
+      .toRotationMatrix();
+}
+
+// Rotation of the femur for a pose read in the given sequence.
+inline Eigen::Matrix3d femur_rotation(const HipPoseDeg& pose, PoseSequence sequence, const HipFrameAxes& axes = {}) {
+  if (sequence == PoseSequence::kJointCoordinateSystem) return femur_rotation(pose, axes);
+  return (Eigen::AngleAxisd(pose.internal_rotation_deg * kDegToRad, axes.internal_rotation_axis) *
+          Eigen::AngleAxisd(pose.adduction_deg * kDegToRad, axes.adduction_axis) *
+          Eigen::AngleAxisd(pose.flexion_deg * kDegToRad, axes.flexion_axis))
       .toRotationMatrix();
 }
 

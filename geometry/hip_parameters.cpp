@@ -105,6 +105,17 @@ std::string hip_parameters_to_json(const HipParameters& p, int indent) {
   return json.dump(indent);
 }
 
+std::vector<std::pair<std::string, double>> hip_parameters_changed(const HipParameters& p,
+                                                                   const HipParameters& reference) {
+  std::vector<std::pair<std::string, double>> changed;
+  for (const Field& field : kFields) {
+    if (field.member != nullptr && p.*field.member != reference.*field.member) {
+      changed.emplace_back(field.name, p.*field.member);
+    }
+  }
+  return changed;
+}
+
 HipParameters hip_parameters_from_json(const std::string& text, const std::string& what) {
   nlohmann::json json;
   try {

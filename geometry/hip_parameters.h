@@ -25,6 +25,8 @@
 #include "geometry/tri_mesh.h"
 
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace hipfai::geometry {
 
@@ -111,6 +113,9 @@ void validate_hip_parameters(const HipParameters& parameters, const std::string&
 // keep their defaults), rejects unknown keys and validates. Errors name `what` and the key.
 std::string hip_parameters_to_json(const HipParameters& parameters, int indent = 2);
 HipParameters hip_parameters_from_json(const std::string& text, const std::string& what);
+// The fields of `p` whose value differs from `reference`'s, as (JSON key, value), in field order.
+std::vector<std::pair<std::string, double>> hip_parameters_changed(const HipParameters& p,
+                                                                   const HipParameters& reference = {});
 
 // Directions derived from the parameters, unit vectors in the hip frame.
 // Neck axis: from the HJC towards the neck (lateral, inferior and, with anteversion, posterior).

@@ -231,7 +231,27 @@ void write_report_md(const FaiStudyResult& result, const FaiStudyOptions& option
      << "hipfai " << kVersion << " (" << kGitSha << "). " << result.models.size()
      << " parametric hips, standing to sitting in " << result.motion.steps.size()
      << " equal sub-motions to (flexion, adduction, internal rotation) = (59.6, 13.6, 10.9) deg "
-     << "(thesis §4.3.2.3). Surface edge " << options.edge_mm << " mm; radial mapping " << contact::to_string(options.mapping)
+     << "(thesis §4.3.2.3), "
+     << (options.pose_sequence == geometry::PoseSequence::kFixedAxes
+             ? "read as rotations about the fixed pelvic axes X, then Y, then Z (`--pose-sequence fixed-axes`)"
+             : "read in the joint coordinate system (X-Y'-Z'', Wu et al. 2002)")
+     << ". Hip parameters: "
+     << [&] {
+          std::string text = "the generator's defaults (geometry/hip_parameters.h)";
+          if (!options.base_parameters) return text;
+          geometry::HipParameters base = *options.base_parameters;
+          base.ce_deg = geometry::HipParameters{}.ce_deg;  // the grid's own
+          base.alpha_deg = geometry::HipParameters{}.alpha_deg;
+          base.edge_mm = geometry::HipParameters{}.edge_mm;
+          const auto changed = geometry::hip_parameters_changed(base);
+          if (changed.empty()) return text;
+          text = "the defaults except";
+          for (std::size_t i = 0; i < changed.size(); ++i) {
+            text += (i == 0 ? " " : ", ") + changed[i].first + " = " + fixed(changed[i].second, 2);
+          }
+          return text + " (`--hip-parameters`)";
+        }()
+     << ". Surface edge " << options.edge_mm << " mm; radial mapping " << contact::to_string(options.mapping)
      << ", " << options.table_size << " cells. Curvilinear: femur bone vs labrum, cylindrical segmenting; "
      << "radial: femur bone and cartilage vs acetabular cartilage + labrum, radial segmenting, crossing rule '"
      << contact::to_string(options.radial_rule)

@@ -29,7 +29,7 @@ FaiModelRun run_model(double ce, double alpha, double edge_mm, const Motion& mot
                    const FaiStudyOptions& options, StageLog& log) {
   Scene scene;
   scene.name = model_id(ce, alpha);
-  scene.parametric = ParametricHip{ce, alpha, edge_mm};
+  scene.parametric = ParametricHip{ce, alpha, edge_mm, options.base_parameters};
   scene.outputs = {Output::kCurvilinearDepth, Output::kRadialDepth};
   for (Output o : scene.outputs) {
     const auto t = tissues_for(o);
@@ -149,7 +149,7 @@ std::string difference_band(double x) {
 FaiStudyResult compute_fai_study(const FaiStudyOptions& options) {
   const auto study_start = Clock::now();
   FaiStudyResult result;
-  result.motion = standing_to_sitting(options.sub_motions);
+  result.motion = standing_to_sitting(options.sub_motions, options.pose_sequence);
   const Motion& motion = result.motion;
   auto& runs = result.runs;
   StageLog log;

@@ -17,12 +17,15 @@
 #pragma once
 
 #include "contact/radial_mapping.h"
+#include "geometry/hip_frame.h"
+#include "geometry/hip_parameters.h"
 #include "studies/hip_source.h"
 #include "studies/motion.h"
 #include "studies/penetration_run.h"
 
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -36,6 +39,12 @@ struct FaiStudyOptions {
   std::vector<double> alpha_deg{40, 50, 60, 70, 80};
   double edge_mm = 2.0;                        // surface resolution of the main run
   int sub_motions = 30;
+  // How the end pose's angles compose (geometry/hip_frame.h); the default is the joint coordinate
+  // system, kFixedAxes the literal reading compared in docs/hip-geometry.md.
+  geometry::PoseSequence pose_sequence = geometry::PoseSequence::kJointCoordinateSystem;
+  // Generator parameters shared by every hip of the grid (CE, alpha and the edge are the grid's);
+  // nullopt: the defaults of geometry/hip_parameters.h. The report lists the fields that differ.
+  std::optional<geometry::HipParameters> base_parameters = std::nullopt;
   std::vector<double> resolution_edges_mm;     // extra runs for the accuracy-vs-time table
   contact::RadialMapping mapping = contact::RadialMapping::kCube;
   contact::RadialCrossingRule radial_rule = contact::RadialCrossingRule::kUnion;  // penetration_run.h

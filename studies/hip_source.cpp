@@ -15,7 +15,7 @@ namespace hipfai::studies {
 namespace {
 
 geometry::HipParameters parameters_of(const ParametricHip& hip) {
-  geometry::HipParameters parameters;
+  geometry::HipParameters parameters = hip.base.value_or(geometry::HipParameters{});
   parameters.ce_deg = hip.ce_deg;
   parameters.alpha_deg = hip.alpha_deg;
   parameters.edge_mm = hip.edge_mm;

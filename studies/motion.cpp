@@ -37,13 +37,26 @@ MotionStep make_step(const geometry::HipPoseDeg& pose) {
   return step;
 }
 
-Motion standing_to_sitting(int sub_motions) {
+std::string pose_sequence_name(geometry::PoseSequence sequence) {
+  return sequence == geometry::PoseSequence::kFixedAxes ? "fixed-axes" : "jcs";
+}
+
+geometry::PoseSequence pose_sequence_from_name(const std::string& name) {
+  if (name == "jcs") return geometry::PoseSequence::kJointCoordinateSystem;
+  if (name == "fixed-axes") return geometry::PoseSequence::kFixedAxes;
+  throw_error("pose sequence '", name, "' is not one of: jcs, fixed-axes");
+}
+
+Motion standing_to_sitting(int sub_motions, geometry::PoseSequence sequence) {
   if (sub_motions < 1) throw_error("standing_to_sitting: sub_motions must be >= 1, got ", sub_motions);
-  const MotionStep end = make_step({literature::kStandToSitFlexionDeg,
-                                    literature::kStandToSitAdductionDeg,
-                                    literature::kStandToSitInternalRotationDeg});
+  MotionStep end;
+  end.rotation = geometry::femur_rotation({literature::kStandToSitFlexionDeg, literature::kStandToSitAdductionDeg,
+                                           literature::kStandToSitInternalRotationDeg},
+                                          sequence);
+  set_axis_angle(end);
   Motion motion;
-  motion.name = "standing_to_sitting";
+  motion.name = sequence == geometry::PoseSequence::kFixedAxes ? "standing_to_sitting_fixed_axes"
+                                                                : "standing_to_sitting";
   for (int k = 1; k <= sub_motions; ++k) {
     MotionStep step;
     step.axis = end.axis;

@@ -37,8 +37,15 @@ MotionStep make_step(const geometry::HipPoseDeg& pose);
 // Standing to sitting after thesis §4.3.2.3: `sub_motions` equal sub-motions from neutral to
 // (flexion, adduction, internal rotation) = (59.6, 13.6, 10.9) deg. The end rotation is split into
 // equal angles about its single axis, so every step shares one axis. Forces: none (the FE module
-// attaches its own load profile).
-Motion standing_to_sitting(int sub_motions);
+// attaches its own load profile). `sequence` says how the end pose's three angles compose
+// (geometry/hip_frame.h); the steps' Cardan angles are always written back in the joint coordinate
+// system (X-Y'-Z''), the convention of motion CSV files.
+Motion standing_to_sitting(int sub_motions,
+                           geometry::PoseSequence sequence = geometry::PoseSequence::kJointCoordinateSystem);
+
+// "jcs" / "fixed-axes" and back; pose_sequence_from_name throws hipfai::Error for another name.
+std::string pose_sequence_name(geometry::PoseSequence sequence);
+geometry::PoseSequence pose_sequence_from_name(const std::string& name);
 
 // The six medical rotations of thesis §4.4 about the hip frame axes: flexion, extension,
 // abduction, adduction, internal and external rotation, each from neutral to `max_deg` in `steps`

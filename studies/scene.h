@@ -31,6 +31,7 @@
 #pragma once
 
 #include "contact/radial_mapping.h"
+#include "geometry/hip_parameters.h"
 
 #include <filesystem>
 #include <optional>
@@ -58,6 +59,9 @@ struct ParametricHip {
   double ce_deg = 20.0;
   double alpha_deg = 40.0;
   double edge_mm = 2.0;
+  // Every other generator parameter (geometry/hip_parameters.h); nullopt: the defaults. CE, alpha
+  // and the edge above replace the base's own.
+  std::optional<geometry::HipParameters> base = std::nullopt;
 };
 
 struct MotionSpec {

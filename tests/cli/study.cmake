@@ -5,6 +5,15 @@ hipfai_cli_test(NAME run_bad_units EXIT nonzero STDERR "bad_scene.yaml:2: units.
   COMMAND run ${CMAKE_BINARY_DIR}/cli-tmp/bad_scene.yaml --plan)
 hipfai_cli_test(NAME study_fai_bad_edge EXIT nonzero STDERR "edge-mm" COMMAND study fai --edge-mm 0)
 hipfai_cli_test(NAME study_fai_bad_radial_rule EXIT nonzero STDERR "radial-rule" COMMAND study fai --radial-rule adjacent)
+hipfai_cli_test(NAME study_fai_bad_pose_sequence EXIT nonzero STDERR "pose-sequence" COMMAND study fai --pose-sequence zyx)
+hipfai_cli_test(NAME study_fai_missing_hip_parameters EXIT nonzero STDERR "none.json: no such file"
+  COMMAND study fai --hip-parameters @TMP@/none.json --out @TMP@/fai-none)
+file(WRITE ${CMAKE_BINARY_DIR}/cli-tmp/bad_hip_parameters.json "{\"acetabular_anteversion\": 14}")
+hipfai_cli_test(NAME study_fai_unknown_hip_parameter EXIT nonzero STDERR "unknown parameter 'acetabular_anteversion'"
+  COMMAND study fai --hip-parameters ${CMAKE_BINARY_DIR}/cli-tmp/bad_hip_parameters.json --out @TMP@/fai-bad)
+file(WRITE ${CMAKE_BINARY_DIR}/cli-tmp/range_hip_parameters.json "{\"acetabular_anteversion_deg\": 90}")
+hipfai_cli_test(NAME study_fai_hip_parameter_out_of_range EXIT nonzero STDERR "acetabular_anteversion_deg = 90 is outside"
+  COMMAND study fai --hip-parameters ${CMAKE_BINARY_DIR}/cli-tmp/range_hip_parameters.json --out @TMP@/fai-bad)
 hipfai_cli_test(NAME study_fai_bad_curvilinear_samples EXIT nonzero STDERR "curvilinear-samples" COMMAND study fai --curvilinear-samples edges)
 # The sensitivity study on one parameter (its two variants and the reference, both hips: 6 hips).
 hipfai_cli_test(NAME study_sensitivity_one_parameter EXIT 0

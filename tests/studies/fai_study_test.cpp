@@ -74,5 +74,26 @@ TEST(FaiStudy, PathologyAndBandsFollowThesisTable10) {
   EXPECT_EQ(difference_band(0.25), "high");
 }
 
+// --hip-parameters: the base parameters reach the generator (a different hip, cached apart), the
+// grid keeps its own CE, alpha and edge, and a base equal to the defaults is the default hip.
+TEST(FaiStudy, BaseHipParametersKeyTheGeneratedHip) {
+  const std::filesystem::path cache = "cache";
+  const ParametricHip plain{20.0, 80.0, 3.0};
+  geometry::HipParameters defaults;
+  EXPECT_EQ(generated_hip_dir(ParametricHip{20.0, 80.0, 3.0, defaults}, cache), generated_hip_dir(plain, cache));
+  geometry::HipParameters grid_fields = defaults;  // CE, alpha and edge of the base are replaced
+  grid_fields.ce_deg = 40.0;
+  grid_fields.alpha_deg = 45.0;
+  grid_fields.edge_mm = 1.0;
+  EXPECT_EQ(generated_hip_dir(ParametricHip{20.0, 80.0, 3.0, grid_fields}, cache), generated_hip_dir(plain, cache));
+  geometry::HipParameters cranial = defaults;
+  cranial.acetabular_anteversion_deg = 14.4;
+  EXPECT_NE(generated_hip_dir(ParametricHip{20.0, 80.0, 3.0, cranial}, cache), generated_hip_dir(plain, cache));
+  const auto changed = geometry::hip_parameters_changed(cranial);
+  ASSERT_EQ(changed.size(), 1u);
+  EXPECT_EQ(changed.front().first, "acetabular_anteversion_deg");
+  EXPECT_DOUBLE_EQ(changed.front().second, 14.4);
+}
+
 }  // namespace
 }  // namespace hipfai::studies

@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "core/literature.h"
 
+#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -27,6 +28,55 @@ TEST(Motion, StandingToSittingEndsAtThesisPose) {
     EXPECT_NEAR(motion.steps[k].angle_deg, step_angle * (k + 1), 1e-9);
     EXPECT_NEAR((motion.steps[k].axis - motion.steps.front().axis).norm(), 0.0, 1e-12);
   }
+}
+
+// The two readings of a pose's angles, on a pose where they give different answers by hand:
+// flexion 90 then internal rotation 90. In the joint coordinate system the internal rotation turns
+// the femur about its own long axis, so the knee (distal femur, -Z at neutral) stays anterior; about
+// the fixed pelvic Z it swings the flexed femur medially (-X for a right hip).
+TEST(Motion, PoseSequencesTurnTheKneeAsTheirDefinitionsSay) {
+  const geometry::HipPoseDeg pose{90.0, 0.0, 90.0};
+  const Eigen::Vector3d knee(0.0, 0.0, -1.0);
+  const Eigen::Vector3d jcs = geometry::femur_rotation(pose, geometry::PoseSequence::kJointCoordinateSystem) * knee;
+  const Eigen::Vector3d fixed = geometry::femur_rotation(pose, geometry::PoseSequence::kFixedAxes) * knee;
+  EXPECT_NEAR((jcs - Eigen::Vector3d(0.0, 1.0, 0.0)).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((fixed - Eigen::Vector3d(-1.0, 0.0, 0.0)).norm(), 0.0, 1e-12);
+  // One angle alone: both readings are the same rotation.
+  for (const geometry::HipPoseDeg single : {geometry::HipPoseDeg{30, 0, 0}, geometry::HipPoseDeg{0, -20, 0},
+                                            geometry::HipPoseDeg{0, 0, 45}}) {
+    EXPECT_NEAR((geometry::femur_rotation(single, geometry::PoseSequence::kFixedAxes) -
+                 geometry::femur_rotation(single))
+                    .norm(),
+                0.0, 1e-15);
+  }
+}
+
+// Standing to sitting read about the fixed axes: one axis, equal angles, the last step the fixed-axes
+// end pose; the steps' Cardan angles are the joint-coordinate-system angles of their rotation (the
+// convention of motion CSV files), so a CSV round trip keeps the motion.
+TEST(Motion, StandingToSittingAboutFixedAxesEndsAtTheFixedAxesPose) {
+  const Motion motion = standing_to_sitting(30, geometry::PoseSequence::kFixedAxes);
+  ASSERT_EQ(motion.steps.size(), 30u);
+  const Eigen::Matrix3d end = geometry::femur_rotation(
+      {literature::kStandToSitFlexionDeg, literature::kStandToSitAdductionDeg, literature::kStandToSitInternalRotationDeg},
+      geometry::PoseSequence::kFixedAxes);
+  EXPECT_NEAR((motion.steps.back().rotation - end).norm(), 0.0, 1e-12);
+  for (std::size_t k = 0; k < motion.steps.size(); ++k) {
+    EXPECT_NEAR((motion.steps[k].axis - motion.steps.front().axis).norm(), 0.0, 1e-12);
+    EXPECT_NEAR(motion.steps[k].angle_deg, motion.steps.front().angle_deg * (k + 1), 1e-9);
+    EXPECT_NEAR((geometry::femur_rotation(motion.steps[k].pose) - motion.steps[k].rotation).norm(), 0.0, 1e-12);
+  }
+  // The two readings of the thesis' end pose are different poses (17.4 deg apart).
+  const Motion jcs = standing_to_sitting(30);
+  const double apart_deg =
+      Eigen::AngleAxisd(jcs.steps.back().rotation.transpose() * motion.steps.back().rotation).angle() *
+      geometry::kRadToDeg;
+  EXPECT_GT(apart_deg, 17.0);
+  EXPECT_LT(apart_deg, 18.0);
+  EXPECT_EQ(pose_sequence_from_name(pose_sequence_name(geometry::PoseSequence::kFixedAxes)),
+            geometry::PoseSequence::kFixedAxes);
+  EXPECT_EQ(pose_sequence_from_name("jcs"), geometry::PoseSequence::kJointCoordinateSystem);
+  EXPECT_THROW(pose_sequence_from_name("zyx"), hipfai::Error);
 }
 
 TEST(Motion, MedicalRotationsTurnAboutFrameAxes) {
