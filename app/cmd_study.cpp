@@ -1,6 +1,5 @@
 // hipfai study fai: the 25-model FAI penetration study (thesis §4.3).
 #include "app/command_registry.h"
-#include "core/error.h"
 #include "geometry/hip_parameters.h"
 #include "studies/fai_study.h"
 #include "studies/hip_sensitivity.h"
@@ -9,25 +8,12 @@
 #include "studies/validation_study.h"
 
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 #include <iomanip>
 #include <iostream>
 
 namespace hipfai::app {
 namespace {
-
-// A JSON file of hip parameters (a subset of the fields; the others keep their defaults).
-geometry::HipParameters read_hip_parameters_file(const std::filesystem::path& path) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) throw_error(path.string(), ": no such file");
-  std::ifstream in(path);
-  if (!in) throw_error(path.string(), ": cannot open for reading");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return geometry::hip_parameters_from_json(text.str(), path.string());
-}
 
 const CommandRegistrar registrar("study", [](CLI::App& parent) {
   auto* study = parent.add_subcommand("study", "Run a study: fai (thesis §4.3), validate (penetration vs FE, Tables 8-9), sensitivity (hip geometry)");
@@ -85,7 +71,7 @@ const CommandRegistrar registrar("study", [](CLI::App& parent) {
   fai->callback([=] {
     studies::FaiStudyOptions run = *options;
     run.pose_sequence = studies::pose_sequence_from_name(*pose_sequence);  // a member: checked by IsMember
-    if (!hip_parameters->empty()) run.base_parameters = read_hip_parameters_file(*hip_parameters);
+    if (!hip_parameters->empty()) run.base_parameters = geometry::load_hip_parameters(*hip_parameters);
     run.out_dir = *out;
     run.cache_dir = *cache;
     run.resolution_edges_mm = *resolutions;

@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <fstream>
+#include <sstream>
 
 namespace hipfai::geometry {
 namespace {
@@ -136,6 +138,16 @@ HipParameters hip_parameters_from_json(const std::string& text, const std::strin
   }
   validate_hip_parameters(p, what);
   return p;
+}
+
+HipParameters load_hip_parameters(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) throw_error(path.string(), ": no such file");
+  std::ifstream in(path);
+  if (!in) throw_error(path.string(), ": cannot open for reading");
+  std::stringstream text;
+  text << in.rdbuf();
+  return hip_parameters_from_json(text.str(), path.string());
 }
 
 Vec3 neck_axis(const HipParameters& p) {

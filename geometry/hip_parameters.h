@@ -24,6 +24,7 @@
 #include "core/literature.h"
 #include "geometry/tri_mesh.h"
 
+#include <filesystem>
 #include <string>
 #include <utility>
 #include <vector>
@@ -113,6 +114,8 @@ void validate_hip_parameters(const HipParameters& parameters, const std::string&
 // keep their defaults), rejects unknown keys and validates. Errors name `what` and the key.
 std::string hip_parameters_to_json(const HipParameters& parameters, int indent = 2);
 HipParameters hip_parameters_from_json(const std::string& text, const std::string& what);
+// The same from a JSON file; errors name the file ("<path>: no such file", or as above).
+HipParameters load_hip_parameters(const std::filesystem::path& path);
 // The fields of `p` whose value differs from `reference`'s, as (JSON key, value), in field order.
 std::vector<std::pair<std::string, double>> hip_parameters_changed(const HipParameters& p,
                                                                    const HipParameters& reference = {});

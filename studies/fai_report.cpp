@@ -223,6 +223,19 @@ FaiFigures write_figures(const FaiStudyResult& result, const FaiStudyOptions& op
   return figures;
 }
 
+// The hip parameters of the run in words: the defaults, or the fields --hip-parameters changed
+// (CE, alpha and the edge are the grid's, whatever the base holds).
+std::string hip_parameters_sentence(const FaiStudyOptions& options) {
+  std::string text;
+  if (options.base_parameters) {
+    for (const auto& [key, value] : geometry::hip_parameters_changed(*options.base_parameters)) {
+      if (key == "ce_deg" || key == "alpha_deg" || key == "edge_mm") continue;
+      text += (text.empty() ? "the defaults except " : ", ") + key + " = " + fixed(value, 2);
+    }
+  }
+  return text.empty() ? "the generator's defaults (geometry/hip_parameters.h)" : text + " (`--hip-parameters`)";
+}
+
 // report.md: the tables and figures of thesis §4.3.3, the comparison with its pattern, speed and
 // accuracy vs resolution.
 void write_report_md(const FaiStudyResult& result, const FaiStudyOptions& options, const FaiFigures& figures) {
@@ -236,21 +249,7 @@ void write_report_md(const FaiStudyResult& result, const FaiStudyOptions& option
              ? "read as rotations about the fixed pelvic axes X, then Y, then Z (`--pose-sequence fixed-axes`)"
              : "read in the joint coordinate system (X-Y'-Z'', Wu et al. 2002)")
      << ". Hip parameters: "
-     << [&] {
-          std::string text = "the generator's defaults (geometry/hip_parameters.h)";
-          if (!options.base_parameters) return text;
-          geometry::HipParameters base = *options.base_parameters;
-          base.ce_deg = geometry::HipParameters{}.ce_deg;  // the grid's own
-          base.alpha_deg = geometry::HipParameters{}.alpha_deg;
-          base.edge_mm = geometry::HipParameters{}.edge_mm;
-          const auto changed = geometry::hip_parameters_changed(base);
-          if (changed.empty()) return text;
-          text = "the defaults except";
-          for (std::size_t i = 0; i < changed.size(); ++i) {
-            text += (i == 0 ? " " : ", ") + changed[i].first + " = " + fixed(changed[i].second, 2);
-          }
-          return text + " (`--hip-parameters`)";
-        }()
+     << hip_parameters_sentence(options)
      << ". Surface edge " << options.edge_mm << " mm; radial mapping " << contact::to_string(options.mapping)
      << ", " << options.table_size << " cells. Curvilinear: femur bone vs labrum, cylindrical segmenting; "
      << "radial: femur bone and cartilage vs acetabular cartilage + labrum, radial segmenting, crossing rule '"
