@@ -16,6 +16,8 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <sstream>
+#include <iostream>
 #include <string>
 #include <vector>
 
@@ -33,6 +35,8 @@ struct GenerateOptions {
   double volume_edge_mm = 0.0;  // 0: the surface edge
   int volume_layers = 2;
   bool figures = false;
+  std::string hip_parameters;  // JSON file of base parameters (--hip-parameters); empty: defaults
+  geometry::HipParameters base;
 };
 
 struct GeneratedRow {
@@ -51,12 +55,18 @@ struct GeneratedRow {
 
 GeneratedRow generate_one(const GenerateOptions& options, double ce_deg, double alpha_deg,
                           const std::filesystem::path& dir) {
-  geometry::HipParameters parameters;
+  geometry::HipParameters parameters = options.base;
   parameters.ce_deg = ce_deg;
   parameters.alpha_deg = alpha_deg;
   parameters.edge_mm = options.edge_mm;
   geometry::validate_hip_parameters(parameters, "generate");
   const auto generated = geometry::generate_hip(parameters);
+  if (!generated.mesher_failures.empty()) {
+    std::ostringstream note;
+    note << "note: hip ce " << ce_deg << " alpha " << alpha_deg << ": surfaces meshed by gmsh algorithm "
+         << generated.surface_algorithm << " after " << generated.mesher_failures << '\n';
+    std::cerr << note.str();
+  }
   const geometry::HipModel& model = generated.model;
   // The volume mesh is built before anything is written: a hip it cannot mesh leaves no files.
   GeneratedRow row;
@@ -190,7 +200,13 @@ const CommandRegistrar registrar("generate", [](CLI::App& parent) {
       ->needs(volume);
   command->add_flag("--figures", options->figures,
                     "Also write frontal.svg and axial.svg with the CE and alpha constructions");
-  command->callback([options] { run(*options); });
+  command->add_option("--hip-parameters", options->hip_parameters,
+                      "JSON file of generator parameters (keys of model.json's 'parameters'); --ce-deg, "
+                      "--alpha-deg and --edge-mm (or the grid) replace its ce_deg, alpha_deg and edge_mm");
+  command->callback([options] {
+    if (!options->hip_parameters.empty()) options->base = geometry::load_hip_parameters(options->hip_parameters);
+    run(*options);
+  });
 });
 
 }  // namespace

@@ -2,13 +2,19 @@
 
 #include "geometry/gmsh_runtime.h"
 
+#include "core/child_process.h"
 #include "core/error.h"
 #include "geometry/hip_frame.h"
 #include "geometry/hip_measure.h"
+#include "geometry/mesh_bytes.h"
 
 #include <gmsh.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <array>
+#include <cstdint>
+#include <cstring>
 #include <chrono>
 #include <cstdlib>
 #include <cmath>
@@ -17,6 +23,8 @@
 #include <numbers>
 #include <optional>
 #include <queue>
+#include <sstream>
+#include <string_view>
 #include <unordered_map>
 #include <utility>
 
@@ -26,27 +34,19 @@ namespace {
 namespace occ = gmsh::model::occ;
 using DimTags = gmsh::vectorpair;
 
-// Holds the lock and a fresh model for one construction.
+// A fresh model for one construction, in the meshing child (the parent holds lock_gmsh()).
 class GmshSession {
  public:
-  explicit GmshSession(const std::string& name) : lock_(lock_gmsh()) {
+  explicit GmshSession(const std::string& name) {
     gmsh::clear();
     gmsh::model::add(name);
     // gmsh's own log only on request (HIPFAI_GMSH_VERBOSE=1), to diagnose a failed construction.
-    gmsh::option::setNumber("General.Terminal", std::getenv("HIPFAI_GMSH_VERBOSE") != nullptr ? 1 : 0);
-  }
-  ~GmshSession() {
-    // After a failed call the gmsh API rethrows its error from the next call: never from here.
-    try {
-      gmsh::clear();
-    } catch (...) {
-    }
+    gmsh::option::setNumber("General.Terminal", verbose() ? 1 : 0);
   }
   GmshSession(const GmshSession&) = delete;
   GmshSession& operator=(const GmshSession&) = delete;
 
- private:
-  std::unique_lock<std::mutex> lock_;
+  static bool verbose() { return std::getenv("HIPFAI_GMSH_VERBOSE") != nullptr; }
 };
 
 DimTags ball(const Vec3& centre, double radius) {
@@ -459,22 +459,46 @@ double longest_surface_edge() {
 // small seam curves OCC leaves on spheres at coarse sizes; MeshAdapt and Delaunay are the fallbacks.
 // A mesh with a triangle edge over four target edges (a triangle spanning a spherical face whose
 // parametrisation the mesher mishandled; seen on socket caps) counts as a failure too.
-void mesh_surfaces(double edge_mm) {
-  std::string failures;
-  for (int algorithm : {6, 1, 5}) {
+constexpr std::array<int, 3> kSurfaceAlgorithms{6, 1, 5};
+
+// What the meshing child tells its parent, in order: one record per algorithm it starts, one per
+// algorithm that fails (its errors), then the tissues, a fatal error, or nothing (every algorithm
+// failed). A record is a type byte, a 64-bit length and that many bytes.
+enum class Record : char {
+  kStarting = 'A',   // payload: the index into kSurfaceAlgorithms
+  kFailed = 'F',     // payload: the algorithm's errors
+  kTissues = 'T',    // payload: count, then (name, mesh bytes) per tissue
+  kError = 'E',      // payload: a hipfai::Error's message
+  kGmshError = 'G',  // payload: what gmsh threw outside the mesher's log
+};
+
+void send(int fd, Record type, const std::string& payload) {
+  std::string bytes(1, static_cast<char>(type));
+  const auto size = static_cast<std::uint64_t>(payload.size());
+  bytes.append(reinterpret_cast<const char*>(&size), sizeof size);
+  bytes += payload;
+  if (!write_all(fd, bytes)) ::_exit(3);
+}
+
+// Meshes the surfaces with the algorithms from kSurfaceAlgorithms[first] on; true when one
+// succeeded, false when all failed (each failure sent to `fd`).
+bool mesh_surfaces(double edge_mm, std::size_t first, int fd) {
+  for (std::size_t k = first; k < kSurfaceAlgorithms.size(); ++k) {
+    const int algorithm = kSurfaceAlgorithms[k];
+    send(fd, Record::kStarting, std::to_string(k));
     set_mesh_options(edge_mm);
     gmsh::option::setNumber("Mesh.Algorithm", algorithm);
     std::string errors = generate_logging_errors(2);
     if (errors.empty()) {
       const double longest = longest_surface_edge();
-      if (longest <= 4.0 * edge_mm) return;
+      if (longest <= 4.0 * edge_mm) return true;
       errors = "algorithm " + std::to_string(algorithm) + ": a triangle edge of " + std::to_string(longest) +
                " mm for a target of " + std::to_string(edge_mm) + " mm";
     }
-    failures += (failures.empty() ? "" : " | ") + errors;
+    send(fd, Record::kFailed, errors);
     gmsh::model::mesh::clear();
   }
-  throw failures;
+  return false;
 }
 
 // Makes neighbouring triangles traverse shared edges in opposite directions (breadth-first from
@@ -584,28 +608,113 @@ TriMesh extract_surface(const DimTags& volumes, const std::string& name, const N
   return mesh;
 }
 
+// The meshing child: builds the solids, meshes them (algorithms from `first` on) and sends the
+// tissues, or the reason there are none.
+void build_and_mesh(const HipParameters& parameters, std::size_t first, int fd) {
+  GmshSession session("hip");
+  try {
+    const TissueSolids solids = build_solids(parameters);
+    if (!mesh_surfaces(parameters.edge_mm, first, fd)) return;
+    const NodeTable table = all_nodes();
+    std::string tissues;
+    const auto count = static_cast<std::uint64_t>(solids.tissues.size());
+    tissues.append(reinterpret_cast<const char*>(&count), sizeof count);
+    for (const auto& [name, volumes] : solids.tissues) {
+      const auto length = static_cast<std::uint64_t>(name.size());
+      tissues.append(reinterpret_cast<const char*>(&length), sizeof length);
+      tissues += name;
+      append_mesh_bytes(tissues, extract_surface(volumes, name, table));
+    }
+    send(fd, Record::kTissues, tissues);
+  } catch (const Error& e) {
+    send(fd, Record::kError, e.what());
+  } catch (const std::exception& e) {
+    send(fd, Record::kGmshError, e.what());
+  } catch (const std::string& message) {  // the gmsh API throws its last error as a string
+    send(fd, Record::kGmshError, message);
+  }
+}
+
+std::uint64_t take_u64(std::string_view& in, const std::string& what) {
+  std::uint64_t value = 0;
+  if (in.size() < sizeof value) throw_error(what, ": truncated answer from the meshing process");
+  std::memcpy(&value, in.data(), sizeof value);
+  in.remove_prefix(sizeof value);
+  return value;
+}
+
+std::map<std::string, TriMesh> read_tissues(std::string_view in, const std::string& what) {
+  std::map<std::string, TriMesh> tissues;
+  const std::uint64_t count = take_u64(in, what);
+  for (std::uint64_t k = 0; k < count; ++k) {
+    const std::uint64_t length = take_u64(in, what);
+    if (in.size() < length) throw_error(what, ": truncated answer from the meshing process");
+    std::string name(in.substr(0, length));
+    in.remove_prefix(length);
+    tissues.emplace(name, read_mesh_bytes(in, what + ": " + name));
+  }
+  return tissues;
+}
+
 }  // namespace
 
 HipGeneratorResult generate_hip(const HipParameters& parameters) {
   validate_hip_parameters(parameters);
   const auto start = std::chrono::steady_clock::now();
   HipGeneratorResult result;
-  GmshSession session("hip");
-  try {
-    const TissueSolids solids = build_solids(parameters);
-    mesh_surfaces(parameters.edge_mm);
-    const NodeTable table = all_nodes();
-    for (const auto& [name, volumes] : solids.tissues) {
-      result.model.tissues.emplace(name, extract_surface(volumes, name, table));
+  std::ostringstream label;
+  label << "hip generator (ce " << parameters.ce_deg << ", alpha " << parameters.alpha_deg << ")";
+  const std::string what = label.str();
+  // gmsh meshes in a forked child: a crash inside the mesher (Debian's gmsh 4.8 frees a point twice
+  // in BDS_Mesh::del_point after failing on a periodic spherical face) ends the child, and the next
+  // algorithm is tried in a new one. The lock keeps every other thread out of gmsh while the child
+  // is forked, so the child's copy of gmsh is whole.
+  const auto gmsh_lock = lock_gmsh();
+  ChildRequest request;
+  request.silence_output = !GmshSession::verbose();
+  // A time limit per child, since gmsh can also loop for ever (seen on a 1.5 mm hip whose 2 mm
+  // twin crashes): a hip takes 2-5 s at 2 mm and its time grows as the triangle count, so the limit
+  // is 40x that, scaled the same way; the limit ends only that algorithm's try.
+  const double scale = std::max(1.0, (2.0 / parameters.edge_mm) * (2.0 / parameters.edge_mm));
+  request.seconds = static_cast<unsigned>(std::ceil(std::min(200.0 * scale, 86400.0)));
+  std::string failures;
+  auto add_failure = [&failures](const std::string& failure) {
+    failures += (failures.empty() ? "" : " | ") + failure;
+  };
+  std::size_t first = 0;
+  for (;;) {
+    const ChildOutcome outcome = run_in_child(
+        [&](int fd) { build_and_mesh(parameters, first, fd); }, request, what + ": cannot start the meshing process");
+    std::string_view answer = outcome.answer;
+    std::optional<std::size_t> started;
+    while (!answer.empty()) {
+      const auto type = static_cast<Record>(answer.front());
+      answer.remove_prefix(1);
+      std::uint64_t length = 0;
+      if (answer.size() < sizeof length) break;  // a record cut short by a crash
+      std::memcpy(&length, answer.data(), sizeof length);
+      answer.remove_prefix(sizeof length);
+      if (answer.size() < length) break;
+      const std::string_view payload = answer.substr(0, length);
+      answer.remove_prefix(length);
+      switch (type) {
+        case Record::kStarting: started = std::stoul(std::string(payload)); break;
+        case Record::kFailed: add_failure(std::string(payload)); break;
+        case Record::kTissues: if (outcome.ok) result.model.tissues = read_tissues(payload, what); break;
+        case Record::kError: if (outcome.ok) throw Error(std::string(payload)); break;
+        case Record::kGmshError: if (outcome.ok) throw_error(what, ": gmsh failed: ", payload); break;
+      }
     }
-  } catch (const Error&) {
-    throw;
-  } catch (const std::exception& e) {
-    throw_error("hip generator (ce ", parameters.ce_deg, ", alpha ", parameters.alpha_deg,
-                "): gmsh failed: ", e.what());
-  } catch (const std::string& message) {  // the gmsh API throws its last error as a string
-    throw_error("hip generator (ce ", parameters.ce_deg, ", alpha ", parameters.alpha_deg,
-                "): gmsh failed: ", message);
+    if (outcome.ok) {
+      if (result.model.tissues.empty()) throw_error(what, ": gmsh failed: ", failures);
+      result.surface_algorithm = kSurfaceAlgorithms[started.value_or(first)];
+      result.mesher_failures = failures;
+      break;
+    }
+    if (!started) throw_error(what, ": gmsh ", outcome.failure(request.seconds), " building the solids");
+    add_failure("algorithm " + std::to_string(kSurfaceAlgorithms[*started]) + ": gmsh " + outcome.failure(request.seconds));
+    first = *started + 1;
+    if (first == kSurfaceAlgorithms.size()) throw_error(what, ": gmsh failed: ", failures);
   }
   HipModel& model = result.model;
   model.parameters = parameters;

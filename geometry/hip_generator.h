@@ -27,6 +27,7 @@
 #include "geometry/hip_parameters.h"
 
 #include <filesystem>
+#include <string>
 
 namespace hipfai::geometry {
 
@@ -35,10 +36,15 @@ struct HipGeneratorResult {
   Status status = Status::kFailed;
   HipModel model;
   double seconds = 0.0;   // wall-clock time of construction + meshing
+  int surface_algorithm = 0;     // gmsh's Mesh.Algorithm that meshed the surfaces
+  std::string mesher_failures;   // the algorithms tried before it and why each failed; "" when none
 };
 
 // Builds and meshes one hip. Throws hipfai::Error on invalid parameters or when OpenCASCADE or
 // the mesher fails (the message names the tissue). Serialised: gmsh is not re-entrant.
+// gmsh runs in a forked child (core/child_process.h): when the surface mesher crashes (Debian's
+// gmsh 4.8 frees a point twice on some spherical seams), the next algorithm of the list (6, 1, 5)
+// is tried in a new child, and the error lists each algorithm's failure ("gmsh crashed (SIGABRT)").
 HipGeneratorResult generate_hip(const HipParameters& parameters);
 
 }  // namespace hipfai::geometry

@@ -7,3 +7,13 @@ hipfai_cli_test(NAME generate_bad_format EXIT nonzero STDERR "format"
                 COMMAND generate --format xyz --out @TMP@/hip)
 hipfai_cli_test(NAME generate_needs_out EXIT nonzero STDERR "out"
                 COMMAND generate --ce-deg 20)
+# A hip whose surfaces crash gmsh's mesher (Debian's gmsh 4.8: a double free after "Impossible to
+# mesh periodic surface" at CCD 136, CE 0 / alpha 80): every algorithm is tried in its own child
+# process and the command ends with one line naming each failure, instead of dying with gmsh.
+file(WRITE ${CMAKE_BINARY_DIR}/cli-tmp/ccd136_hip_parameters.json "{\"neck_shaft_angle_deg\": 136}\n")
+hipfai_cli_test(NAME generate_mesher_crash_is_an_error EXIT nonzero
+                STDERR "hip generator \\(ce 0, alpha 80\\): gmsh failed: algorithm 6: gmsh .* \\| algorithm 1: gmsh .* \\| algorithm 5: gmsh"
+                COMMAND generate --ce-deg 0 --alpha-deg 80 --edge-mm 3
+                        --hip-parameters ${CMAKE_BINARY_DIR}/cli-tmp/ccd136_hip_parameters.json --out @TMP@/hip)
+hipfai_cli_test(NAME generate_missing_hip_parameters EXIT nonzero STDERR "none.json: no such file"
+                COMMAND generate --ce-deg 20 --hip-parameters @TMP@/none.json --out @TMP@/hip)

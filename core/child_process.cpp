@@ -1,0 +1,113 @@
+#include "core/child_process.h"
+
+#include "core/error.h"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+
+// A sanitizer's death callback (libFuzzer registers one that saves the input as a crash) belongs
+// to the parent: the child clears it, so a sanitizer abort inside the library ends only the child.
+extern "C" void __sanitizer_set_death_callback(void (*callback)(void)) __attribute__((weak));
+
+namespace hipfai {
+
+namespace {
+
+[[noreturn]] void run_child(const std::function<void(int)>& work, int fd, const ChildRequest& request) {
+  for (const int signal_number : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGALRM}) {
+    ::signal(signal_number, SIG_DFL);
+  }
+  if (__sanitizer_set_death_callback != nullptr) __sanitizer_set_death_callback(nullptr);
+  if (request.silence_output) {
+    // The library's complaints and a sanitizer's report inside it become the parent's one line.
+    const int null_fd = ::open("/dev/null", O_WRONLY);
+    if (null_fd >= 0) {
+      ::dup2(null_fd, STDERR_FILENO);
+      ::dup2(null_fd, STDOUT_FILENO);
+    }
+  }
+  if (request.seconds > 0) ::alarm(request.seconds);
+  try {
+    work(fd);
+  } catch (...) {
+    ::_exit(2);  // `work` reports its own errors in its answer; anything else is a failure
+  }
+  ::close(fd);
+  ::_exit(0);  // no atexit handlers, no static destructors: they belong to the parent
+}
+
+}  // namespace
+
+std::string ChildOutcome::failure(unsigned seconds) const {
+  if (ok) return "";
+  if (timed_out) return "did not finish within " + std::to_string(seconds) + " s";
+  if (signal_number != 0) return "crashed (" + signal_name() + ")";
+  return "exit status " + std::to_string(exit_status);
+}
+
+std::string ChildOutcome::signal_name() const {
+  if (signal_number == 0) return "";
+  const char* name = ::sigabbrev_np(signal_number);
+  return "SIG" + std::string(name ? name : "?");
+}
+
+bool write_all(int fd, const std::string& bytes) {
+  std::size_t done = 0;
+  while (done < bytes.size()) {
+    const ssize_t put = ::write(fd, bytes.data() + done, bytes.size() - done);
+    if (put > 0) {
+      done += static_cast<std::size_t>(put);
+    } else if (put < 0 && errno != EINTR) {
+      return false;
+    }
+  }
+  return true;
+}
+
+ChildOutcome run_in_child(const std::function<void(int fd)>& work, const ChildRequest& request,
+                          const std::string& what) {
+  int fds[2];
+  if (::pipe2(fds, O_CLOEXEC) != 0) throw_error(what, " (pipe: ", std::strerror(errno), ")");
+  const pid_t child = ::fork();
+  if (child < 0) {
+    const int error = errno;
+    ::close(fds[0]);
+    ::close(fds[1]);
+    throw_error(what, " (fork: ", std::strerror(error), ")");
+  }
+  if (child == 0) {
+    ::close(fds[0]);
+    run_child(work, fds[1], request);
+  }
+  ::close(fds[1]);
+  ChildOutcome outcome;
+  char buffer[65536];
+  for (;;) {
+    const ssize_t got = ::read(fds[0], buffer, sizeof buffer);
+    if (got > 0) {
+      outcome.answer.append(buffer, static_cast<std::size_t>(got));
+    } else if (got == 0 || errno != EINTR) {
+      break;
+    }
+  }
+  ::close(fds[0]);
+  int status = 0;
+  while (::waitpid(child, &status, 0) < 0) {
+    if (errno != EINTR) throw_error(what, " (waitpid: ", std::strerror(errno), ")");
+  }
+  if (WIFEXITED(status)) {
+    outcome.exit_status = WEXITSTATUS(status);
+    outcome.ok = outcome.exit_status == 0;
+  } else if (WIFSIGNALED(status)) {
+    outcome.signal_number = WTERMSIG(status);
+    outcome.timed_out = outcome.signal_number == SIGALRM && request.seconds > 0;
+  }
+  return outcome;
+}
+
+}  // namespace hipfai

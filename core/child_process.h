@@ -1,0 +1,46 @@
+// hipfai — work done in a forked child process, so that a library that crashes cannot crash hipfai.
+//
+// Some libraries hipfai calls can take the process down on inputs nothing can check beforehand:
+// Debian's HDF5 on damaged metadata (studies/hdf5_child.h) and gmsh's surface mesher on some
+// OpenCASCADE seams (geometry/hip_generator.h). Such calls run in a child made by fork(): the child
+// does the work and writes its answer to a pipe; the parent reads it. A child that dies (a signal,
+// a sanitizer's abort, an error status, the time limit) is reported as a ChildOutcome, and the
+// parent decides how to word it. The child's copy of the parent's memory is a snapshot: locks held
+// by other threads stay held in it, so the caller makes sure no other thread is inside the library
+// at fork time (for gmsh: the parent holds lock_gmsh() around the call).
+#pragma once
+
+#include <functional>
+#include <string>
+
+namespace hipfai {
+
+struct ChildRequest {
+  unsigned seconds = 0;          // time limit (SIGALRM in the child); 0: none
+  bool silence_output = true;    // the child's stdout and stderr go to /dev/null
+};
+
+struct ChildOutcome {
+  bool ok = false;               // exited normally with status 0
+  std::string answer;            // the bytes `work` wrote (when it died: those before it died)
+  int signal_number = 0;         // the signal that ended it, or 0
+  int exit_status = 0;           // its exit status when it exited (2: `work` threw)
+  bool timed_out = false;        // ended by the time limit
+
+  // "crashed (SIGABRT)", "exit status 3" or "did not finish within N s"; "" when ok.
+  std::string failure(unsigned seconds) const;
+  // "SIGABRT" for the signal that ended it; "" when none did.
+  std::string signal_name() const;
+};
+
+// Runs `work` in a forked child; `work` writes its answer to the file descriptor it is given (with
+// write_all). An exception out of `work` ends the child with status 2. The parent reads while the
+// child writes, so answers of any size pass. Throws hipfai::Error only when no child could be
+// started (pipe, fork), naming `what`.
+ChildOutcome run_in_child(const std::function<void(int fd)>& work, const ChildRequest& request,
+                          const std::string& what);
+
+// Writes all of `bytes` to `fd` (retrying short writes and EINTR); false on a write error.
+bool write_all(int fd, const std::string& bytes);
+
+}  // namespace hipfai
