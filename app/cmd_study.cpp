@@ -64,6 +64,12 @@ const CommandRegistrar registrar("study", [](CLI::App& parent) {
                   "system, X-Y'-Z'') or 'fixed-axes' (about the fixed pelvic X, then Y, then Z: the thesis' "
                   "wording read literally)")
       ->capture_default_str()->check(CLI::IsMember({"jcs", "fixed-axes"}));
+  auto femoral_neutral = std::make_shared<std::string>("shaft");
+  fai->add_option("--femoral-neutral", *femoral_neutral,
+                  "Where the femur's zero pose is: 'shaft' (the femur as built, shaft along the pelvic Z) or "
+                  "'mechanical' (the ISB femoral frame: HJC-to-knee along Z, i.e. the femur adducted by the 6 deg "
+                  "anatomic-mechanical angle first)")
+      ->capture_default_str()->check(CLI::IsMember({"shaft", "mechanical"}));
   auto hip_parameters = std::make_shared<std::string>();
   fai->add_option("--hip-parameters", *hip_parameters,
                   "JSON file of generator parameters shared by every hip (keys of model.json's 'parameters'; "
@@ -71,6 +77,8 @@ const CommandRegistrar registrar("study", [](CLI::App& parent) {
   fai->callback([=] {
     studies::FaiStudyOptions run = *options;
     run.pose_sequence = studies::pose_sequence_from_name(*pose_sequence);  // a member: checked by IsMember
+    run.femoral_neutral = *femoral_neutral == "mechanical" ? geometry::FemoralNeutral::kMechanicalAxis
+                                                           : geometry::FemoralNeutral::kShaftAxis;
     if (!hip_parameters->empty()) run.base_parameters = geometry::load_hip_parameters(*hip_parameters);
     run.out_dir = *out;
     run.cache_dir = *cache;

@@ -73,6 +73,14 @@ inline constexpr double kStandToSitFlexionDeg = 59.6;
 inline constexpr double kStandToSitAdductionDeg = 13.6;
 inline constexpr double kStandToSitInternalRotationDeg = 10.9;
 inline constexpr int kStandToSitSubMotions = 30;
+// Where the femur's neutral is. The ISB femoral frame (Wu et al. 2002, J Biomech 35:543) takes
+// its long axis from the midpoint of the epicondyles to the HJC: the mechanical axis, not the
+// shaft. The anatomic (shaft) axis leans from it by the anatomic-mechanical angle, 6 deg on
+// average (SD 1, range 3-9 deg; 100 volunteers, J Bone Joint Surg Br 2004;86-B(Supp I):31,
+// doi:10.1302/0301-620X.86BSUPP_I.0860031b). A generated femur is built with its shaft along Z; at
+// the ISB neutral (mechanical axis along Z) it stands adducted by this angle (study fai
+// --femoral-neutral mechanical; docs/hip-geometry.md measures both).
+inline constexpr double kAnatomicMechanicalAngleDeg = 6.0;
 // Peak resultant hip force during sitting down, average patient: about 156 % body weight
 // (Bergmann et al. 2001, J Biomech 34:859).
 inline constexpr double kStandToSitPeakForcePercentBW = 156.0;

@@ -51,6 +51,13 @@ enum class PoseSequence {
   kFixedAxes,              // about the fixed X, then Y, then Z: Rz * Ry * Rx
 };
 
+// Which femur-fixed line the pose's zero puts along the pelvic Z (see core/literature.h,
+// kAnatomicMechanicalAngleDeg).
+enum class FemoralNeutral {
+  kShaftAxis,       // the femur as built: its shaft along Z
+  kMechanicalAxis,  // the ISB femoral frame (Wu et al. 2002): HJC-to-knee along Z
+};
+
 struct HipPoseDeg {
   double flexion_deg = 0.0;
   double adduction_deg = 0.0;

@@ -248,6 +248,10 @@ void write_report_md(const FaiStudyResult& result, const FaiStudyOptions& option
      << (options.pose_sequence == geometry::PoseSequence::kFixedAxes
              ? "read as rotations about the fixed pelvic axes X, then Y, then Z (`--pose-sequence fixed-axes`)"
              : "read in the joint coordinate system (X-Y'-Z'', Wu et al. 2002)")
+     << (options.femoral_neutral == geometry::FemoralNeutral::kMechanicalAxis
+             ? ", from the ISB femoral neutral (mechanical axis along Z: each femur adducted by the "
+               "anatomic-mechanical angle, 6 deg, first; `--femoral-neutral mechanical`)"
+             : ", from the femur as built (shaft along Z)")
      << ". Hip parameters: "
      << hip_parameters_sentence(options)
      << ". Surface edge " << options.edge_mm << " mm; radial mapping " << contact::to_string(options.mapping)

@@ -38,6 +38,7 @@ FaiModelRun run_model(double ce, double alpha, double edge_mm, const Motion& mot
   FaiModelRun model;
   const auto start = Clock::now();
   model.hip = acquire_hip(scene, scene.tissues, options.cache_dir, log);
+  put_femur_at_neutral(model.hip, options.femoral_neutral);
   model.summary.generate_s = seconds_since(start);
   PenetrationOptions penetration;
   penetration.mapping = options.mapping;

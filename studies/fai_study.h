@@ -42,6 +42,9 @@ struct FaiStudyOptions {
   // How the end pose's angles compose (geometry/hip_frame.h); the default is the joint coordinate
   // system, kFixedAxes the literal reading compared in docs/hip-geometry.md.
   geometry::PoseSequence pose_sequence = geometry::PoseSequence::kJointCoordinateSystem;
+  // Where the femur's neutral is (geometry/hip_frame.h): as built (shaft along Z) or at the ISB
+  // neutral, the mechanical axis along Z (the femur adducted by kAnatomicMechanicalAngleDeg first).
+  geometry::FemoralNeutral femoral_neutral = geometry::FemoralNeutral::kShaftAxis;
   // Generator parameters shared by every hip of the grid (CE, alpha and the edge are the grid's);
   // nullopt: the defaults of geometry/hip_parameters.h. The report lists the fields that differ.
   std::optional<geometry::HipParameters> base_parameters = std::nullopt;

@@ -3,9 +3,12 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/hash.h"
+#include "core/literature.h"
 #include "core/source_hashes.h"
 #include "geometry/hip_generator.h"
 #include "geometry/hip_model.h"
+
+#include <Eigen/Geometry>
 
 #include <cmath>
 #include <sstream>
@@ -82,6 +85,19 @@ LoadedHip acquire_hip(const Scene& scene, const std::set<std::string>& tissues,
   for (std::size_t k = 0; k < loaded.tissues.size(); ++k) log.ran(StageKind::kLoadTissue);
   hip = std::move(loaded);
   return hip;
+}
+
+void put_femur_at_neutral(LoadedHip& hip, geometry::FemoralNeutral neutral) {
+  if (neutral == geometry::FemoralNeutral::kShaftAxis) return;
+  const Eigen::Matrix3d rotation =
+      Eigen::AngleAxisd(literature::kAnatomicMechanicalAngleDeg * geometry::kDegToRad, hip.frame.col(1).normalized())
+          .toRotationMatrix();
+  for (const char* tissue : {"femur_bone", "femoral_cartilage"}) {
+    const auto mesh = hip.tissues.find(tissue);
+    if (mesh == hip.tissues.end()) continue;
+    for (geometry::Vec3& v : mesh->second.vertices) v = hip.hjc_mm + rotation * (v - hip.hjc_mm);
+    hip.mesh_hash[tissue] += "+mechanical-neutral";
+  }
 }
 
 }  // namespace hipfai::studies

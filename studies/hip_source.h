@@ -3,6 +3,7 @@
 
 #include "studies/plan.h"
 #include "studies/scene.h"
+#include "geometry/hip_frame.h"
 #include "geometry/hip_model.h"
 #include "geometry/tri_mesh.h"
 
@@ -60,5 +61,11 @@ std::filesystem::path generated_hip_dir(const ParametricHip& hip, const std::fil
 // loads only `tissues` (one kLoadTissue stage each).
 LoadedHip acquire_hip(const Scene& scene, const std::set<std::string>& tissues,
                       const std::filesystem::path& cache_dir, StageLog& log);
+
+// Puts the femur at the neutral asked for (geometry/hip_frame.h): at the ISB neutral the femur's
+// tissues (femur_bone, femoral_cartilage, those loaded) turn once by kAnatomicMechanicalAngleDeg
+// about the hip frame's adduction axis through the HJC (the knee moves medially); their hashes
+// change with them, so caches keyed by a tissue's hash never mix the two. kShaftAxis: unchanged.
+void put_femur_at_neutral(LoadedHip& hip, geometry::FemoralNeutral neutral);
 
 }  // namespace hipfai::studies

@@ -25,3 +25,5 @@ hipfai_cli_test(NAME study_validate_bad_level EXIT nonzero STDERR "fe-level" COM
 hipfai_cli_test(NAME study_validate_too_few_steps EXIT nonzero STDERR "steps" COMMAND study validate --steps 2)
 hipfai_cli_test(NAME report_correlation_no_results EXIT nonzero STDERR "steps.csv: cannot open"
   COMMAND report correlation @TMP@)
+hipfai_cli_test(NAME study_fai_bad_femoral_neutral EXIT nonzero STDERR "femoral-neutral"
+  COMMAND study fai --femoral-neutral knee)
