@@ -61,10 +61,10 @@ GeneratedRow generate_one(const GenerateOptions& options, double ce_deg, double 
   parameters.edge_mm = options.edge_mm;
   geometry::validate_hip_parameters(parameters, "generate");
   const auto generated = geometry::generate_hip(parameters);
-  if (!generated.mesher_failures.empty()) {
+  if (!generated.model.mesher_failures.empty()) {
     std::ostringstream note;
     note << "note: hip ce " << ce_deg << " alpha " << alpha_deg << ": surfaces meshed by gmsh algorithm "
-         << generated.surface_algorithm << " after " << generated.mesher_failures << '\n';
+         << generated.model.surface_algorithm << " after " << generated.model.mesher_failures << '\n';
     std::cerr << note.str();
   }
   const geometry::HipModel& model = generated.model;

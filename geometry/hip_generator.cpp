@@ -707,8 +707,8 @@ HipGeneratorResult generate_hip(const HipParameters& parameters) {
     }
     if (outcome.ok) {
       if (result.model.tissues.empty()) throw_error(what, ": gmsh failed: ", failures);
-      result.surface_algorithm = kSurfaceAlgorithms[started.value_or(first)];
-      result.mesher_failures = failures;
+      result.model.surface_algorithm = kSurfaceAlgorithms[started.value_or(first)];
+      result.model.mesher_failures = failures;
       break;
     }
     if (!started) throw_error(what, ": gmsh ", outcome.failure(request.seconds), " building the solids");

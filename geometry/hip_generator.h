@@ -36,8 +36,6 @@ struct HipGeneratorResult {
   Status status = Status::kFailed;
   HipModel model;
   double seconds = 0.0;   // wall-clock time of construction + meshing
-  int surface_algorithm = 0;     // gmsh's Mesh.Algorithm that meshed the surfaces
-  std::string mesher_failures;   // the algorithms tried before it and why each failed; "" when none
 };
 
 // Builds and meshes one hip. Throws hipfai::Error on invalid parameters or when OpenCASCADE or

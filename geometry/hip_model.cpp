@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <cstdint>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -97,6 +98,10 @@ void write_hip_model(const HipModel& model, const std::filesystem::path& dir,
     json["measured"] = measured;
   }
   json["edge_mm"] = model.parameters.edge_mm;
+  if (model.surface_algorithm != 0) {
+    json["surface_mesh"] = {{"gmsh_algorithm", model.surface_algorithm},
+                            {"failed_before", model.mesher_failures}};
+  }
   json["parameters"] = nlohmann::ordered_json::parse(hip_parameters_to_json(model.parameters));
   nlohmann::ordered_json tissues = nlohmann::ordered_json::object();
   nlohmann::ordered_json counts = nlohmann::ordered_json::object();
@@ -170,6 +175,16 @@ HipModel hip_model_from_json(const std::string& text, const std::filesystem::pat
     if (!(model.socket_opening_deg > 0.0 && model.socket_opening_deg < 180.0)) {
       throw_error(what, ": socket_opening_deg: ", model.socket_opening_deg, " is outside (0, 180)");
     }
+  }
+  if (json.contains("surface_mesh")) {
+    const nlohmann::json& mesher = json["surface_mesh"];
+    if (!mesher.is_object() || !mesher.contains("gmsh_algorithm") || !mesher["gmsh_algorithm"].is_number_integer() ||
+        mesher["gmsh_algorithm"].get<std::int64_t>() < 1 || mesher["gmsh_algorithm"].get<std::int64_t>() > 11 ||
+        !mesher.contains("failed_before") || !mesher["failed_before"].is_string()) {
+      throw_error(what, ": surface_mesh: expected {\"gmsh_algorithm\": 1-11, \"failed_before\": text}");
+    }
+    model.surface_algorithm = static_cast<int>(mesher["gmsh_algorithm"].get<std::int64_t>());
+    model.mesher_failures = mesher["failed_before"].get<std::string>();
   }
 
   if (!json.contains("tissues") || !json["tissues"].is_object() || json["tissues"].empty()) {

@@ -59,6 +59,10 @@ struct HipModel {
   double measured_alpha_max_deg = std::numeric_limits<double>::quiet_NaN();
   double measured_alpha_max_clock_deg = std::numeric_limits<double>::quiet_NaN();
   std::vector<std::pair<double, double>> alpha_profile;
+  // How gmsh meshed the surfaces (generated hips; written to model.json's "surface_mesh"):
+  // its Mesh.Algorithm (0: not recorded) and the algorithms that failed before it, with why.
+  int surface_algorithm = 0;
+  std::string mesher_failures;
   std::map<std::string, TriMesh> tissues;
 
   // The tissue named `name`; throws hipfai::Error when the model has none.

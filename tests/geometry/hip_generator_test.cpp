@@ -217,6 +217,10 @@ TEST(HipModel, WriteThenLoadRoundTripsAndNamesBadKeys) {
   EXPECT_EQ(loaded.tissue("labrum").num_vertices(), model.tissue("labrum").num_vertices());
   EXPECT_NEAR((loaded.neck_axis - model.neck_axis).norm(), 0.0, 1e-12);
   EXPECT_EQ(loaded.parameters.ce_deg, 20.0);
+  // Which gmsh algorithm meshed the surfaces is recorded and read back.
+  EXPECT_NE(model.surface_algorithm, 0);
+  EXPECT_EQ(loaded.surface_algorithm, model.surface_algorithm);
+  EXPECT_EQ(loaded.mesher_failures, model.mesher_failures);
 
   // Corrupt one axis: the error names model.json and the key.
   std::ifstream in(dir / "model.json");
