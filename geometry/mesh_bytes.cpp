@@ -14,12 +14,14 @@ void put(std::string& out, const T& value) {
   out.append(reinterpret_cast<const char*>(&value), sizeof(T));
 }
 
+// (An empty vector's data() may be null, and memcpy's pointers must never be: nothing to copy.)
 void put_bytes(std::string& out, const void* data, std::size_t size) {
-  out.append(static_cast<const char*>(data), size);
+  if (size > 0) out.append(static_cast<const char*>(data), size);
 }
 
 void take_bytes(std::string_view& in, void* data, std::size_t size, const std::string& what) {
   if (in.size() < size) throw_error(what, ": truncated mesh bytes");
+  if (size == 0) return;
   std::memcpy(data, in.data(), size);
   in.remove_prefix(size);
 }
