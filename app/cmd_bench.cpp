@@ -4,11 +4,13 @@
 #include "app/command_registry.h"
 #include "bench/collision_bench.h"
 #include "bench/radial_probe.h"
+#include "bench/striking_probe.h"
 #include "core/error.h"
 
 #include <cstdio>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace hipfai::app {
 namespace {
@@ -35,6 +37,14 @@ void run(const BenchArgs& args) {
   std::printf("\nreport: %s (%.1f s)\n", report.report_path.string().c_str(), report.seconds);
 }
 
+// A probe whose methods disagree is a failed run: one line naming them.
+void fail_on_mismatch(const std::vector<std::string>& mismatched, const std::string& what) {
+  if (mismatched.empty()) return;
+  std::string list;
+  for (const std::string& name : mismatched) list += (list.empty() ? "" : ", ") + name;
+  throw_error(list, " ", what);
+}
+
 const CommandRegistrar registrar("bench", [](CLI::App& parent) {
   auto* bench = parent.add_subcommand("bench", "Benchmarks (collision: the thesis' methods against real peers)");
   bench->require_subcommand(1);
@@ -59,11 +69,22 @@ const CommandRegistrar registrar("bench", [](CLI::App& parent) {
   radial->callback([probe] {
     const bench::RadialProbeReport report = bench::run_radial_probe(*probe);
     std::fputs(report.table.c_str(), stdout);
-    if (!report.mismatched.empty()) {
-      std::string list;
-      for (const std::string& name : report.mismatched) list += (list.empty() ? "" : ", ") + name;
-      throw_error("bench radial: ", list, " reported other vertices than the Embree ray caster");
-    }
+    fail_on_mismatch(report.mismatched, "reported other vertices than the Embree ray caster (bench radial)");
+  });
+  auto striking_probe = std::make_shared<bench::StrikingProbeOptions>();
+  auto* striking = bench->add_subcommand(
+      "striking", "Quick probe: per-pose one-pass cylindrical query (every candidate, angular walk) vs FCL on one scenario");
+  striking->add_option("--scenario", striking_probe->family, "hip or real_ct")
+      ->check(CLI::IsMember({"hip", "real_ct"}));
+  striking->add_option("--level", striking_probe->level, "hip 0..3")->check(CLI::Range(0, 3));
+  striking->add_option("--real-bones", striking_probe->lhdl_dir, "Folder of the real CT bones (real_ct)")
+      ->check(CLI::ExistingDirectory);
+  striking->add_option("--threads", striking_probe->threads, "1 or 2")->check(CLI::Range(1, 2));
+  striking->add_option("--repeats", striking_probe->repeats, "Timed runs per method")->check(CLI::Range(1, 100));
+  striking->callback([striking_probe] {
+    const bench::StrikingProbeReport report = bench::run_striking_probe(*striking_probe);
+    std::fputs(report.table.c_str(), stdout);
+    fail_on_mismatch(report.mismatched, "reported other pairs than the every-candidate query (bench striking)");
   });
 });
 

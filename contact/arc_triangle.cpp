@@ -116,6 +116,18 @@ CylindricalBounds triangle_cylindrical_bounds(const Vec3& a, const Vec3& b, cons
   return bounds;
 }
 
+AngularExtent triangle_angular_extent(const Vec3& a, const Vec3& b, const Vec3& c) {
+  if (!(a.head<2>().squaredNorm() > 0.0 && b.head<2>().squaredNorm() > 0.0 && c.head<2>().squaredNorm() > 0.0)) {
+    return {};  // a vertex on the axis: all angles
+  }
+  const double theta_a = std::atan2(a.y(), a.x());
+  const double db = wrap_angle(std::atan2(b.y(), b.x()) - theta_a);
+  const double dc = wrap_angle(std::atan2(c.y(), c.x()) - theta_a);
+  const double lo = std::min({0.0, db, dc}), hi = std::max({0.0, db, dc});
+  if (hi - lo >= 0.9 * std::numbers::pi) return {};  // around the axis, or nearly: all angles
+  return {theta_a + lo - kAngularExtentMarginRad, hi - lo + 2.0 * kAngularExtentMarginRad};
+}
+
 double point_triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
   const Vec3 n = (b - a).cross(c - a);
   const double n2 = n.squaredNorm();
@@ -131,21 +143,36 @@ double point_triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, cons
                    segment_distance_3d(p, c, a)});
 }
 
+CrossingPlane crossing_plane(const Vec3& a, const Vec3& b, const Vec3& c) {
+  CrossingPlane plane;
+  plane.n = (b - a).cross(c - a);
+  plane.n2 = plane.n.squaredNorm();
+  plane.rho = std::hypot(plane.n.x(), plane.n.y());
+  plane.phi = std::atan2(plane.n.y(), plane.n.x());
+  plane.offset = plane.n.dot(a);
+  return plane;
+}
+
 int circle_triangle_crossings(double r, double z, const Vec3& a, const Vec3& b, const Vec3& c,
                               std::array<double, 2>& angles_rad) {
   if (!(r > 0.0)) return 0;
-  const Vec3 n = (b - a).cross(c - a);
-  const double n2 = n.squaredNorm();
-  const double rho = std::hypot(n.x(), n.y());
+  return circle_triangle_crossings(r, z, a, b, c, crossing_plane(a, b, c), angles_rad);
+}
+
+int circle_triangle_crossings(double r, double z, const Vec3& a, const Vec3& b, const Vec3& c,
+                              const CrossingPlane& plane, std::array<double, 2>& angles_rad) {
+  if (!(r > 0.0)) return 0;
+  const Vec3& n = plane.n;
+  const double n2 = plane.n2;
+  const double rho = plane.rho;
   if (!(n2 > 0.0) || !(rho > 0.0)) return 0;
   // Plane n.x = n.a; on the circle: r (n_x cos t + n_y sin t) = n.a - n_z z, i.e.
   // cos(t - phi) = q with phi = atan2(n_y, n_x) (App. C Eq. 28-29 in polar form, which keeps
   // both roots exact for any plane orientation instead of dividing by one normal component).
-  const double q = (n.dot(a) - n.z() * z) / (rho * r);
+  const double q = (plane.offset - n.z() * z) / (rho * r);
   if (!(q >= -1.0 && q <= 1.0)) return 0;
-  const double phi = std::atan2(n.y(), n.x());
   const double half = std::acos(q);
-  const std::array<double, 2> roots = {wrap_angle(phi + half), wrap_angle(phi - half)};
+  const std::array<double, 2> roots = {wrap_angle(plane.phi + half), wrap_angle(plane.phi - half)};
   const int num_roots = half == 0.0 ? 1 : 2;
   int count = 0;
   for (int i = 0; i < num_roots; ++i) {

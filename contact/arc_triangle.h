@@ -17,6 +17,7 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <numbers>
 
 namespace hipfai::contact {
 
@@ -67,6 +68,21 @@ struct CylindricalBounds {
 };
 CylindricalBounds triangle_cylindrical_bounds(const Vec3& a, const Vec3& b, const Vec3& c);
 
+// A triangle's angular extent about the axis: every point of it has theta in [lo, lo + width]
+// (mod 2 pi). Seen from the axis, a triangle off it lies in an open half-plane through the axis,
+// so its vertices' angles span its whole extent (less than pi); one with a vertex on the axis, or
+// spanning 0.9 pi or more (around the axis, or nearly), gets every angle (width 2 pi). The extent
+// is widened by kAngularExtentMarginRad on both sides, far above the rounding of atan2 and of the
+// crossing angles (acos near +-1 loses about sqrt(ulp), ~1e-8 rad), so a crossing of the circle
+// with the triangle (circle_triangle_crossings) always lies inside it.
+constexpr double kAngularExtentMarginRad = 1e-6;
+struct AngularExtent {
+  double lo = -std::numbers::pi;
+  double width = 2.0 * std::numbers::pi;
+  bool all_angles() const { return width >= 2.0 * std::numbers::pi; }
+};
+AngularExtent triangle_angular_extent(const Vec3& a, const Vec3& b, const Vec3& c);
+
 // Exact Euclidean distance from a point to a (possibly degenerate) triangle, mm.
 double point_triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
 
@@ -84,6 +100,21 @@ double point_triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, cons
 // shared edge or a corner is found by at least one of the triangles sharing it.
 int circle_triangle_crossings(double r, double z, const Vec3& a, const Vec3& b, const Vec3& c,
                               std::array<double, 2>& angles_rad);
+
+// The parts of circle_triangle_crossings that depend on the triangle only: n = (b - a) x (c - a),
+// |n|^2, rho = hypot(n_x, n_y), phi = atan2(n_y, n_x) and n.a. A table computes them once per
+// triangle instead of once per circle; the overload below evaluates the very same expressions
+// with them, so its crossings equal circle_triangle_crossings' bit for bit.
+struct CrossingPlane {
+  Vec3 n = Vec3::Zero();
+  double n2 = 0.0;
+  double rho = 0.0;
+  double phi = 0.0;
+  double offset = 0.0;  // n.a
+};
+CrossingPlane crossing_plane(const Vec3& a, const Vec3& b, const Vec3& c);
+int circle_triangle_crossings(double r, double z, const Vec3& a, const Vec3& b, const Vec3& c,
+                              const CrossingPlane& plane, std::array<double, 2>& angles_rad);
 
 // The nearest crossing of one vertex's circle: smallest angular distance |delta| where
 // delta = wrap(theta_crossing - theta_vertex) (App. C: min(|dt mod 2pi|, |-dt mod 2pi|)).

@@ -290,6 +290,7 @@ class CylindricalCacheAccess {
     }
     table.triangles_.resize(num_triangles);
     table.local_normals_.resize(num_triangles);
+    table.planes_.resize(num_triangles);
     table.ranges_.resize(num_triangles);
     for (std::size_t t = 0; t < num_triangles; ++t) {
       for (std::int32_t& v : table.triangles_[t]) {
@@ -367,6 +368,8 @@ class CylindricalCacheAccess {
       if (table.ranges_[t].overflow != listed[t]) return std::nullopt;
     }
     if (!in.ok()) return std::nullopt;
+    for (std::size_t t = 0; t < num_triangles; ++t) table.refresh_triangle_plane(static_cast<std::int32_t>(t));
+    table.build_angular_index();
     return table;
   }
 

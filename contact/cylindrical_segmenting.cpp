@@ -38,13 +38,21 @@ PenetrationResult join_chunks(std::vector<std::vector<PenetrationPair>>& chunks)
   return result;
 }
 
-}  // namespace
+// The nearest crossing by offering every candidate of the circle's cell.
+NearestCrossing every_candidate(const CylindricalTable& table, const Cylindrical& cyl) {
+  NearestCrossing nearest;
+  std::array<double, 2> angles{};
+  table.for_each_candidate(cyl.r, cyl.z, [&](std::int32_t t) {
+    const int n = table.crossings(t, cyl.r, cyl.z, angles);
+    for (int i = 0; i < n; ++i) nearest.offer(cyl.theta, angles[static_cast<std::size_t>(i)], t);
+  });
+  return nearest;
+}
 
-PenetrationResult cylindrical_segmenting(const CylindricalTable& table,
-                                         const geometry::TriMesh& posed_mobile,
-                                         const CylindricalQueryOptions& options) {
-  if (table.status() == QueryStatus::kInvalidInput) return invalid(table.message());
-  if (!finite_vertices(posed_mobile)) return invalid("mobile mesh has a non-finite coordinate");
+// The one-pass query over `count` mobile vertices, vertex v at position(v) in the fixed frame.
+template <typename Position>
+PenetrationResult one_pass(const CylindricalTable& table, std::size_t count, Position&& position,
+                           const CylindricalQueryOptions& options) {
   if (table.status() == QueryStatus::kNoOverlap) {
     PenetrationResult result;
     result.status = QueryStatus::kNoOverlap;
@@ -53,22 +61,16 @@ PenetrationResult cylindrical_segmenting(const CylindricalTable& table,
   const AxisFrame& frame = table.frame();
   const int threads = resolve_threads(options.num_threads);
   std::vector<std::vector<PenetrationPair>> chunks(static_cast<std::size_t>(threads));
-  parallel_chunks(posed_mobile.vertices.size(), threads,
-                          [&](std::size_t begin, std::size_t end, int chunk) {
+  parallel_chunks(count, threads, [&](std::size_t begin, std::size_t end, int chunk) {
     auto& out = chunks[static_cast<std::size_t>(chunk)];
-    std::array<double, 2> angles{};
     for (std::size_t v = begin; v < end; ++v) {
-      const Vec3 local = frame.to_local(posed_mobile.vertices[v]);
+      const Vec3 local = frame.to_local(position(v));
       if (!table.distance_may_touch(local.norm())) continue;
+      // r and z first: most circles meet an empty cell, and then no angle is needed.
+      if (!table.has_candidates(std::hypot(local.x(), local.y()), local.z())) continue;
       const Cylindrical cyl = to_cylindrical(local);
-      NearestCrossing nearest;
-      table.for_each_candidate(cyl.r, cyl.z, [&](std::int32_t t) {
-        const auto& tri = table.triangle(t);
-        const int n = circle_triangle_crossings(cyl.r, cyl.z, table.local_vertex(tri[0]),
-                                                table.local_vertex(tri[1]),
-                                                table.local_vertex(tri[2]), angles);
-        for (int i = 0; i < n; ++i) nearest.offer(cyl.theta, angles[static_cast<std::size_t>(i)], t);
-      });
+      const NearestCrossing nearest = options.angular_walk ? table.nearest_crossing(cyl.r, cyl.z, cyl.theta)
+                                                           : every_candidate(table, cyl);
       if (!nearest.found()) continue;
       if (arc_verdict(cyl.r, cyl.z, cyl.theta, nearest.crossing_theta_rad,
                       table.local_normal(nearest.triangle), options.touching_mm) !=
@@ -80,6 +82,27 @@ PenetrationResult cylindrical_segmenting(const CylindricalTable& table,
     }
   });
   return join_chunks(chunks);
+}
+
+}  // namespace
+
+PenetrationResult cylindrical_segmenting(const CylindricalTable& table,
+                                         const geometry::TriMesh& posed_mobile,
+                                         const CylindricalQueryOptions& options) {
+  if (table.status() == QueryStatus::kInvalidInput) return invalid(table.message());
+  if (!finite_vertices(posed_mobile)) return invalid("mobile mesh has a non-finite coordinate");
+  return one_pass(table, posed_mobile.vertices.size(),
+                  [&](std::size_t v) -> const Vec3& { return posed_mobile.vertices[v]; }, options);
+}
+
+PenetrationResult cylindrical_segmenting(const CylindricalTable& table, const geometry::TriMesh& mobile,
+                                         const Eigen::Isometry3d& pose,
+                                         const CylindricalQueryOptions& options) {
+  if (table.status() == QueryStatus::kInvalidInput) return invalid(table.message());
+  if (!finite_vertices(mobile)) return invalid("mobile mesh has a non-finite coordinate");
+  if (!pose.matrix().allFinite()) return invalid("pose has a non-finite entry");
+  return one_pass(table, mobile.vertices.size(), [&](std::size_t v) -> Vec3 { return pose * mobile.vertices[v]; },
+                  options);
 }
 
 PenetrationResult cylindrical_segmenting(const geometry::TriMesh& fixed,

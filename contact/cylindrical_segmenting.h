@@ -38,7 +38,9 @@
 //     arcs holding the query angle and only their vertices get the exact test (nearest crossing
 //     + App. D), so the result is the same, pair for pair, as the pass over every tracked vertex
 //     (query_every_vertex), in time that grows with the answer instead of with the mesh.
-// Output pairs are sorted by mobile vertex. Work is split over `num_threads` std::threads.
+// The one-pass query finds each circle's nearest crossing through the table's angular index
+// (CylindricalTable::nearest_crossing): the same answer as offering every candidate of the cell.
+// Output pairs are sorted by mobile vertex. Work is split over `num_threads` threads.
 #pragma once
 
 #include "contact/angular_interval_index.h"
@@ -46,6 +48,8 @@
 #include "contact/cylindrical_table.h"
 #include "contact/penetration.h"
 #include "geometry/tri_mesh.h"
+
+#include <Eigen/Geometry>
 
 #include <cstdint>
 #include <optional>
@@ -60,11 +64,22 @@ struct CylindricalQueryOptions {
   // finder reads the crossings and never queries a pose, so it turns this off; without the index
   // query() is query_every_vertex(). Not stored in cache files (a loaded cache has its index).
   bool pose_index = true;
+  // One-pass query: find each circle's nearest crossing through the table's angular index
+  // (true) or by offering every candidate of its cell (false: the reference the index is tested
+  // against, and the benchmark's ablation). The answer is the same.
+  bool angular_walk = true;
 };
 
 // Posed mobile mesh (already rotated by the caller) against a table built for the same axis.
 PenetrationResult cylindrical_segmenting(const CylindricalTable& table,
                                          const geometry::TriMesh& posed_mobile,
+                                         const CylindricalQueryOptions& options = {});
+
+// The same query with the mobile mesh at rest and its pose in the fixed frame: each vertex is
+// posed (pose * v) as it is visited, so no posed copy of the mesh is made. Equal, pair for pair,
+// to the query on the posed copy (the same arithmetic per vertex).
+PenetrationResult cylindrical_segmenting(const CylindricalTable& table, const geometry::TriMesh& mobile,
+                                         const Eigen::Isometry3d& pose,
                                          const CylindricalQueryOptions& options = {});
 
 // One-shot convenience: builds a table restricted to `posed_mobile`, then queries it.

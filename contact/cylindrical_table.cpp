@@ -8,6 +8,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <numbers>
 #include <thread>
 
 namespace hipfai::contact {
@@ -46,6 +47,12 @@ void CylindricalTable::refresh_triangle_normal(std::int32_t t) {
                      .cross(local_vertex(tri[2]) - local_vertex(tri[0]));
   const double length = n.norm();
   local_normals_[static_cast<std::size_t>(t)] = length > 0.0 ? Vec3(n / length) : Vec3::Zero();
+  refresh_triangle_plane(t);
+}
+
+void CylindricalTable::refresh_triangle_plane(std::int32_t t) {
+  const auto& tri = triangles_[static_cast<std::size_t>(t)];
+  planes_[static_cast<std::size_t>(t)] = crossing_plane(local_vertex(tri[0]), local_vertex(tri[1]), local_vertex(tri[2]));
 }
 
 void CylindricalTable::bin_triangle(std::int32_t t, bool allow_overflow) {
@@ -121,6 +128,7 @@ CylindricalTable CylindricalTable::build(const geometry::TriMesh& fixed, const V
   table.refresh_geometry(fixed);
   const std::size_t num_triangles = fixed.triangles.size();
   table.local_normals_.resize(num_triangles);
+  table.planes_.resize(num_triangles);
   table.ranges_.resize(num_triangles);
 
   // Fixed ranges: exact cylindrical bounds (App. A) and distances to the centre.
@@ -200,7 +208,138 @@ CylindricalTable CylindricalTable::build(const geometry::TriMesh& fixed, const V
   for (std::size_t t = 0; t < num_triangles; ++t) {
     table.bin_triangle(static_cast<std::int32_t>(t), /*allow_overflow=*/false);
   }
+  if (options.angular_index) table.build_angular_index();
   return table;
+}
+
+void CylindricalTable::build_angular_index() {
+  const std::size_t num_cells = cells_.size();
+  const auto down = [](double value) {
+    float f = static_cast<float>(value);
+    if (static_cast<double>(f) > value) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+    return f;
+  };
+  const auto up = [](double value) {
+    float f = static_cast<float>(value);
+    if (static_cast<double>(f) < value) f = std::nextafter(f, std::numeric_limits<float>::infinity());
+    return f;
+  };
+  std::vector<AngularEntry> entries(triangles_.size());
+  std::vector<double> widths(triangles_.size());
+  for (std::size_t t = 0; t < triangles_.size(); ++t) {
+    const auto& tri = triangles_[t];
+    const Vec3& a = local_vertex(tri[0]);
+    const Vec3& b = local_vertex(tri[1]);
+    const Vec3& c = local_vertex(tri[2]);
+    const AngularExtent extent = triangle_angular_extent(a, b, c);
+    double lo = extent.lo;
+    while (lo < -std::numbers::pi) lo += 2.0 * std::numbers::pi;
+    while (lo >= std::numbers::pi) lo -= 2.0 * std::numbers::pi;
+    const CylindricalBounds bounds = triangle_cylindrical_bounds(a, b, c);
+    AngularEntry& entry = entries[t];
+    entry.lo = lo;
+    entry.r_min = down(bounds.r_min - pad_);
+    entry.r_max = up(bounds.r_max + pad_);
+    entry.z_min = down(bounds.z_min - pad_);
+    entry.z_max = up(bounds.z_max + pad_);
+    entry.triangle = static_cast<std::int32_t>(t);
+    widths[t] = extent.all_angles() ? -1.0 : extent.width;
+  }
+  angular_begin_.assign(num_cells + 1, 0);
+  all_begin_.assign(num_cells + 1, 0);
+  angular_width_.assign(num_cells, 0.0);
+  angular_entries_.clear();
+  all_entries_.clear();
+  for (std::size_t c = 0; c < num_cells; ++c) {
+    const std::size_t first = angular_entries_.size();
+    for (std::int32_t t : cells_[c]) {
+      const auto ti = static_cast<std::size_t>(t);
+      if (widths[ti] < 0.0) {
+        all_entries_.push_back(entries[ti]);
+      } else {
+        angular_entries_.push_back(entries[ti]);
+        angular_width_[c] = std::max(angular_width_[c], widths[ti]);
+      }
+    }
+    std::sort(angular_entries_.begin() + static_cast<std::ptrdiff_t>(first), angular_entries_.end(),
+              [](const AngularEntry& x, const AngularEntry& y) {
+                return x.lo < y.lo || (x.lo == y.lo && x.triangle < y.triangle);
+              });
+    angular_begin_[c + 1] = static_cast<std::uint32_t>(angular_entries_.size());
+    all_begin_[c + 1] = static_cast<std::uint32_t>(all_entries_.size());
+  }
+}
+
+bool CylindricalTable::has_candidates(double r, double z) const {
+  if (neighbour_cells_ != 0) return true;
+  const long long cell_r = cell_index(r, r_lo_, res_r_);
+  const long long cell_z = cell_index(z, z_lo_, res_z_);
+  if (cell_r < 0 || cell_r >= num_r_ || cell_z < 0 || cell_z >= num_z_) return !overflow_.empty();
+  return !cells_[static_cast<std::size_t>(cell_z * num_r_ + cell_r)].empty();
+}
+
+NearestCrossing CylindricalTable::nearest_crossing(double r, double z, double theta) const {
+  NearestCrossing nearest;
+  std::array<double, 2> angles{};
+  const auto offer = [&](std::int32_t t) {
+    const int n = crossings(t, r, z, angles);
+    for (int i = 0; i < n; ++i) nearest.offer(theta, angles[static_cast<std::size_t>(i)], t);
+  };
+  const long long cell_r = cell_index(r, r_lo_, res_r_);
+  const long long cell_z = cell_index(z, z_lo_, res_z_);
+  const bool outside = cell_r < 0 || cell_r >= num_r_ || cell_z < 0 || cell_z >= num_z_;
+  if (outside || neighbour_cells_ != 0 || angular_begin_.size() != cells_.size() + 1) {
+    for_each_candidate(r, z, offer);
+    return nearest;
+  }
+  const auto c = static_cast<std::size_t>(cell_z * num_r_ + cell_r);
+  for (std::size_t i = all_begin_[c]; i < all_begin_[c + 1]; ++i) {
+    if (all_entries_[i].holds(r, z)) offer(all_entries_[i].triangle);
+  }
+  const std::size_t n = angular_begin_[c + 1] - angular_begin_[c];
+  if (n == 0) return nearest;
+  const AngularEntry* entry = angular_entries_.data() + angular_begin_[c];
+  const double width = angular_width_[c];
+  constexpr double two_pi = 2.0 * std::numbers::pi;
+  // Forward: entries by increasing (lo - theta) mod 2 pi, from the first lo > theta; an extent
+  // starting farther ahead than the nearest crossing holds none nearer that way, and none nearer
+  // the other way while it also starts more than nearest + width behind (checked by the backward
+  // walk, which meets the same entries from the other side). Backward: entries by increasing
+  // (theta - lo) mod 2 pi; an extent starting more than nearest + width behind ends more than
+  // nearest behind. Distances are monotone along each walk and the nearest only shrinks, so once a
+  // walk stops, every entry beyond it stays out of reach; entries neither walk reached are at
+  // angular distance > nearest everywhere in their extent (see nearest_crossing in the header).
+  const std::size_t i0 = static_cast<std::size_t>(
+      std::partition_point(entry, entry + n, [theta](const AngularEntry& e) { return e.lo <= theta; }) - entry);
+  std::size_t forward = 0, backward = 0;
+  bool forward_open = true, backward_open = true;
+  while ((forward_open || backward_open) && forward + backward < n) {
+    if (forward_open) {
+      std::size_t j = i0 + forward;
+      const bool wrapped = j >= n;
+      if (wrapped) j -= n;
+      const double distance = entry[j].lo - theta + (wrapped ? two_pi : 0.0);
+      if (distance > nearest.abs_delta_rad) {
+        forward_open = false;
+      } else {
+        if (entry[j].holds(r, z)) offer(entry[j].triangle);
+        ++forward;
+      }
+    }
+    if (backward_open && forward + backward < n) {
+      const std::size_t k = backward + 1;
+      const bool wrapped = k > i0;
+      const std::size_t j = wrapped ? i0 + n - k : i0 - k;
+      const double distance = theta - entry[j].lo + (wrapped ? two_pi : 0.0);
+      if (distance > nearest.abs_delta_rad + width) {
+        backward_open = false;
+      } else {
+        if (entry[j].holds(r, z)) offer(entry[j].triangle);
+        ++backward;
+      }
+    }
+  }
+  return nearest;
 }
 
 void update_triangles(CylindricalTable& table, const geometry::TriMesh& fixed_now,
@@ -234,6 +373,7 @@ void update_triangles(CylindricalTable& table, const geometry::TriMesh& fixed_no
       table.bin_triangle(t, /*allow_overflow=*/true);
     }
   }
+  if (!table.angular_begin_.empty()) table.build_angular_index();
   // A table that had no overlap may have one now, through the overflow list.
   if (table.status_ == QueryStatus::kNoOverlap && !table.overflow_.empty()) {
     table.status_ = QueryStatus::kOk;

@@ -57,6 +57,10 @@ struct CylindricalTableOptions {
   double resolution_z_mm = 0.0;     // ring height; 0 = mean edge length of the fixed mesh
   int neighbour_cells = 0;          // queries also search +-k cells in r and z
   std::size_t max_cells = 1u << 22; // the resolution is coarsened to stay below this
+  // Build the angular index of nearest_crossing() (the one-pass query's walk). The pose cache and
+  // the range finder read every crossing and never walk, so they leave it out (nearest_crossing
+  // then offers every candidate: the same answer). A loaded table always has it.
+  bool angular_index = true;
 };
 
 enum class TableUpdate {
@@ -108,6 +112,26 @@ class CylindricalTable {
     }
   }
 
+  // False only when for_each_candidate(r, z) offers nothing (an empty cell inside the grid, or a
+  // circle outside the grid with no overflow triangles): such a circle crosses nothing.
+  bool has_candidates(double r, double z) const;
+
+  // The nearest crossing of the circle (r, z) from the angle theta, by NearestCrossing's rule over
+  // every crossing of every triangle for_each_candidate offers: the same triangle and angle as
+  // offering them all. With neighbour_cells == 0 and the circle inside the grid, the cell's
+  // triangles are visited in order of their angular extents (triangle_angular_extent), outwards
+  // from theta both ways, and the walk stops where no further extent can hold a crossing as near
+  // as the nearest found (ties included): usually a few of the cell's triangles are evaluated.
+  NearestCrossing nearest_crossing(double r, double z, double theta) const;
+
+  // circle_triangle_crossings of the circle (r, z) with triangle t, with the triangle's plane
+  // computed once at build (the same crossings, bit for bit).
+  int crossings(std::int32_t t, double r, double z, std::array<double, 2>& angles_rad) const {
+    const auto& tri = triangles_[static_cast<std::size_t>(t)];
+    return circle_triangle_crossings(r, z, local_vertex(tri[0]), local_vertex(tri[1]), local_vertex(tri[2]),
+                                     planes_[static_cast<std::size_t>(t)], angles_rad);
+  }
+
   const Vec3& local_vertex(std::int32_t v) const { return local_vertices_[static_cast<std::size_t>(v)]; }
   const geometry::Triangle& triangle(std::int32_t t) const { return triangles_[static_cast<std::size_t>(t)]; }
   const Vec3& local_normal(std::int32_t t) const { return local_normals_[static_cast<std::size_t>(t)]; }
@@ -147,9 +171,13 @@ class CylindricalTable {
     return static_cast<long long>(cell);
   }
   void refresh_geometry(const geometry::TriMesh& fixed);
-  void refresh_triangle_normal(std::int32_t t);
+  void refresh_triangle_normal(std::int32_t t);  // also its plane
+  void refresh_triangle_plane(std::int32_t t);
   void bin_triangle(std::int32_t t, bool allow_overflow);
   void unbin_triangle(std::int32_t t);
+  // Rebuilds the angular index from the cells and the current geometry (derived data: after
+  // build(), update_triangles() and loading a saved table).
+  void build_angular_index();
 
   QueryStatus status_ = QueryStatus::kInvalidInput;
   std::string message_ = "table not built";
@@ -157,9 +185,28 @@ class CylindricalTable {
   std::vector<Vec3> local_vertices_;
   std::vector<geometry::Triangle> triangles_;
   std::vector<Vec3> local_normals_;  // unit outward normals in the axis frame (zero if degenerate)
+  std::vector<CrossingPlane> planes_;  // per triangle, for crossings() (derived from the vertices)
   std::vector<CellRange> ranges_;
   std::vector<std::vector<std::int32_t>> cells_;  // num_z_ x num_r_, row-major in z
   std::vector<std::int32_t> overflow_;
+  // The angular index of nearest_crossing(): cell c's triangles with a bounded angular extent,
+  // sorted by the extent's start (in [-pi, pi)), are entries [angular_begin_[c],
+  // angular_begin_[c + 1]) of angular_entries_, the widest of their extents is angular_width_[c];
+  // its all-angle triangles are [all_begin_[c], all_begin_[c + 1]) of all_entries_.
+  // Each entry also carries the triangle's padded (r, z) bounds (those it was binned with),
+  // rounded outwards to float: a circle outside them crosses the triangle nowhere, so the walk
+  // skips it without the crossing test.
+  struct AngularEntry {
+    double lo = 0.0;
+    float r_min = 0.0f, r_max = 0.0f, z_min = 0.0f, z_max = 0.0f;
+    std::int32_t triangle = -1;
+    bool holds(double r, double z) const { return r >= r_min && r <= r_max && z >= z_min && z <= z_max; }
+  };
+  std::vector<std::uint32_t> angular_begin_;
+  std::vector<AngularEntry> angular_entries_;
+  std::vector<double> angular_width_;
+  std::vector<std::uint32_t> all_begin_;
+  std::vector<AngularEntry> all_entries_;
   double r_lo_ = 0.0, r_hi_ = 0.0, z_lo_ = 0.0, z_hi_ = 0.0;
   double res_r_ = 1.0, res_z_ = 1.0;
   double pad_ = 0.0;
@@ -184,9 +231,7 @@ void circle_crossings(const CylindricalTable& table, double r, double z, Keep&& 
   std::array<double, 2> angles{};
   table.for_each_candidate(r, z, [&](std::int32_t t) {
     if (!keep(t)) return;
-    const auto& tri = table.triangle(t);
-    const int n = circle_triangle_crossings(r, z, table.local_vertex(tri[0]), table.local_vertex(tri[1]),
-                                            table.local_vertex(tri[2]), angles);
+    const int n = table.crossings(t, r, z, angles);
     for (int i = 0; i < n; ++i) found.emplace_back(t, angles[static_cast<std::size_t>(i)]);
   });
   std::sort(found.begin(), found.end());

@@ -80,11 +80,6 @@ void scan(const CylindricalPoseCache& cache, ContactKind kind, int num_threads,
 
 // ------------------------------------------------------------------ vertex passes from a table
 
-// A triangle's angular extent about the axis: theta in [lo, lo + width].
-struct AngularExtent {
-  double lo = -std::numbers::pi, width = kTwoPi;
-};
-
 // True unless every rotation that brings an angle `theta` into `extent` is at least as far as the
 // running minima in both directions (then nothing of it can be offered: offers are strict). The
 // rotation phi puts theta in the extent for phi in [start, start + width] (mod 2 pi).
@@ -97,25 +92,13 @@ bool may_beat(double theta, const AngularExtent& extent, const DirectionBest& fo
   return start < forward.angle_rad || kTwoPi - (start + extent.width) < backward.angle_rad;
 }
 
-// Seen from the axis, a triangle off it lies in an open half-plane through the axis, so its
-// vertices' angles span its whole extent (less than pi); one that reaches the axis spans all
-// angles. Widened by kAngularMarginRad (crossing angles come from acos, ~1e-8 rad near tangency).
+// Every triangle's angular extent (arc_triangle.h).
 std::vector<AngularExtent> triangle_extents(const CylindricalTable& table) {
   std::vector<AngularExtent> extents(table.num_triangles());
   for (std::size_t t = 0; t < extents.size(); ++t) {
     const auto& tri = table.triangle(static_cast<std::int32_t>(t));
-    const Vec3& a = table.local_vertex(tri[0]);
-    const Vec3& b = table.local_vertex(tri[1]);
-    const Vec3& c = table.local_vertex(tri[2]);
-    if (!(a.head<2>().squaredNorm() > 0.0 && b.head<2>().squaredNorm() > 0.0 && c.head<2>().squaredNorm() > 0.0)) {
-      continue;  // a vertex on the axis: all angles
-    }
-    const double theta_a = std::atan2(a.y(), a.x());
-    const double db = wrap_angle(std::atan2(b.y(), b.x()) - theta_a);
-    const double dc = wrap_angle(std::atan2(c.y(), c.x()) - theta_a);
-    const double lo = std::min({0.0, db, dc}), hi = std::max({0.0, db, dc});
-    if (hi - lo >= 0.9 * std::numbers::pi) continue;  // around the axis, or nearly: all angles
-    extents[t] = {theta_a + lo - kAngularMarginRad, hi - lo + 2.0 * kAngularMarginRad};
+    extents[t] = triangle_angular_extent(table.local_vertex(tri[0]), table.local_vertex(tri[1]),
+                                         table.local_vertex(tri[2]));
   }
   return extents;
 }
@@ -473,8 +456,10 @@ RangeOfMotion range_of_motion(const geometry::TriMesh& fixed, const geometry::Tr
       return range;
     }
   }
+  CylindricalTableOptions table_options = options.table;
+  table_options.angular_index = false;  // the vertex passes read every crossing
   const CylindricalTable fixed_table =
-      CylindricalTable::build(fixed, centre, axis, options.table, &mobile);
+      CylindricalTable::build(fixed, centre, axis, table_options, &mobile);
   if (fixed_table.status() == QueryStatus::kInvalidInput) return invalid_range(fixed_table.message());
   // The vertex passes straight from the tables (what a pose cache per body would store, then
   // scan(), without storing it), then the edge-edge pass bounded by their ranges.
@@ -486,7 +471,7 @@ RangeOfMotion range_of_motion(const geometry::TriMesh& fixed, const geometry::Tr
              clockwise);
   if (options.include_fixed_vertices) {
     const CylindricalTable mobile_table =
-        CylindricalTable::build(mobile, centre, axis, options.table, &fixed);
+        CylindricalTable::build(mobile, centre, axis, table_options, &fixed);
     if (mobile_table.status() == QueryStatus::kInvalidInput) {
       return invalid_range(mobile_table.message());
     }

@@ -113,7 +113,9 @@ contact::CylindricalPoseCache pose_cache_for(const geometry::TriMesh& fixed, con
   }
   contact::CylindricalQueryOptions query;
   query.num_threads = options.threads;
-  const auto table = contact::CylindricalTable::build(fixed, centre, axis, {}, &mobile);
+  contact::CylindricalTableOptions table_options;
+  table_options.angular_index = false;  // the pose cache reads every crossing
+  const auto table = contact::CylindricalTable::build(fixed, centre, axis, table_options, &mobile);
   contact::CylindricalPoseCache cache(table, mobile, query);
   log.ran(StageKind::kCylindricalTable);
   if (!file.empty()) contact::save_pose_cache(cache, file);

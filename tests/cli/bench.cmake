@@ -12,3 +12,11 @@ hipfai_cli_test(NAME bench_radial_bad_level EXIT nonzero
                 COMMAND bench radial --scenario sphere_cube --level 1)
 hipfai_cli_test(NAME bench_radial_bad_scenario EXIT nonzero STDERR "--scenario: torus not in"
                 COMMAND bench radial --scenario torus)
+# hipfai bench striking: the quick probe of the one-pass cylindrical query on the coarsest striking
+# hip (prints its table, fails if the angular walk and every candidate disagree), and bad options.
+hipfai_cli_test(NAME bench_striking_coarsest EXIT 0
+                COMMAND bench striking --scenario hip --level 0 --threads 2 --repeats 1)
+hipfai_cli_test(NAME bench_striking_bad_scenario EXIT nonzero STDERR "--scenario: torus not in"
+                COMMAND bench striking --scenario torus)
+hipfai_cli_test(NAME bench_striking_missing_bones EXIT nonzero STDERR "real-bones"
+                COMMAND bench striking --scenario real_ct --real-bones @TMP@/no-such-folder)
