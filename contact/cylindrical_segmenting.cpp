@@ -60,10 +60,14 @@ PenetrationResult one_pass(const CylindricalTable& table, std::size_t count, Pos
   }
   const AxisFrame& frame = table.frame();
   const int threads = resolve_threads(options.num_threads);
-  std::vector<std::vector<PenetrationPair>> chunks(static_cast<std::size_t>(threads));
-  parallel_chunks(count, threads, [&](std::size_t begin, std::size_t end, int chunk) {
-    auto& out = chunks[static_cast<std::size_t>(chunk)];
-    for (std::size_t v = begin; v < end; ++v) {
+  // Blocks of vertices taken dynamically: the circles that need a walk cluster in a few parts of
+  // the mesh, so equal contiguous chunks would leave a thread idle. Blocks join in order.
+  constexpr std::size_t kBlock = 1024;
+  std::vector<std::vector<PenetrationPair>> chunks((count + kBlock - 1) / kBlock);
+  const auto visit_block = [&](std::size_t block) {
+    auto& out = chunks[block];
+    const std::size_t end = std::min(count, (block + 1) * kBlock);
+    for (std::size_t v = block * kBlock; v < end; ++v) {
       const Vec3 local = frame.to_local(position(v));
       if (!table.distance_may_touch(local.norm())) continue;
       // r and z first: most circles meet an empty cell, and then no angle is needed.
@@ -80,6 +84,9 @@ PenetrationResult one_pass(const CylindricalTable& table, std::size_t count, Pos
       out.push_back({static_cast<std::int32_t>(v), nearest.triangle,
                      cyl.r * nearest.abs_delta_rad, nearest.abs_delta_rad * kDegPerRad});
     }
+  };
+  parallel_blocks(chunks.size(), threads, 1, [&](std::size_t first, std::size_t last) {
+    for (std::size_t block = first; block < last; ++block) visit_block(block);
   });
   return join_chunks(chunks);
 }
