@@ -34,20 +34,15 @@ namespace {
 namespace occ = gmsh::model::occ;
 using DimTags = gmsh::vectorpair;
 
-// A fresh model for one construction, in the meshing child (the parent holds lock_gmsh()).
-class GmshSession {
- public:
-  explicit GmshSession(const std::string& name) {
-    gmsh::clear();
-    gmsh::model::add(name);
-    // gmsh's own log only on request (HIPFAI_GMSH_VERBOSE=1), to diagnose a failed construction.
-    gmsh::option::setNumber("General.Terminal", verbose() ? 1 : 0);
-  }
-  GmshSession(const GmshSession&) = delete;
-  GmshSession& operator=(const GmshSession&) = delete;
+// gmsh's own log only on request (HIPFAI_GMSH_VERBOSE=1), to diagnose a failed construction.
+bool gmsh_verbose() { return std::getenv("HIPFAI_GMSH_VERBOSE") != nullptr; }
 
-  static bool verbose() { return std::getenv("HIPFAI_GMSH_VERBOSE") != nullptr; }
-};
+// A fresh model for one construction, in the meshing child (the parent holds lock_gmsh()).
+void start_gmsh_model(const std::string& name) {
+  gmsh::clear();
+  gmsh::model::add(name);
+  gmsh::option::setNumber("General.Terminal", gmsh_verbose() ? 1 : 0);
+}
 
 DimTags ball(const Vec3& centre, double radius) {
   DimTags sphere = {{3, occ::addSphere(centre.x(), centre.y(), centre.z(), radius)}};
@@ -611,7 +606,7 @@ TriMesh extract_surface(const DimTags& volumes, const std::string& name, const N
 // The meshing child: builds the solids, meshes them (algorithms from `first` on) and sends the
 // tissues, or the reason there are none.
 void build_and_mesh(const HipParameters& parameters, std::size_t first, int fd) {
-  GmshSession session("hip");
+  start_gmsh_model("hip");
   try {
     const TissueSolids solids = build_solids(parameters);
     if (!mesh_surfaces(parameters.edge_mm, first, fd)) return;
@@ -643,6 +638,24 @@ std::uint64_t take_u64(std::string_view& in, const std::string& what) {
   return value;
 }
 
+// One record of the child's answer: its type and payload; nothing when the rest of the answer is
+// cut short (the child crashed while writing it).
+struct ChildRecord {
+  Record type;
+  std::string_view payload;
+};
+
+std::optional<ChildRecord> take_record(std::string_view& in) {
+  if (in.size() < 1 + sizeof(std::uint64_t)) return std::nullopt;
+  const auto type = static_cast<Record>(in.front());
+  std::uint64_t length = 0;
+  std::memcpy(&length, in.data() + 1, sizeof length);
+  if (in.size() - 1 - sizeof length < length) return std::nullopt;
+  const std::string_view payload = in.substr(1 + sizeof length, length);
+  in.remove_prefix(1 + sizeof length + length);
+  return ChildRecord{type, payload};
+}
+
 std::map<std::string, TriMesh> read_tissues(std::string_view in, const std::string& what) {
   std::map<std::string, TriMesh> tissues;
   const std::uint64_t count = take_u64(in, what);
@@ -671,7 +684,7 @@ HipGeneratorResult generate_hip(const HipParameters& parameters) {
   // is forked, so the child's copy of gmsh is whole.
   const auto gmsh_lock = lock_gmsh();
   ChildRequest request;
-  request.silence_output = !GmshSession::verbose();
+  request.silence_output = !gmsh_verbose();
   // A time limit per child, since gmsh can also loop for ever (seen on a 1.5 mm hip whose 2 mm
   // twin crashes): a hip takes 2-5 s at 2 mm and its time grows as the triangle count, so the limit
   // is 40x that, scaled the same way; the limit ends only that algorithm's try.
@@ -687,17 +700,9 @@ HipGeneratorResult generate_hip(const HipParameters& parameters) {
         [&](int fd) { build_and_mesh(parameters, first, fd); }, request, what + ": cannot start the meshing process");
     std::string_view answer = outcome.answer;
     std::optional<std::size_t> started;
-    while (!answer.empty()) {
-      const auto type = static_cast<Record>(answer.front());
-      answer.remove_prefix(1);
-      std::uint64_t length = 0;
-      if (answer.size() < sizeof length) break;  // a record cut short by a crash
-      std::memcpy(&length, answer.data(), sizeof length);
-      answer.remove_prefix(sizeof length);
-      if (answer.size() < length) break;
-      const std::string_view payload = answer.substr(0, length);
-      answer.remove_prefix(length);
-      switch (type) {
+    while (const std::optional<ChildRecord> record = take_record(answer)) {
+      const std::string_view payload = record->payload;
+      switch (record->type) {
         case Record::kStarting: started = std::stoul(std::string(payload)); break;
         case Record::kFailed: add_failure(std::string(payload)); break;
         case Record::kTissues: if (outcome.ok) result.model.tissues = read_tissues(payload, what); break;
