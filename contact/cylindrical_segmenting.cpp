@@ -38,17 +38,6 @@ PenetrationResult join_chunks(std::vector<std::vector<PenetrationPair>>& chunks)
   return result;
 }
 
-// The nearest crossing by offering every candidate of the circle's cell.
-NearestCrossing every_candidate(const CylindricalTable& table, const Cylindrical& cyl) {
-  NearestCrossing nearest;
-  std::array<double, 2> angles{};
-  table.for_each_candidate(cyl.r, cyl.z, [&](std::int32_t t) {
-    const int n = table.crossings(t, cyl.r, cyl.z, angles);
-    for (int i = 0; i < n; ++i) nearest.offer(cyl.theta, angles[static_cast<std::size_t>(i)], t);
-  });
-  return nearest;
-}
-
 // The one-pass query over `count` mobile vertices, vertex v at position(v) in the fixed frame.
 template <typename Position>
 PenetrationResult one_pass(const CylindricalTable& table, std::size_t count, Position&& position,
@@ -73,8 +62,9 @@ PenetrationResult one_pass(const CylindricalTable& table, std::size_t count, Pos
       // r and z first: most circles meet an empty cell, and then no angle is needed.
       if (!table.has_candidates(std::hypot(local.x(), local.y()), local.z())) continue;
       const Cylindrical cyl = to_cylindrical(local);
-      const NearestCrossing nearest = options.angular_walk ? table.nearest_crossing(cyl.r, cyl.z, cyl.theta)
-                                                           : every_candidate(table, cyl);
+      const NearestCrossing nearest = options.angular_walk
+                                          ? table.nearest_crossing(cyl.r, cyl.z, cyl.theta)
+                                          : table.nearest_crossing_of_every_candidate(cyl.r, cyl.z, cyl.theta);
       if (!nearest.found()) continue;
       if (arc_verdict(cyl.r, cyl.z, cyl.theta, nearest.crossing_theta_rad,
                       table.local_normal(nearest.triangle), options.touching_mm) !=

@@ -278,20 +278,29 @@ bool CylindricalTable::has_candidates(double r, double z) const {
   return !cells_[static_cast<std::size_t>(cell_z * num_r_ + cell_r)].empty();
 }
 
+NearestCrossing CylindricalTable::nearest_crossing_of_every_candidate(double r, double z, double theta) const {
+  NearestCrossing nearest;
+  std::array<double, 2> angles{};
+  for_each_candidate(r, z, [&](std::int32_t t) {
+    const int n = crossings(t, r, z, angles);
+    for (int i = 0; i < n; ++i) nearest.offer(theta, angles[static_cast<std::size_t>(i)], t);
+  });
+  return nearest;
+}
+
 NearestCrossing CylindricalTable::nearest_crossing(double r, double z, double theta) const {
+  const long long cell_r = cell_index(r, r_lo_, res_r_);
+  const long long cell_z = cell_index(z, z_lo_, res_z_);
+  const bool outside = cell_r < 0 || cell_r >= num_r_ || cell_z < 0 || cell_z >= num_z_;
+  if (outside || neighbour_cells_ != 0 || angular_begin_.size() != cells_.size() + 1) {
+    return nearest_crossing_of_every_candidate(r, z, theta);
+  }
   NearestCrossing nearest;
   std::array<double, 2> angles{};
   const auto offer = [&](std::int32_t t) {
     const int n = crossings(t, r, z, angles);
     for (int i = 0; i < n; ++i) nearest.offer(theta, angles[static_cast<std::size_t>(i)], t);
   };
-  const long long cell_r = cell_index(r, r_lo_, res_r_);
-  const long long cell_z = cell_index(z, z_lo_, res_z_);
-  const bool outside = cell_r < 0 || cell_r >= num_r_ || cell_z < 0 || cell_z >= num_z_;
-  if (outside || neighbour_cells_ != 0 || angular_begin_.size() != cells_.size() + 1) {
-    for_each_candidate(r, z, offer);
-    return nearest;
-  }
   const auto c = static_cast<std::size_t>(cell_z * num_r_ + cell_r);
   for (std::size_t i = all_begin_[c]; i < all_begin_[c + 1]; ++i) {
     if (all_entries_[i].holds(r, z)) offer(all_entries_[i].triangle);

@@ -123,6 +123,8 @@ class CylindricalTable {
   // from theta both ways, and the walk stops where no further extent can hold a crossing as near
   // as the nearest found (ties included): usually a few of the cell's triangles are evaluated.
   NearestCrossing nearest_crossing(double r, double z, double theta) const;
+  // The same by offering every candidate of for_each_candidate (the walk's reference and fallback).
+  NearestCrossing nearest_crossing_of_every_candidate(double r, double z, double theta) const;
 
   // circle_triangle_crossings of the circle (r, z) with triangle t, with the triangle's plane
   // computed once at build (the same crossings, bit for bit).
