@@ -257,13 +257,21 @@ void Bench::bench_striking(const Scenario& s) {
     pose_row.query = time_query([&] { posed_result = contact::cylindrical_segmenting(table, s.mobile, pose, q); });
     pose_row.note = "the one-pass query given the pose instead of a posed copy";
     measured_.rows.push_back(pose_row);
+    BenchRow walk_row = row;
+    walk_row.method = "cylindrical_no_regions";
+    contact::CylindricalQueryOptions walk_q = q;
+    walk_q.outside_regions = false;
+    contact::PenetrationResult walk_result;
+    walk_row.query = time_query([&] { walk_result = contact::cylindrical_segmenting(table, s.posed_mobile(), walk_q); });
+    walk_row.note = "the one-pass query without the outside regions (every circle in a non-empty cell walked)";
+    measured_.rows.push_back(walk_row);
     BenchRow every_row = row;
     every_row.method = "cylindrical_every_candidate";
-    contact::CylindricalQueryOptions every_q = q;
+    contact::CylindricalQueryOptions every_q = walk_q;
     every_q.angular_walk = false;
     contact::PenetrationResult every_result;
     every_row.query = time_query([&] { every_result = contact::cylindrical_segmenting(table, s.posed_mobile(), every_q); });
-    every_row.note = "the one-pass query without the angular walk (every candidate of the ring cell tested)";
+    every_row.note = "the one-pass query without the angular walk or the regions (every candidate of the ring cell tested)";
     measured_.rows.push_back(every_row);
     // The pose cache (§3.2.3.2): crossings pre-computed per axis, the query is a pass over them.
     // It reads every crossing, so its table is built without the angular index.
@@ -298,6 +306,7 @@ void Bench::bench_striking(const Scenario& s) {
     // Exactness is filled below for every row of this scenario.
     results_[s.name + "/cylindrical/" + std::to_string(threads)] = result;
     results_[s.name + "/cylindrical_pose/" + std::to_string(threads)] = posed_result;
+    results_[s.name + "/cylindrical_no_regions/" + std::to_string(threads)] = walk_result;
     results_[s.name + "/cylindrical_every_candidate/" + std::to_string(threads)] = every_result;
     results_[s.name + "/cylindrical_pose_cache/" + std::to_string(threads)] = cached;
     results_[s.name + "/cylindrical_pose_cache_scan/" + std::to_string(threads)] = scanned;

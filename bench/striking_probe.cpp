@@ -38,9 +38,9 @@ bool same_pairs(const contact::PenetrationResult& a, const contact::PenetrationR
 }
 
 // Mobile vertices (posed) that pass the distance filter, that reach a non-empty cell, and the
-// mean number of candidates of their cells.
+// mean number of candidates of their cells, and how many of those lie in an outside region.
 struct CellCounts {
-  std::size_t within_distance = 0, with_candidates = 0;
+  std::size_t within_distance = 0, with_candidates = 0, in_outside_region = 0;
   double mean_candidates = 0.0;
 };
 
@@ -55,6 +55,8 @@ CellCounts cell_counts(const contact::CylindricalTable& table, const geometry::T
     if (!table.has_candidates(r, local.z())) continue;
     ++counts.with_candidates;
     table.for_each_candidate(r, local.z(), [&](std::int32_t) { total += 1.0; });
+    const contact::Cylindrical cyl = contact::to_cylindrical(local);
+    if (table.outside_every_shell(cyl.r, cyl.z, cyl.theta)) ++counts.in_outside_region;
   }
   if (counts.with_candidates > 0) counts.mean_candidates = total / static_cast<double>(counts.with_candidates);
   return counts;
@@ -74,6 +76,7 @@ StrikingProbeReport run_striking_probe(const StrikingProbeOptions& options) {
   contact::CylindricalQueryOptions every;
   every.num_threads = options.threads;
   every.angular_walk = false;
+  every.outside_regions = false;
   contact::CylindricalQueryOptions walk = every;
   walk.angular_walk = true;
 
@@ -86,17 +89,23 @@ StrikingProbeReport run_striking_probe(const StrikingProbeOptions& options) {
     out << "| " << name << " | " << fmt_ms(time) << " | " << result.pairs.size() << " | " << (same ? "yes" : "NO") << " |\n";
   };
   row("cylindrical, posed copy, every candidate", reference_time, reference);
-  contact::PenetrationResult result;
-  TimingStats time = time_repeated([&] { result = contact::cylindrical_segmenting(table, s.posed_mobile(), walk); },
-                                   repeats, repeats, 1e12);
-  row("cylindrical, posed copy, angular walk", time, result);
+  contact::CylindricalQueryOptions regions = walk;
+  regions.outside_regions = true;
   const Eigen::Isometry3d pose = s.pose();
-  time = time_repeated([&] { result = contact::cylindrical_segmenting(table, s.mobile, pose, every); }, repeats,
-                       repeats, 1e12);
-  row("cylindrical, pose given, every candidate", time, result);
-  time = time_repeated([&] { result = contact::cylindrical_segmenting(table, s.mobile, pose, walk); }, repeats,
-                       repeats, 1e12);
-  row("cylindrical, pose given, angular walk", time, result);
+  contact::PenetrationResult result;
+  TimingStats time;
+  const std::pair<const char*, const contact::CylindricalQueryOptions*> methods[] = {
+      {"every candidate", &every}, {"angular walk", &walk}, {"angular walk + outside regions", &regions}};
+  for (const auto& [method, method_options] : methods) {
+    if (method_options != &every) {
+      time = time_repeated([&] { result = contact::cylindrical_segmenting(table, s.posed_mobile(), *method_options); },
+                           repeats, repeats, 1e12);
+      row(std::string("cylindrical, posed copy, ") + method, time, result);
+    }
+    time = time_repeated([&] { result = contact::cylindrical_segmenting(table, s.mobile, pose, *method_options); },
+                         repeats, repeats, 1e12);
+    row(std::string("cylindrical, pose given, ") + method, time, result);
+  }
   geometry::TriMesh posed;
   time = time_repeated([&] { posed = s.posed_mobile(); }, repeats, repeats, 1e12);
   out << "| (posing a copy of the mobile mesh) | " << fmt_ms(time) << " | - | - |\n";
@@ -108,7 +117,8 @@ StrikingProbeReport run_striking_probe(const StrikingProbeOptions& options) {
   const CellCounts counts = cell_counts(table, posed);
   out << "\nmobile vertices within the fixed distance range: " << counts.within_distance
       << "; in a non-empty ring cell: " << counts.with_candidates << ", " << fmt(counts.mean_candidates)
-      << " candidates per such vertex; table " << table.num_r_cells() << " x " << table.num_z_cells() << " cells of "
+      << " candidates per such vertex, " << counts.in_outside_region << " of them in an outside region ("
+      << table.num_outside_regions() << " regions); table " << table.num_r_cells() << " x " << table.num_z_cells() << " cells of "
       << fmt(table.resolution_r_mm()) << " mm\n";
   report.table = out.str();
   return report;

@@ -62,6 +62,7 @@ PenetrationResult one_pass(const CylindricalTable& table, std::size_t count, Pos
       // r and z first: most circles meet an empty cell, and then no angle is needed.
       if (!table.has_candidates(std::hypot(local.x(), local.y()), local.z())) continue;
       const Cylindrical cyl = to_cylindrical(local);
+      if (options.outside_regions && table.outside_every_shell(cyl.r, cyl.z, cyl.theta)) continue;
       const NearestCrossing nearest = options.angular_walk
                                           ? table.nearest_crossing(cyl.r, cyl.z, cyl.theta)
                                           : table.nearest_crossing_of_every_candidate(cyl.r, cyl.z, cyl.theta);

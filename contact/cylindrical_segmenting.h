@@ -40,6 +40,12 @@
 //     (query_every_vertex), in time that grows with the answer instead of with the mesh.
 // The one-pass query finds each circle's nearest crossing through the table's angular index
 // (CylindricalTable::nearest_crossing): the same answer as offering every candidate of the cell.
+// Before that, a vertex in an outside region of its cell (CylindricalTable::outside_every_shell:
+// between the cell's angular extents, outside every closed shell of F) is passed over: its
+// nearest crossing, either way, is one it would enter through, so it cannot penetrate. That
+// needs F to be made of closed, consistently oriented shells (otherwise there are no regions);
+// it reaches the same verdict as the nearest crossing wherever that crossing is transversal, and
+// the right one where it is not.
 // Output pairs are sorted by mobile vertex. Work is split over `num_threads` threads.
 #pragma once
 
@@ -68,6 +74,11 @@ struct CylindricalQueryOptions {
   // (true) or by offering every candidate of its cell (false: the reference the index is tested
   // against, and the benchmark's ablation). The answer is the same.
   bool angular_walk = true;
+  // One-pass query: skip the walk of a vertex that lies in an outside region of its ring cell
+  // (CylindricalTable::outside_every_shell: no fixed surface there, outside every closed shell),
+  // whose nearest crossing can only say "outside". False: every circle gets its nearest crossing
+  // (the reference these regions are tested against, and the benchmark's ablation).
+  bool outside_regions = true;
 };
 
 // Posed mobile mesh (already rotated by the caller) against a table built for the same axis.

@@ -268,6 +268,7 @@ void CylindricalTable::build_angular_index() {
     angular_begin_[c + 1] = static_cast<std::uint32_t>(angular_entries_.size());
     all_begin_[c + 1] = static_cast<std::uint32_t>(all_entries_.size());
   }
+  build_outside_regions(widths);
 }
 
 bool CylindricalTable::has_candidates(double r, double z) const {

@@ -126,6 +126,28 @@ class CylindricalTable {
   // The same by offering every candidate of for_each_candidate (the walk's reference and fallback).
   NearestCrossing nearest_crossing_of_every_candidate(double r, double z, double theta) const;
 
+  // True when the point (r, z, theta) lies in an outside region of its ring cell: a range of
+  // angles between the cell's angular extents (so no fixed surface passes through the cell there)
+  // that was found, at build, to lie outside every closed shell of the fixed mesh (each shell on
+  // its own: geometry::closed_shell_labels). From such a point the first surface its circle meets,
+  // either way, is one it enters, so its nearest crossing can only say "outside" (for a crossing
+  // that is transversal; see cylindrical_segmenting.h): the one-pass query skips its walk.
+  // How a region is classified: the surface-free region (the cell's (r, z) box times the angles)
+  // is connected, so it is on one side of each shell; a sample circle of the cell through it
+  // settles the side when its nearest crossings of that shell, ahead and behind, are an entry
+  // and an exit with transversal tangents (a missed or grazing crossing breaks that pattern and
+  // leaves the region unclassified). Regions inside a shell, unsettled ones, cells with an
+  // all-angle triangle and meshes that are not closed shells have none: then this is false.
+  bool outside_every_shell(double r, double z, double theta) const;
+  // An outside region: the open interval of angles (lo, hi), within [-pi - 1, pi + 1] (a region
+  // across +-pi is stored as two whose outer ends lie beyond +-pi).
+  struct OutsideRegion {
+    double lo = 0.0, hi = 0.0;
+  };
+  // Outside regions of the index, and those of cell (i_z, i_r) sorted by lo (reports and tests).
+  std::size_t num_outside_regions() const { return outside_regions_.size(); }
+  std::span<const OutsideRegion> outside_regions(long long i_z, long long i_r) const;
+
   // circle_triangle_crossings of the circle (r, z) with triangle t, with the triangle's plane
   // computed once at build (the same crossings, bit for bit).
   int crossings(std::int32_t t, double r, double z, std::array<double, 2>& angles_rad) const {
@@ -178,8 +200,11 @@ class CylindricalTable {
   void bin_triangle(std::int32_t t, bool allow_overflow);
   void unbin_triangle(std::int32_t t);
   // Rebuilds the angular index from the cells and the current geometry (derived data: after
-  // build(), update_triangles() and loading a saved table).
+  // build(), update_triangles() and loading a saved table), and its outside regions.
   void build_angular_index();
+  // The outside regions of every cell (outside_every_shell), from the sorted angular entries and
+  // each triangle's extent width.
+  void build_outside_regions(const std::vector<double>& extent_widths);
 
   QueryStatus status_ = QueryStatus::kInvalidInput;
   std::string message_ = "table not built";
@@ -209,6 +234,14 @@ class CylindricalTable {
   std::vector<double> angular_width_;
   std::vector<std::uint32_t> all_begin_;
   std::vector<AngularEntry> all_entries_;
+  // Outside regions: cell c's are [region_begin_[c], region_begin_[c + 1]) of outside_regions_,
+  // sorted by lo. shell_ labels each triangle with its closed shell (empty when the fixed mesh is
+  // not made of closed shells); shells_known_ once computed (the topology never changes after
+  // build).
+  std::vector<std::uint32_t> region_begin_;
+  std::vector<OutsideRegion> outside_regions_;
+  std::vector<std::int32_t> shell_;
+  bool shells_known_ = false;
   double r_lo_ = 0.0, r_hi_ = 0.0, z_lo_ = 0.0, z_hi_ = 0.0;
   double res_r_ = 1.0, res_z_ = 1.0;
   double pad_ = 0.0;

@@ -204,6 +204,45 @@ void count_non_manifold_vertices(const TriMesh& mesh, MeshReport& report) {
 
 }  // namespace
 
+std::optional<std::vector<std::int32_t>> closed_shell_labels(std::span<const Triangle> triangles) {
+  struct DirectedEdge {
+    std::uint64_t key;
+    bool forward;
+    std::uint32_t triangle;
+  };
+  std::vector<DirectedEdge> edges;
+  edges.reserve(3 * triangles.size());
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    const Triangle& tri = triangles[t];
+    if (has_repeated_index(tri) || tri[0] < 0 || tri[1] < 0 || tri[2] < 0) return std::nullopt;
+    for (int e = 0; e < 3; ++e) {
+      const auto a = static_cast<std::uint32_t>(tri[e]);
+      const auto b = static_cast<std::uint32_t>(tri[(e + 1) % 3]);
+      edges.push_back({edge_key(a, b), a < b, static_cast<std::uint32_t>(t)});
+    }
+  }
+  std::sort(edges.begin(), edges.end(),
+            [](const DirectedEdge& x, const DirectedEdge& y) { return x.key < y.key; });
+  DisjointSets sets(triangles.size());
+  for (std::size_t i = 0; i < edges.size(); i += 2) {
+    // Each edge exactly twice, once each way.
+    if (i + 1 >= edges.size() || edges[i + 1].key != edges[i].key || edges[i].forward == edges[i + 1].forward ||
+        (i + 2 < edges.size() && edges[i + 2].key == edges[i].key)) {
+      return std::nullopt;
+    }
+    sets.unite(edges[i].triangle, edges[i + 1].triangle);
+  }
+  std::vector<std::int32_t> labels(triangles.size());
+  std::vector<std::int32_t> label_of_root(triangles.size(), -1);
+  std::int32_t count = 0;
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    std::int32_t& label = label_of_root[sets.find(t)];
+    if (label < 0) label = count++;
+    labels[t] = label;
+  }
+  return labels;
+}
+
 MeshReport check_mesh(const TriMesh& mesh) {
   MeshReport report;
   report.num_vertices = mesh.num_vertices();

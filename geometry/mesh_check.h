@@ -26,6 +26,10 @@
 #include "geometry/tri_mesh.h"
 
 #include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
 
 namespace hipfai::geometry {
 
@@ -59,5 +63,13 @@ inline constexpr double kSliverAngleRad = 1e-3;
 
 // Report on `mesh`. Indices must be in range (see validate_mesh); an empty mesh gives zeros.
 MeshReport check_mesh(const TriMesh& mesh);
+
+// The closed shells of a surface: when every edge is used by exactly two triangles that traverse it
+// in opposite directions (and no triangle repeats an index), each group of triangles connected
+// through shared edges is a closed, consistently oriented surface and bounds a region of space;
+// the result labels every triangle with its group, 0 .. count - 1 in order of first appearance.
+// nullopt for any other surface (a boundary edge, a non-manifold or inconsistent edge). Shells may
+// touch at a vertex and may intersect each other: each is judged on its own.
+std::optional<std::vector<std::int32_t>> closed_shell_labels(std::span<const Triangle> triangles);
 
 }  // namespace hipfai::geometry

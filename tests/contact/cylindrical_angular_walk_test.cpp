@@ -5,7 +5,8 @@
 // side of, each candidate's extent borders and crossings, at +-pi, on a box whose circles run
 // through its edges and corners, around triangles that reach the axis, after a deformation update
 // and a reload; the one-pass query with and without the walk, and given the pose instead of a
-// posed copy, reports the same pairs on random scenes, the real CT bones and a generated hip.
+// posed copy, with and without the outside regions (cylindrical_outside_regions_test.cpp),
+// reports the same pairs on random scenes, the real CT bones and a generated hip.
 #include "contact/cylindrical_cache_io.h"
 #include "contact/cylindrical_segmenting.h"
 #include "contact/cylindrical_table.h"
@@ -94,7 +95,8 @@ void expect_identical(const PenetrationResult& got, const PenetrationResult& wan
   }
 }
 
-// The one-pass query with the walk, without it, and given the pose, on 1 and 2 threads.
+// The one-pass query with the walk (with and without the outside regions), without it, and given
+// the pose, on 1 and 2 threads.
 std::size_t expect_walk_equals_every_candidate(const CylindricalTable& table, const TriMesh& mobile,
                                                const Eigen::Isometry3d& pose, const std::string& what) {
   TriMesh posed = mobile;
@@ -102,13 +104,17 @@ std::size_t expect_walk_equals_every_candidate(const CylindricalTable& table, co
   CylindricalQueryOptions every;
   every.num_threads = 1;
   every.angular_walk = false;
+  every.outside_regions = false;
   const PenetrationResult want = cylindrical_segmenting(table, posed, every);
   for (const int threads : {1, 2}) {
-    CylindricalQueryOptions walk;
-    walk.num_threads = threads;
-    const std::string label = what + ", " + std::to_string(threads) + " thread(s)";
-    expect_identical(cylindrical_segmenting(table, posed, walk), want, label + ", posed copy");
-    expect_identical(cylindrical_segmenting(table, mobile, pose, walk), want, label + ", pose given");
+    for (const bool regions : {false, true}) {
+      CylindricalQueryOptions walk;
+      walk.num_threads = threads;
+      walk.outside_regions = regions;
+      const std::string label = what + ", " + std::to_string(threads) + " thread(s)" + (regions ? ", regions" : "");
+      expect_identical(cylindrical_segmenting(table, posed, walk), want, label + ", posed copy");
+      expect_identical(cylindrical_segmenting(table, mobile, pose, walk), want, label + ", pose given");
+    }
   }
   return want.pairs.size();
 }

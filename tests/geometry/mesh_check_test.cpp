@@ -234,5 +234,57 @@ TEST(CheckMesh, TorusEulerCharacteristic) {
             0);
 }
 
+// closed_shell_labels: one label per closed, consistently oriented group of triangles joined
+// through edges; nothing for a surface that is not made of such shells.
+TEST(ClosedShellLabels, OneShellPerClosedPart) {
+  const TriMesh box = unit_box();
+  const auto one = closed_shell_labels(box.triangles);
+  ASSERT_TRUE(one.has_value());
+  EXPECT_EQ(std::set<std::int32_t>(one->begin(), one->end()), std::set<std::int32_t>{0});
+
+  const TriMesh a = make_octasphere(Vec3::Zero(), 1.0, 2);
+  const TriMesh b = make_octasphere(Vec3(0.5, 0, 0), 2.0, 3);  // overlapping: still two shells
+  const TriMesh both = merge_meshes({&a, &b});
+  const auto two = closed_shell_labels(both.triangles);
+  ASSERT_TRUE(two.has_value());
+  for (std::size_t t = 0; t < both.triangles.size(); ++t) {
+    EXPECT_EQ((*two)[t], t < a.triangles.size() ? 0 : 1) << t;
+  }
+
+  TriMesh inside_out = unit_box();  // consistently inward is still a closed shell
+  for (Triangle& t : inside_out.triangles) std::swap(t[1], t[2]);
+  EXPECT_TRUE(closed_shell_labels(inside_out.triangles).has_value());
+}
+
+TEST(ClosedShellLabels, NoneForOpenNonManifoldOrInconsistentSurfaces) {
+  TriMesh hole = unit_box();
+  hole.triangles.erase(hole.triangles.begin() + 5);
+  EXPECT_FALSE(closed_shell_labels(hole.triangles).has_value());
+
+  TriMesh flipped = unit_box();
+  std::swap(flipped.triangles[7][1], flipped.triangles[7][2]);
+  EXPECT_FALSE(closed_shell_labels(flipped.triangles).has_value());
+
+  TriMesh fin = unit_box();
+  const Triangle host = fin.triangles[0];
+  fin.vertices.push_back(Vec3(0.5, 0.5, 5.0));
+  fin.triangles.push_back({host[0], host[1], static_cast<std::int32_t>(fin.vertices.size() - 1)});
+  EXPECT_FALSE(closed_shell_labels(fin.triangles).has_value());
+
+  // A closed box with a second copy of one triangle, wound the other way: its edges are used
+  // four times.
+  TriMesh doubled = unit_box();
+  Triangle copy = doubled.triangles[3];
+  std::swap(copy[1], copy[2]);
+  doubled.triangles.push_back(copy);
+  doubled.triangles.push_back(doubled.triangles[3]);
+  EXPECT_FALSE(closed_shell_labels(doubled.triangles).has_value());
+
+  TriMesh repeated = unit_box();
+  repeated.triangles[2][1] = repeated.triangles[2][0];
+  EXPECT_FALSE(closed_shell_labels(repeated.triangles).has_value());
+  EXPECT_TRUE(closed_shell_labels(std::vector<Triangle>{}).has_value());  // nothing: no shells
+}
+
 }  // namespace
 }  // namespace hipfai::geometry
