@@ -106,6 +106,10 @@ StrikingProbeReport run_striking_probe(const StrikingProbeOptions& options) {
                          repeats, repeats, 1e12);
     row(std::string("cylindrical, pose given, ") + method, time, result);
   }
+  const contact::VertexClusters clusters = contact::VertexClusters::build(s.mobile);
+  time = time_repeated([&] { result = contact::cylindrical_segmenting(table, clusters, pose, regions); }, repeats,
+                       repeats, 1e12);
+  row("cylindrical, vertex clusters and pose, angular walk + outside regions", time, result);
   geometry::TriMesh posed;
   time = time_repeated([&] { posed = s.posed_mobile(); }, repeats, repeats, 1e12);
   out << "| (posing a copy of the mobile mesh) | " << fmt_ms(time) << " | - | - |\n";

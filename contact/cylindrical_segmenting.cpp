@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
+#include <span>
 
 namespace hipfai::contact {
 namespace {
@@ -38,46 +40,51 @@ PenetrationResult join_chunks(std::vector<std::vector<PenetrationPair>>& chunks)
   return result;
 }
 
+// The one-pass test of mobile vertex v at `position` (fixed frame): its pair into `out` if it
+// penetrates.
+void visit_vertex(const CylindricalTable& table, std::int32_t v, const Vec3& position,
+                  const CylindricalQueryOptions& options, std::vector<PenetrationPair>& out) {
+  const Vec3 local = table.frame().to_local(position);
+  if (!table.distance_may_touch(local.norm())) return;
+  // r and z first: most circles meet an empty cell, and then no angle is needed.
+  if (!table.has_candidates(std::hypot(local.x(), local.y()), local.z())) return;
+  const Cylindrical cyl = to_cylindrical(local);
+  if (options.outside_regions && table.outside_every_shell(cyl.r, cyl.z, cyl.theta)) return;
+  const NearestCrossing nearest = options.angular_walk
+                                      ? table.nearest_crossing(cyl.r, cyl.z, cyl.theta)
+                                      : table.nearest_crossing_of_every_candidate(cyl.r, cyl.z, cyl.theta);
+  if (!nearest.found()) return;
+  if (arc_verdict(cyl.r, cyl.z, cyl.theta, nearest.crossing_theta_rad, table.local_normal(nearest.triangle),
+                  options.touching_mm) != ArcVerdict::kPenetrating) {
+    return;
+  }
+  out.push_back({v, nearest.triangle, cyl.r * nearest.abs_delta_rad, nearest.abs_delta_rad * kDegPerRad});
+}
+
+std::optional<PenetrationResult> no_overlap(const CylindricalTable& table) {
+  if (table.status() != QueryStatus::kNoOverlap) return std::nullopt;
+  PenetrationResult result;
+  result.status = QueryStatus::kNoOverlap;
+  return result;
+}
+
 // The one-pass query over `count` mobile vertices, vertex v at position(v) in the fixed frame.
 template <typename Position>
 PenetrationResult one_pass(const CylindricalTable& table, std::size_t count, Position&& position,
                            const CylindricalQueryOptions& options) {
-  if (table.status() == QueryStatus::kNoOverlap) {
-    PenetrationResult result;
-    result.status = QueryStatus::kNoOverlap;
-    return result;
-  }
-  const AxisFrame& frame = table.frame();
+  if (std::optional<PenetrationResult> answer = no_overlap(table)) return std::move(*answer);
   const int threads = resolve_threads(options.num_threads);
   // Blocks of vertices taken dynamically: the circles that need a walk cluster in a few parts of
   // the mesh, so equal contiguous chunks would leave a thread idle. Blocks join in order.
   constexpr std::size_t kBlock = 1024;
   std::vector<std::vector<PenetrationPair>> chunks((count + kBlock - 1) / kBlock);
-  const auto visit_block = [&](std::size_t block) {
-    auto& out = chunks[block];
-    const std::size_t end = std::min(count, (block + 1) * kBlock);
-    for (std::size_t v = block * kBlock; v < end; ++v) {
-      const Vec3 local = frame.to_local(position(v));
-      if (!table.distance_may_touch(local.norm())) continue;
-      // r and z first: most circles meet an empty cell, and then no angle is needed.
-      if (!table.has_candidates(std::hypot(local.x(), local.y()), local.z())) continue;
-      const Cylindrical cyl = to_cylindrical(local);
-      if (options.outside_regions && table.outside_every_shell(cyl.r, cyl.z, cyl.theta)) continue;
-      const NearestCrossing nearest = options.angular_walk
-                                          ? table.nearest_crossing(cyl.r, cyl.z, cyl.theta)
-                                          : table.nearest_crossing_of_every_candidate(cyl.r, cyl.z, cyl.theta);
-      if (!nearest.found()) continue;
-      if (arc_verdict(cyl.r, cyl.z, cyl.theta, nearest.crossing_theta_rad,
-                      table.local_normal(nearest.triangle), options.touching_mm) !=
-          ArcVerdict::kPenetrating) {
-        continue;
-      }
-      out.push_back({static_cast<std::int32_t>(v), nearest.triangle,
-                     cyl.r * nearest.abs_delta_rad, nearest.abs_delta_rad * kDegPerRad});
-    }
-  };
   parallel_blocks(chunks.size(), threads, 1, [&](std::size_t first, std::size_t last) {
-    for (std::size_t block = first; block < last; ++block) visit_block(block);
+    for (std::size_t block = first; block < last; ++block) {
+      const std::size_t end = std::min(count, (block + 1) * kBlock);
+      for (std::size_t v = block * kBlock; v < end; ++v) {
+        visit_vertex(table, static_cast<std::int32_t>(v), position(v), options, chunks[block]);
+      }
+    }
   });
   return join_chunks(chunks);
 }
@@ -101,6 +108,38 @@ PenetrationResult cylindrical_segmenting(const CylindricalTable& table, const ge
   if (!pose.matrix().allFinite()) return invalid("pose has a non-finite entry");
   return one_pass(table, mobile.vertices.size(), [&](std::size_t v) -> Vec3 { return pose * mobile.vertices[v]; },
                   options);
+}
+
+PenetrationResult cylindrical_segmenting(const CylindricalTable& table, const VertexClusters& mobile,
+                                         const Eigen::Isometry3d& pose, const CylindricalQueryOptions& options) {
+  if (table.status() == QueryStatus::kInvalidInput) return invalid(table.message());
+  if (!pose.matrix().allFinite()) return invalid("pose has a non-finite entry");
+  if (std::optional<PenetrationResult> answer = no_overlap(table)) return std::move(*answer);
+  const AxisFrame& frame = table.frame();
+  const std::span<const VertexCluster> clusters = mobile.clusters();
+  // The posed sphere of a cluster holds its posed vertices up to the rounding of the two posings
+  // and of the frame change, far below this widening.
+  const double scale = 1.0 + pose.translation().norm() + frame.centre.norm();
+  const int threads = resolve_threads(options.num_threads);
+  constexpr std::size_t kClustersPerBlock = 32;
+  std::vector<std::vector<PenetrationPair>> chunks((clusters.size() + kClustersPerBlock - 1) / kClustersPerBlock);
+  parallel_blocks(chunks.size(), threads, 1, [&](std::size_t first, std::size_t last) {
+    for (std::size_t block = first; block < last; ++block) {
+      const std::size_t end = std::min(clusters.size(), (block + 1) * kClustersPerBlock);
+      for (std::size_t k = block * kClustersPerBlock; k < end; ++k) {
+        const VertexCluster& cluster = clusters[k];
+        const double margin = 1e-9 * (scale + cluster.centre.norm() + cluster.radius_mm);
+        if (!table.ball_may_touch(frame.to_local(pose * cluster.centre), cluster.radius_mm + margin)) continue;
+        for (std::size_t i = cluster.first; i < cluster.last; ++i) {
+          visit_vertex(table, mobile.mesh_index(i), pose * mobile.vertex(i), options, chunks[block]);
+        }
+      }
+    }
+  });
+  PenetrationResult result = join_chunks(chunks);
+  std::sort(result.pairs.begin(), result.pairs.end(),
+            [](const PenetrationPair& a, const PenetrationPair& b) { return a.mobile_vertex < b.mobile_vertex; });
+  return result;
 }
 
 PenetrationResult cylindrical_segmenting(const geometry::TriMesh& fixed,

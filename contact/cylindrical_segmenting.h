@@ -53,6 +53,7 @@
 #include "contact/arc_triangle.h"
 #include "contact/cylindrical_table.h"
 #include "contact/penetration.h"
+#include "contact/vertex_clusters.h"
 #include "geometry/tri_mesh.h"
 
 #include <Eigen/Geometry>
@@ -90,6 +91,15 @@ PenetrationResult cylindrical_segmenting(const CylindricalTable& table,
 // posed (pose * v) as it is visited, so no posed copy of the mesh is made. Equal, pair for pair,
 // to the query on the posed copy (the same arithmetic per vertex).
 PenetrationResult cylindrical_segmenting(const CylindricalTable& table, const geometry::TriMesh& mobile,
+                                         const Eigen::Isometry3d& pose,
+                                         const CylindricalQueryOptions& options = {});
+
+// The same query over the mobile mesh's vertex clusters (built once per body at rest) and its
+// pose: a cluster whose posed bounding sphere cannot reach a non-empty ring cell within the fixed
+// mesh's distance range (CylindricalTable::ball_may_touch) is passed over whole; the others'
+// vertices are tested as above. Equal, pair for pair, to the query on the mesh the clusters were
+// built from.
+PenetrationResult cylindrical_segmenting(const CylindricalTable& table, const VertexClusters& mobile,
                                          const Eigen::Isometry3d& pose,
                                          const CylindricalQueryOptions& options = {});
 

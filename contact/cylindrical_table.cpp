@@ -268,6 +268,16 @@ void CylindricalTable::build_angular_index() {
     angular_begin_[c + 1] = static_cast<std::uint32_t>(angular_entries_.size());
     all_begin_[c + 1] = static_cast<std::uint32_t>(all_entries_.size());
   }
+  occupied_prefix_.assign(static_cast<std::size_t>((num_z_ + 1) * (num_r_ + 1)), 0);
+  const auto prefix = [&](long long iz, long long ir) -> std::uint32_t& {
+    return occupied_prefix_[static_cast<std::size_t>(iz * (num_r_ + 1) + ir)];
+  };
+  for (long long iz = 0; iz < num_z_; ++iz) {
+    for (long long ir = 0; ir < num_r_; ++ir) {
+      const bool occupied = !cells_[static_cast<std::size_t>(iz * num_r_ + ir)].empty();
+      prefix(iz + 1, ir + 1) = prefix(iz, ir + 1) + prefix(iz + 1, ir) - prefix(iz, ir) + (occupied ? 1u : 0u);
+    }
+  }
   build_outside_regions(widths);
 }
 
@@ -277,6 +287,29 @@ bool CylindricalTable::has_candidates(double r, double z) const {
   const long long cell_z = cell_index(z, z_lo_, res_z_);
   if (cell_r < 0 || cell_r >= num_r_ || cell_z < 0 || cell_z >= num_z_) return !overflow_.empty();
   return !cells_[static_cast<std::size_t>(cell_z * num_r_ + cell_r)].empty();
+}
+
+bool CylindricalTable::ball_may_touch(const Vec3& local_centre, double radius_mm) const {
+  if (neighbour_cells_ != 0 || occupied_prefix_.size() != static_cast<std::size_t>((num_z_ + 1) * (num_r_ + 1))) {
+    return true;
+  }
+  const double distance = local_centre.norm();
+  if (!(distance + radius_mm >= l_min_ && distance - radius_mm <= l_max_)) return false;
+  const double r = std::hypot(local_centre.x(), local_centre.y());
+  long long r0 = cell_index(r - radius_mm, r_lo_, res_r_), r1 = cell_index(r + radius_mm, r_lo_, res_r_);
+  long long z0 = cell_index(local_centre.z() - radius_mm, z_lo_, res_z_);
+  long long z1 = cell_index(local_centre.z() + radius_mm, z_lo_, res_z_);
+  const bool leaves_grid = r0 < 0 || r1 >= num_r_ || z0 < 0 || z1 >= num_z_;
+  if (leaves_grid && !overflow_.empty()) return true;
+  r0 = std::max<long long>(r0, 0);
+  z0 = std::max<long long>(z0, 0);
+  r1 = std::min<long long>(r1, num_r_ - 1);
+  z1 = std::min<long long>(z1, num_z_ - 1);
+  if (r0 > r1 || z0 > z1) return false;
+  const auto prefix = [&](long long iz, long long ir) {
+    return static_cast<long long>(occupied_prefix_[static_cast<std::size_t>(iz * (num_r_ + 1) + ir)]);
+  };
+  return prefix(z1 + 1, r1 + 1) - prefix(z0, r1 + 1) - prefix(z1 + 1, r0) + prefix(z0, r0) > 0;
 }
 
 NearestCrossing CylindricalTable::nearest_crossing_of_every_candidate(double r, double z, double theta) const {

@@ -115,6 +115,13 @@ class CylindricalTable {
   // False only when for_each_candidate(r, z) offers nothing (an empty cell inside the grid, or a
   // circle outside the grid with no overflow triangles): such a circle crosses nothing.
   bool has_candidates(double r, double z) const;
+  // False only when no point of the ball (centre in the axis frame, radius in mm) can pass both
+  // distance_may_touch and has_candidates: the ball's distance range misses [L_min, L_max], or the
+  // cells its (r, z) ranges cover are all empty (counted with a prefix sum of the occupied cells)
+  // and, where they leave the grid, there are no overflow triangles. The caller widens the radius
+  // by the rounding of the positions it compares. Always true without the angular index or with
+  // neighbour cells.
+  bool ball_may_touch(const Vec3& local_centre, double radius_mm) const;
 
   // The nearest crossing of the circle (r, z) from the angle theta, by NearestCrossing's rule over
   // every crossing of every triangle for_each_candidate offers: the same triangle and angle as
@@ -238,6 +245,9 @@ class CylindricalTable {
   // sorted by lo. shell_ labels each triangle with its closed shell (empty when the fixed mesh is
   // not made of closed shells); shells_known_ once computed (the topology never changes after
   // build).
+  // occupied_prefix_[(i_z) * (num_r_ + 1) + i_r]: occupied cells with z index < i_z and r index
+  // < i_r (built with the angular index, for ball_may_touch).
+  std::vector<std::uint32_t> occupied_prefix_;
   std::vector<std::uint32_t> region_begin_;
   std::vector<OutsideRegion> outside_regions_;
   std::vector<std::int32_t> shell_;

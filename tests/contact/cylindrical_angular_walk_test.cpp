@@ -5,7 +5,8 @@
 // side of, each candidate's extent borders and crossings, at +-pi, on a box whose circles run
 // through its edges and corners, around triangles that reach the axis, after a deformation update
 // and a reload; the one-pass query with and without the walk, and given the pose instead of a
-// posed copy, with and without the outside regions (cylindrical_outside_regions_test.cpp),
+// posed copy, with and without the outside regions (cylindrical_outside_regions_test.cpp), and over
+// vertex clusters (vertex_clusters_test.cpp),
 // reports the same pairs on random scenes, the real CT bones and a generated hip.
 #include "contact/cylindrical_cache_io.h"
 #include "contact/cylindrical_segmenting.h"
@@ -114,6 +115,12 @@ std::size_t expect_walk_equals_every_candidate(const CylindricalTable& table, co
       const std::string label = what + ", " + std::to_string(threads) + " thread(s)" + (regions ? ", regions" : "");
       expect_identical(cylindrical_segmenting(table, posed, walk), want, label + ", posed copy");
       expect_identical(cylindrical_segmenting(table, mobile, pose, walk), want, label + ", pose given");
+    }
+    for (const std::size_t cluster_size : {1, 5, 32}) {
+      CylindricalQueryOptions walk;
+      walk.num_threads = threads;
+      expect_identical(cylindrical_segmenting(table, VertexClusters::build(mobile, cluster_size), pose, walk), want,
+                       what + ", clusters of " + std::to_string(cluster_size));
     }
   }
   return want.pairs.size();
