@@ -270,13 +270,21 @@ void Bench::bench_striking(const Scenario& s) {
     cluster_row.query = time_query([&] { cluster_result = contact::cylindrical_segmenting(table, clusters, pose, q); });
     cluster_row.note = "the one-pass query over vertex clusters of the mobile mesh, given the pose";
     measured_.rows.push_back(cluster_row);
+    BenchRow plain_row = row;
+    plain_row.method = "cylindrical_no_clusters";
+    contact::CylindricalQueryOptions plain_q = q;
+    plain_q.mobile_clusters = false;
+    contact::PenetrationResult plain_result;
+    plain_row.query = time_query([&] { plain_result = contact::cylindrical_segmenting(table, s.posed_mobile(), plain_q); });
+    plain_row.note = "the one-pass query without the table's mobile clusters (every vertex on its own)";
+    measured_.rows.push_back(plain_row);
     BenchRow walk_row = row;
     walk_row.method = "cylindrical_no_regions";
-    contact::CylindricalQueryOptions walk_q = q;
+    contact::CylindricalQueryOptions walk_q = plain_q;
     walk_q.outside_regions = false;
     contact::PenetrationResult walk_result;
     walk_row.query = time_query([&] { walk_result = contact::cylindrical_segmenting(table, s.posed_mobile(), walk_q); });
-    walk_row.note = "the one-pass query without the outside regions (every circle in a non-empty cell walked)";
+    walk_row.note = "the one-pass query without the clusters or the outside regions (every circle in a non-empty cell walked)";
     measured_.rows.push_back(walk_row);
     BenchRow every_row = row;
     every_row.method = "cylindrical_every_candidate";
@@ -284,7 +292,7 @@ void Bench::bench_striking(const Scenario& s) {
     every_q.angular_walk = false;
     contact::PenetrationResult every_result;
     every_row.query = time_query([&] { every_result = contact::cylindrical_segmenting(table, s.posed_mobile(), every_q); });
-    every_row.note = "the one-pass query without the angular walk or the regions (every candidate of the ring cell tested)";
+    every_row.note = "the one-pass query without the angular walk, the regions or the clusters (every candidate of the ring cell tested)";
     measured_.rows.push_back(every_row);
     // The pose cache (§3.2.3.2): crossings pre-computed per axis, the query is a pass over them.
     // It reads every crossing, so its table is built without the angular index.
@@ -320,6 +328,7 @@ void Bench::bench_striking(const Scenario& s) {
     results_[s.name + "/cylindrical/" + std::to_string(threads)] = result;
     results_[s.name + "/cylindrical_pose/" + std::to_string(threads)] = posed_result;
     results_[s.name + "/cylindrical_clusters/" + std::to_string(threads)] = cluster_result;
+    results_[s.name + "/cylindrical_no_clusters/" + std::to_string(threads)] = plain_result;
     results_[s.name + "/cylindrical_no_regions/" + std::to_string(threads)] = walk_result;
     results_[s.name + "/cylindrical_every_candidate/" + std::to_string(threads)] = every_result;
     results_[s.name + "/cylindrical_pose_cache/" + std::to_string(threads)] = cached;

@@ -68,11 +68,62 @@ std::optional<PenetrationResult> no_overlap(const CylindricalTable& table) {
   return result;
 }
 
+// Sorts the joined pairs by mobile vertex (the clusters visit vertices out of order).
+PenetrationResult sorted_by_vertex(PenetrationResult result) {
+  std::sort(result.pairs.begin(), result.pairs.end(),
+            [](const PenetrationPair& a, const PenetrationPair& b) { return a.mobile_vertex < b.mobile_vertex; });
+  return result;
+}
+
+// The one-pass query cluster by cluster (CylindricalTable::mobile_clusters): a cluster's vertices
+// are posed into a buffer, and the ball about their bounding box, widened far beyond the rounding
+// of the box and of the frame change, is tested before any of them.
+template <typename Position>
+PenetrationResult one_pass_by_clusters(const CylindricalTable& table, Position&& position,
+                                       const CylindricalQueryOptions& options) {
+  const VertexClusters& mobile = table.mobile_clusters();
+  const std::span<const VertexCluster> clusters = mobile.clusters();
+  const double scale = 1.0 + table.frame().centre.norm();
+  const int threads = resolve_threads(options.num_threads);
+  constexpr std::size_t kClustersPerBlock = 32;
+  std::vector<std::vector<PenetrationPair>> chunks((clusters.size() + kClustersPerBlock - 1) / kClustersPerBlock);
+  parallel_blocks(chunks.size(), threads, 1, [&](std::size_t first, std::size_t last) {
+    std::vector<Vec3> posed;
+    for (std::size_t block = first; block < last; ++block) {
+      const std::size_t end = std::min(clusters.size(), (block + 1) * kClustersPerBlock);
+      for (std::size_t k = block * kClustersPerBlock; k < end; ++k) {
+        const VertexCluster& cluster = clusters[k];
+        posed.clear();
+        for (std::uint32_t i = cluster.first; i < cluster.last; ++i) {
+          posed.push_back(position(static_cast<std::size_t>(mobile.mesh_index(i))));
+        }
+        Vec3 lo = posed.front(), hi = posed.front();
+        for (const Vec3& p : posed) {
+          lo = lo.cwiseMin(p);
+          hi = hi.cwiseMax(p);
+        }
+        const Vec3 middle = 0.5 * (lo + hi);
+        const double radius = 0.5 * (hi - lo).norm();
+        if (!table.ball_may_touch(table.frame().to_local(middle), radius + 1e-9 * (scale + middle.norm() + radius))) {
+          continue;
+        }
+        for (std::uint32_t i = cluster.first; i < cluster.last; ++i) {
+          visit_vertex(table, mobile.mesh_index(i), posed[i - cluster.first], options, chunks[block]);
+        }
+      }
+    }
+  });
+  return sorted_by_vertex(join_chunks(chunks));
+}
+
 // The one-pass query over `count` mobile vertices, vertex v at position(v) in the fixed frame.
 template <typename Position>
 PenetrationResult one_pass(const CylindricalTable& table, std::size_t count, Position&& position,
                            const CylindricalQueryOptions& options) {
   if (std::optional<PenetrationResult> answer = no_overlap(table)) return std::move(*answer);
+  if (options.mobile_clusters && count > 0 && table.mobile_clusters().num_vertices() == count) {
+    return one_pass_by_clusters(table, position, options);
+  }
   const int threads = resolve_threads(options.num_threads);
   // Blocks of vertices taken dynamically: the circles that need a walk cluster in a few parts of
   // the mesh, so equal contiguous chunks would leave a thread idle. Blocks join in order.
@@ -136,10 +187,7 @@ PenetrationResult cylindrical_segmenting(const CylindricalTable& table, const Ve
       }
     }
   });
-  PenetrationResult result = join_chunks(chunks);
-  std::sort(result.pairs.begin(), result.pairs.end(),
-            [](const PenetrationPair& a, const PenetrationPair& b) { return a.mobile_vertex < b.mobile_vertex; });
-  return result;
+  return sorted_by_vertex(join_chunks(chunks));
 }
 
 PenetrationResult cylindrical_segmenting(const geometry::TriMesh& fixed,

@@ -45,7 +45,11 @@
 // nearest crossing, either way, is one it would enter through, so it cannot penetrate. That
 // needs F to be made of closed, consistently oriented shells (otherwise there are no regions);
 // it reaches the same verdict as the nearest crossing wherever that crossing is transversal, and
-// the right one where it is not.
+// the right one where it is not. And when the table keeps the clusters of the mobile mesh it was
+// restricted to (CylindricalTable::mobile_clusters), the vertices go cluster by cluster: a
+// cluster whose posed bounding ball cannot reach the fixed body (CylindricalTable::
+// ball_may_touch) is passed over whole; VertexClusters and the pose do the same from the rest
+// positions, without posing the vertices of a cluster passed over.
 // Output pairs are sorted by mobile vertex. Work is split over `num_threads` threads.
 #pragma once
 
@@ -80,6 +84,10 @@ struct CylindricalQueryOptions {
   // whose nearest crossing can only say "outside". False: every circle gets its nearest crossing
   // (the reference these regions are tested against, and the benchmark's ablation).
   bool outside_regions = true;
+  // One-pass query: when the table keeps the clusters of a mobile mesh with as many vertices
+  // (CylindricalTable::mobile_clusters), test each cluster's posed bounding ball before its
+  // vertices. False: every vertex on its own (the reference, and the benchmark's ablation).
+  bool mobile_clusters = true;
 };
 
 // Posed mobile mesh (already rotated by the caller) against a table built for the same axis.

@@ -208,7 +208,10 @@ CylindricalTable CylindricalTable::build(const geometry::TriMesh& fixed, const V
   for (std::size_t t = 0; t < num_triangles; ++t) {
     table.bin_triangle(static_cast<std::int32_t>(t), /*allow_overflow=*/false);
   }
-  if (options.angular_index) table.build_angular_index();
+  if (options.angular_index) {
+    table.build_angular_index();
+    if (restrict_to_mobile != nullptr) table.mobile_clusters_ = VertexClusters::build(*restrict_to_mobile);
+  }
   return table;
 }
 

@@ -32,6 +32,7 @@
 
 #include "contact/arc_triangle.h"
 #include "contact/penetration.h"
+#include "contact/vertex_clusters.h"
 #include "geometry/tri_mesh.h"
 
 #include <algorithm>
@@ -73,7 +74,8 @@ class CylindricalTable {
   CylindricalTable() = default;
 
   // Builds the table of `fixed` for rotations about `axis` through `centre`. With
-  // `restrict_to_mobile`, the grid covers only the ranges that mobile mesh can reach.
+  // `restrict_to_mobile`, the grid covers only the ranges that mobile mesh can reach, and (with
+  // the angular index) the table keeps that mesh's vertex clusters (mobile_clusters()).
   // Invalid input (zero axis, non-finite data, empty mesh) gives status() == kInvalidInput;
   // disjoint ranges give kNoOverlap (an empty table that finds no candidates).
   static CylindricalTable build(const geometry::TriMesh& fixed, const Vec3& centre,
@@ -151,6 +153,13 @@ class CylindricalTable {
   struct OutsideRegion {
     double lo = 0.0, hi = 0.0;
   };
+  // The vertex clusters of the mobile mesh the table was restricted to (empty otherwise, and for
+  // a loaded table). The one-pass query on a mesh with as many vertices tests them cluster by
+  // cluster: the ball about each cluster's bounding box, as posed, first (ball_may_touch). Only the
+  // grouping of vertex indices is used, never the rest positions, so any mesh is answered exactly;
+  // one that moved rigidly from the rest mesh keeps the clusters compact.
+  const VertexClusters& mobile_clusters() const { return mobile_clusters_; }
+
   // Outside regions of the index, and those of cell (i_z, i_r) sorted by lo (reports and tests).
   std::size_t num_outside_regions() const { return outside_regions_.size(); }
   std::span<const OutsideRegion> outside_regions(long long i_z, long long i_r) const;
@@ -252,6 +261,7 @@ class CylindricalTable {
   std::vector<OutsideRegion> outside_regions_;
   std::vector<std::int32_t> shell_;
   bool shells_known_ = false;
+  VertexClusters mobile_clusters_;
   double r_lo_ = 0.0, r_hi_ = 0.0, z_lo_ = 0.0, z_hi_ = 0.0;
   double res_r_ = 1.0, res_z_ = 1.0;
   double pad_ = 0.0;

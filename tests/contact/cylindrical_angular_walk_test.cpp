@@ -106,13 +106,16 @@ std::size_t expect_walk_equals_every_candidate(const CylindricalTable& table, co
   every.num_threads = 1;
   every.angular_walk = false;
   every.outside_regions = false;
+  every.mobile_clusters = false;
   const PenetrationResult want = cylindrical_segmenting(table, posed, every);
   for (const int threads : {1, 2}) {
-    for (const bool regions : {false, true}) {
+    for (const int variant : {0, 1, 2, 3}) {
       CylindricalQueryOptions walk;
       walk.num_threads = threads;
-      walk.outside_regions = regions;
-      const std::string label = what + ", " + std::to_string(threads) + " thread(s)" + (regions ? ", regions" : "");
+      walk.outside_regions = (variant & 1) != 0;
+      walk.mobile_clusters = (variant & 2) != 0;
+      const std::string label = what + ", " + std::to_string(threads) + " thread(s)" +
+                                (walk.outside_regions ? ", regions" : "") + (walk.mobile_clusters ? ", clusters" : "");
       expect_identical(cylindrical_segmenting(table, posed, walk), want, label + ", posed copy");
       expect_identical(cylindrical_segmenting(table, mobile, pose, walk), want, label + ", pose given");
     }

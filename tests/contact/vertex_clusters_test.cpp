@@ -13,6 +13,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -148,6 +149,45 @@ TEST(CylindricalBallMayTouch, QueryOverClustersRejectsANonFinitePose) {
   EXPECT_EQ(cylindrical_segmenting(table, VertexClusters::build(box), bad).status, QueryStatus::kInvalidInput);
   EXPECT_EQ(cylindrical_segmenting(table, VertexClusters::build(box), Eigen::Isometry3d::Identity()).status,
             QueryStatus::kOk);
+}
+
+TEST(CylindricalTableClusters, AnyMeshWithAsManyVerticesIsAnsweredExactly) {
+  // The table keeps the clusters of the mesh it was restricted to and uses only the grouping of
+  // indices: a mesh with as many vertices that is not a rigid copy of it (here its vertices
+  // scattered among each other and moved) gets the same pairs as without the clusters.
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::size_t reported = 0;
+  for (int trial = 0; trial < 10; ++trial) {
+    const TriMesh fixed = random_shape(rng, trial % 3);
+    const TriMesh rest = random_shape(rng, (trial + 2) % 3);
+    const CylindricalTable table = CylindricalTable::build(fixed, Vec3::Zero(), random_unit(rng), {}, &rest);
+    ASSERT_EQ(table.mobile_clusters().num_vertices(), rest.vertices.size());
+    TriMesh other = rest;
+    std::shuffle(other.vertices.begin(), other.vertices.end(), rng);
+    for (Vec3& p : other.vertices) p += Vec3(unit(rng) - 0.5, unit(rng) - 0.5, unit(rng) - 0.5);
+    for (const TriMesh* mesh : {&rest, static_cast<const TriMesh*>(&other)}) {
+      CylindricalQueryOptions plain;
+      plain.mobile_clusters = false;
+      const PenetrationResult want = cylindrical_segmenting(table, *mesh, plain);
+      const PenetrationResult got = cylindrical_segmenting(table, *mesh);
+      ASSERT_EQ(got.pairs.size(), want.pairs.size()) << "trial " << trial;
+      for (std::size_t i = 0; i < got.pairs.size(); ++i) {
+        EXPECT_EQ(got.pairs[i].mobile_vertex, want.pairs[i].mobile_vertex);
+        EXPECT_EQ(got.pairs[i].fixed_triangle, want.pairs[i].fixed_triangle);
+        EXPECT_EQ(got.pairs[i].depth_mm, want.pairs[i].depth_mm);
+      }
+      reported += want.pairs.size();
+    }
+  }
+  EXPECT_GT(reported, 100u);
+  // Without a mobile mesh, or without the angular index, the table keeps no clusters.
+  const TriMesh box = geometry::make_box(Vec3(3, -1, -1), Vec3(5, 1, 1), 2);
+  EXPECT_EQ(CylindricalTable::build(box, Vec3::Zero(), Vec3::UnitZ()).mobile_clusters().num_vertices(), 0u);
+  CylindricalTableOptions no_index;
+  no_index.angular_index = false;
+  EXPECT_EQ(CylindricalTable::build(box, Vec3::Zero(), Vec3::UnitZ(), no_index, &box).mobile_clusters().num_vertices(),
+            0u);
 }
 
 }  // namespace
