@@ -263,9 +263,7 @@ void Bench::bench_striking(const Scenario& s) {
     cluster_row.method = "cylindrical_clusters";
     contact::VertexClusters clusters;
     const TimingStats cluster_pre = time_pre([&] { clusters = contact::VertexClusters::build(s.mobile); });
-    cluster_row.pre.median_ms += cluster_pre.median_ms;
-    cluster_row.pre.min_ms += cluster_pre.min_ms;
-    cluster_row.pre.max_ms += cluster_pre.max_ms;
+    add_stage(cluster_row.pre, cluster_pre);
     contact::PenetrationResult cluster_result;
     cluster_row.query = time_query([&] { cluster_result = contact::cylindrical_segmenting(table, clusters, pose, q); });
     cluster_row.note = "the one-pass query over vertex clusters of the mobile mesh, given the pose";
@@ -311,9 +309,7 @@ void Bench::bench_striking(const Scenario& s) {
     const TimingStats cache_table_pre = time_pre([&] { cache_table = build_cache_table(); });
     const TimingStats cache_pre = time_pre([&] { cache = std::make_unique<contact::CylindricalPoseCache>(cache_table, s.mobile, q); });
     cache_row.pre = cache_table_pre;
-    cache_row.pre.median_ms += cache_pre.median_ms;
-    cache_row.pre.min_ms += cache_pre.min_ms;
-    cache_row.pre.max_ms += cache_pre.max_ms;
+    add_stage(cache_row.pre, cache_pre);
     contact::PenetrationResult cached;
     cache_row.query = time_query([&] { cached = cache->query(s.angle_deg); });
     measured_.rows.push_back(cache_row);
@@ -464,9 +460,7 @@ void Bench::bench_radial(const Scenario& s) {
     row.memory = measure_memory([&] { prepared = std::make_unique<contact::RadialPoseQuery>(table, s.fixed, s.mobile, q); });
     const TimingStats prepare = time_pre([&] { prepared = std::make_unique<contact::RadialPoseQuery>(table, s.fixed, s.mobile, q); });
     row.pre = time_pre([&] { table = contact::build_radial_table(s.fixed, s.centre, radial_table_options(s, contact::RadialMapping::kCube)); });
-    row.pre.median_ms += prepare.median_ms;
-    row.pre.min_ms += prepare.min_ms;
-    row.pre.max_ms += prepare.max_ms;
+    add_stage(row.pre, prepare);
     prepared = std::make_unique<contact::RadialPoseQuery>(table, s.fixed, s.mobile, q);
     contact::PenetrationResult result;
     row.query = time_query([&] { result = prepared->query(s.pose()); });

@@ -25,6 +25,14 @@ struct TimingStats {
 TimingStats time_repeated(const std::function<void()>& fn, int min_repeats, int max_repeats,
                           double budget_ms);
 
+// The time of two stages run one after the other (pre-processing in parts): medians, minima and
+// maxima added (repeats kept).
+inline void add_stage(TimingStats& total, const TimingStats& stage) {
+  total.median_ms += stage.median_ms;
+  total.min_ms += stage.min_ms;
+  total.max_ms += stage.max_ms;
+}
+
 // Statistics of already measured durations (ms).
 TimingStats summarise(std::vector<double> samples_ms);
 

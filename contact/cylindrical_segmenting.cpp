@@ -68,8 +68,22 @@ std::optional<PenetrationResult> no_overlap(const CylindricalTable& table) {
   return result;
 }
 
-// Sorts the joined pairs by mobile vertex (the clusters visit vertices out of order).
-PenetrationResult sorted_by_vertex(PenetrationResult result) {
+// Calls visit_cluster(cluster, out) for every cluster of `mobile`, in blocks of 32 clusters taken
+// dynamically by the pool, each block with its own output; the pairs joined and sorted by mobile
+// vertex (clusters visit vertices out of order).
+template <typename VisitCluster>
+PenetrationResult cluster_pass(const VertexClusters& mobile, const CylindricalQueryOptions& options,
+                               VisitCluster&& visit_cluster) {
+  const std::span<const VertexCluster> clusters = mobile.clusters();
+  constexpr std::size_t kClustersPerBlock = 32;
+  std::vector<std::vector<PenetrationPair>> chunks((clusters.size() + kClustersPerBlock - 1) / kClustersPerBlock);
+  parallel_blocks(chunks.size(), resolve_threads(options.num_threads), 1, [&](std::size_t first, std::size_t last) {
+    for (std::size_t block = first; block < last; ++block) {
+      const std::size_t end = std::min(clusters.size(), (block + 1) * kClustersPerBlock);
+      for (std::size_t k = block * kClustersPerBlock; k < end; ++k) visit_cluster(clusters[k], chunks[block]);
+    }
+  });
+  PenetrationResult result = join_chunks(chunks);
   std::sort(result.pairs.begin(), result.pairs.end(),
             [](const PenetrationPair& a, const PenetrationPair& b) { return a.mobile_vertex < b.mobile_vertex; });
   return result;
@@ -82,38 +96,27 @@ template <typename Position>
 PenetrationResult one_pass_by_clusters(const CylindricalTable& table, Position&& position,
                                        const CylindricalQueryOptions& options) {
   const VertexClusters& mobile = table.mobile_clusters();
-  const std::span<const VertexCluster> clusters = mobile.clusters();
   const double scale = 1.0 + table.frame().centre.norm();
-  const int threads = resolve_threads(options.num_threads);
-  constexpr std::size_t kClustersPerBlock = 32;
-  std::vector<std::vector<PenetrationPair>> chunks((clusters.size() + kClustersPerBlock - 1) / kClustersPerBlock);
-  parallel_blocks(chunks.size(), threads, 1, [&](std::size_t first, std::size_t last) {
-    std::vector<Vec3> posed;
-    for (std::size_t block = first; block < last; ++block) {
-      const std::size_t end = std::min(clusters.size(), (block + 1) * kClustersPerBlock);
-      for (std::size_t k = block * kClustersPerBlock; k < end; ++k) {
-        const VertexCluster& cluster = clusters[k];
-        posed.clear();
-        for (std::uint32_t i = cluster.first; i < cluster.last; ++i) {
-          posed.push_back(position(static_cast<std::size_t>(mobile.mesh_index(i))));
-        }
-        Vec3 lo = posed.front(), hi = posed.front();
-        for (const Vec3& p : posed) {
-          lo = lo.cwiseMin(p);
-          hi = hi.cwiseMax(p);
-        }
-        const Vec3 middle = 0.5 * (lo + hi);
-        const double radius = 0.5 * (hi - lo).norm();
-        if (!table.ball_may_touch(table.frame().to_local(middle), radius + 1e-9 * (scale + middle.norm() + radius))) {
-          continue;
-        }
-        for (std::uint32_t i = cluster.first; i < cluster.last; ++i) {
-          visit_vertex(table, mobile.mesh_index(i), posed[i - cluster.first], options, chunks[block]);
-        }
-      }
+  return cluster_pass(mobile, options, [&](const VertexCluster& cluster, std::vector<PenetrationPair>& out) {
+    thread_local std::vector<Vec3> posed;
+    posed.clear();
+    for (std::uint32_t i = cluster.first; i < cluster.last; ++i) {
+      posed.push_back(position(static_cast<std::size_t>(mobile.mesh_index(i))));
+    }
+    Vec3 lo = posed.front(), hi = posed.front();
+    for (const Vec3& p : posed) {
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+    }
+    const Vec3 middle = 0.5 * (lo + hi);
+    const double radius = 0.5 * (hi - lo).norm();
+    if (!table.ball_may_touch(table.frame().to_local(middle), radius + 1e-9 * (scale + middle.norm() + radius))) {
+      return;
+    }
+    for (std::uint32_t i = cluster.first; i < cluster.last; ++i) {
+      visit_vertex(table, mobile.mesh_index(i), posed[i - cluster.first], options, out);
     }
   });
-  return sorted_by_vertex(join_chunks(chunks));
 }
 
 // The one-pass query over `count` mobile vertices, vertex v at position(v) in the fixed frame.
@@ -167,27 +170,16 @@ PenetrationResult cylindrical_segmenting(const CylindricalTable& table, const Ve
   if (!pose.matrix().allFinite()) return invalid("pose has a non-finite entry");
   if (std::optional<PenetrationResult> answer = no_overlap(table)) return std::move(*answer);
   const AxisFrame& frame = table.frame();
-  const std::span<const VertexCluster> clusters = mobile.clusters();
   // The posed sphere of a cluster holds its posed vertices up to the rounding of the two posings
   // and of the frame change, far below this widening.
   const double scale = 1.0 + pose.translation().norm() + frame.centre.norm();
-  const int threads = resolve_threads(options.num_threads);
-  constexpr std::size_t kClustersPerBlock = 32;
-  std::vector<std::vector<PenetrationPair>> chunks((clusters.size() + kClustersPerBlock - 1) / kClustersPerBlock);
-  parallel_blocks(chunks.size(), threads, 1, [&](std::size_t first, std::size_t last) {
-    for (std::size_t block = first; block < last; ++block) {
-      const std::size_t end = std::min(clusters.size(), (block + 1) * kClustersPerBlock);
-      for (std::size_t k = block * kClustersPerBlock; k < end; ++k) {
-        const VertexCluster& cluster = clusters[k];
-        const double margin = 1e-9 * (scale + cluster.centre.norm() + cluster.radius_mm);
-        if (!table.ball_may_touch(frame.to_local(pose * cluster.centre), cluster.radius_mm + margin)) continue;
-        for (std::size_t i = cluster.first; i < cluster.last; ++i) {
-          visit_vertex(table, mobile.mesh_index(i), pose * mobile.vertex(i), options, chunks[block]);
-        }
-      }
+  return cluster_pass(mobile, options, [&](const VertexCluster& cluster, std::vector<PenetrationPair>& out) {
+    const double margin = 1e-9 * (scale + cluster.centre.norm() + cluster.radius_mm);
+    if (!table.ball_may_touch(frame.to_local(pose * cluster.centre), cluster.radius_mm + margin)) return;
+    for (std::size_t i = cluster.first; i < cluster.last; ++i) {
+      visit_vertex(table, mobile.mesh_index(i), pose * mobile.vertex(i), options, out);
     }
   });
-  return sorted_by_vertex(join_chunks(chunks));
 }
 
 PenetrationResult cylindrical_segmenting(const geometry::TriMesh& fixed,
