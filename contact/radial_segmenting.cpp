@@ -12,7 +12,6 @@
 #include <numbers>
 
 namespace hipfai::contact {
-
 namespace {
 
 // The adjacent crossing found so far for one vertex (see the crossing rule in the header).
@@ -74,14 +73,21 @@ RayCrossing crossing_of(const geometry::TriMesh& fixed, const Vec3& centre, cons
 // (d . (a x b) with a x b computed once), the same tail of line_crossing_with_facing on the same
 // N and det, and the exact test on the vertices when the filter cannot decide. Same answers bit
 // for bit.
+// `clear_hit` is set when the ray crosses with every edge function beyond its bound: the ray then
+// runs strictly inside the triangle's cone (RadialSpans::separated).
+// `clear_hit` is set when the ray crosses with every edge function beyond its bound: it then runs
+// strictly inside the triangle's cone (RadialSpans::separated).
 RayCrossing crossing_with_planes(const geometry::TriMesh& fixed, const Vec3& centre, const Vec3& direction,
-                                 double m_d, const RadialSpans::TrianglePlanes& planes, std::int32_t t) {
+                                 double m_d, const RadialSpans::TrianglePlanes& planes, std::int32_t t, bool& clear_hit) {
+  clear_hit = false;
   const int verdict = filter_verdict(direction.dot(planes.edge_ab), direction.dot(planes.edge_bc),
                                      direction.dot(planes.edge_ca), planes.bound_ab * m_d, planes.bound_bc * m_d,
                                      planes.bound_ca * m_d);
   if (verdict == 0) return {};
   if (verdict == 2) return crossing_of(fixed, centre, direction, m_d, t);
-  return plane_crossing_with_facing(direction, planes.area_normal, planes.det, verdict);
+  const RayCrossing crossing = plane_crossing_with_facing(direction, planes.area_normal, planes.det, verdict);
+  clear_hit = crossing.hit;
+  return crossing;
 }
 
 // Offers one candidate triangle's crossing to the running choice.
@@ -217,20 +223,34 @@ struct VertexQuery {
   };
 
   // The crossing rule for the mobile vertex `index` at `position`; false when it does not penetrate.
+  // The culls that need no triangle (inline, as most vertices end here), then decide().
   bool penetrates(std::int32_t index, const Vec3& position, Scratch& scratch, PenetrationPair& out) const {
     const Vec3 direction = position - table.centre;
     if (direction.isZero(0.0)) return false;  // v == O: no ray
-    double r = 0.0;
-    if (use_spans) {
-      r = direction.norm();
-      if (outside_span(side, r, spans.lo, spans.hi) || outside_cap(spans, direction, r)) return false;
+    if (!use_spans) return decide(index, direction, 0.0, -1, scratch, out);
+    const double r = direction.norm();
+    if (outside_span(side, r, spans.lo, spans.hi) || outside_cap(spans, direction, r)) return false;
+    int id = -1;
+    if (options.neighbour_cells == 0) {
+      id = spans.cube.dimension > 0 ? spans.cube.cell(direction) : cell_of_direction(table.grid, direction);
+      const RadialSpans::CellBounds& bounds = spans.cell_bounds[static_cast<std::size_t>(id)];
+      if (outside_span(side, r, bounds.lo, bounds.hi)) return false;
     }
+    return decide(index, direction, r, id, scratch, out);
+  }
+
+  // The triangle tests for a vertex the culls kept: `r` = |direction| and `id` its packed cell
+  // when the spans are used without neighbour cells (-1 otherwise).
+  [[gnu::noinline]] bool decide(std::int32_t index, const Vec3& direction, double r, int id, Scratch& scratch,
+                                PenetrationPair& out) const {
     Adjacent adjacent;
     scratch.crossings.clear();
     const double m_d = max_abs(direction);
+    bool clear_hit = false;
     auto offer_triangle = [&](std::int32_t t) {
       const RayCrossing crossing =
-          use_spans ? crossing_with_planes(fixed, table.centre, direction, m_d, spans.planes[static_cast<std::size_t>(t)], t)
+          use_spans ? crossing_with_planes(fixed, table.centre, direction, m_d, spans.planes[static_cast<std::size_t>(t)], t,
+                                           clear_hit)
                     : crossing_of(fixed, table.centre, direction, m_d, t);
       if (union_rule || beyond_rule) {
         if (crossing.hit) scratch.crossings.push_back({crossing.t, crossing.facing, t});
@@ -250,16 +270,25 @@ struct VertexQuery {
     if (options.neighbour_cells > 0) {
       scratch.cap_cells.clear();
       cells_of_cap(table.grid, direction, cap_radius, scratch.cap_cells);
-      for (const int id : scratch.cap_cells) visit(table.cell(id));
+      for (const int cap_cell : scratch.cap_cells) visit(table.cell(cap_cell));
     } else if (use_spans) {
       // The packed cells: one record per cell, entries contiguous with their spans inline.
-      const int id = spans.cube.dimension > 0 ? spans.cube.cell(direction) : cell_of_direction(table.grid, direction);
       const RadialSpans::Cell& cell = spans.cells[static_cast<std::size_t>(id)];
-      if (outside_span(side, r, cell.lo, cell.hi)) return false;
+      // Triangles whose cones are separated from one the ray clearly crosses are misses: skipped.
+      // Entries come in ascending lo: on the kBelowLo side the first one beyond r ends the cell.
+      std::uint64_t missed = 0;
+      const bool stop_at_lo = skip_triangles && side == SpanCull::kBelowLo;
       for (std::uint32_t k = cell.begin; k < cell.end; ++k) {
         const RadialSpans::Entry& entry = spans.entries[k];
-        if (skip_triangles && outside_span(side, r, entry.lo, entry.hi)) continue;
+        if (stop_at_lo) {
+          if (r < entry.lo * (1.0 - 1e-12)) break;  // outside_span for this and every later entry
+        } else if (skip_triangles && outside_span(side, r, entry.lo, entry.hi)) {
+          continue;
+        }
+        const std::uint32_t slot = k - cell.begin;
+        if (slot < 64 && ((missed >> slot) & 1U) != 0) continue;
         offer_triangle(entry.triangle);
+        if (clear_hit) missed |= spans.separated[k];
       }
     } else {
       visit(table.cell(cell_of_direction(table.grid, direction)));
@@ -430,8 +459,9 @@ RadialPoseQuery::RadialPoseQuery(const RadialTable& table, const geometry::TriMe
   // neighbouring directions together, so consecutive vertices read the same or adjacent cell
   // records and triangles (mesh order, after midpoint subdivision, jumps around).
   const std::size_t count = mobile.num_vertices();
-  const RadialGrid coarse = make_radial_grid(
-      RadialMapping::kCube, std::max<std::int64_t>(6, static_cast<std::int64_t>(count / kBucketVertices)));
+  coarse_grid_ = make_radial_grid(RadialMapping::kCube,
+                                  std::max<std::int64_t>(6, static_cast<std::int64_t>(count / kBucketVertices)));
+  const RadialGrid& coarse = coarse_grid_;
   struct Key {
     int coarse_cell;
     std::int64_t shell;
@@ -490,10 +520,119 @@ RadialPoseQuery::RadialPoseQuery(const RadialTable& table, const geometry::TriMe
     k = end;
   }
   for (const Bucket& bucket : buckets_) largest_distance_ = std::max(largest_distance_, bucket.r_hi);
+  if (use_spans_) build_distance_map();
   // Kept about O (a rotation without translation): the buckets whose rest distances the spans allow.
   for (const Bucket& bucket : buckets_) {
     if (!distance_culled(bucket, 0.0, 0.0)) num_kept_ += bucket.end - bucket.begin;
   }
+}
+
+void RadialPoseQuery::build_distance_map() {
+  const RadialSpans& spans = table_->spans;
+  const RadialGrid& grid = coarse_grid_;
+  const int n = grid.dimension;
+  // The dilation: the widest bucket cone plus half a coarse cell for the translation of a pose.
+  double widest = 0.0;
+  for (const Bucket& bucket : buckets_) {
+    if (bucket.half_angle_rad < 4.0) widest = std::max(widest, bucket.half_angle_rad);
+  }
+  map_dilation_rad_ = widest + 0.5 * grid.nominal_cell_angle_rad();
+  // Each triangle's cone lies in the cap of radius rho_t around its mean vertex direction (caps
+  // under 90 deg are convex). Triangles with small caps are filed under the coarse cell of that
+  // direction and spread below; wider ones go straight to every cell their cap dilated reaches;
+  // those with a vertex at O and the always-checked ones count everywhere.
+  const double rho_limit = 0.5 * grid.nominal_cell_angle_rad();
+  double global_lo = RadialSpans::kInfinity, global_hi = -RadialSpans::kInfinity;
+  std::vector<double> own_lo(static_cast<std::size_t>(grid.num_cells()), RadialSpans::kInfinity);
+  std::vector<double> own_hi(own_lo.size(), -RadialSpans::kInfinity);
+  double rho_max = 0.0;
+  struct WideTriangle {
+    Vec3 mean;
+    double rho, lo, hi;
+  };
+  std::vector<WideTriangle> wide;
+  const geometry::TriMesh& fixed = *fixed_;
+  for (std::size_t t = 0; t < fixed.num_triangles(); ++t) {
+    const double lo = spans.triangle_lo[t], hi = spans.triangle_hi[t];
+    if (!(lo <= hi)) continue;  // zero area: never crossed
+    std::array<Vec3, 3> unit;
+    bool at_centre = false;
+    for (std::size_t k = 0; k < 3; ++k) {
+      const Vec3 d = fixed.vertices[static_cast<std::size_t>(fixed.triangles[t][k])] - table_->centre;
+      const double length = d.norm();
+      at_centre = at_centre || !(length > 0.0);
+      unit[k] = at_centre ? Vec3::Zero() : Vec3(d / length);
+    }
+    const Vec3 sum = unit[0] + unit[1] + unit[2];
+    double rho = 8.0;
+    if (!at_centre && sum.norm() > 0.0) {
+      const Vec3 mean = sum.normalized();
+      rho = 0.0;
+      for (const Vec3& u : unit) rho = std::max(rho, std::atan2(u.cross(mean).norm(), u.dot(mean)));
+      rho += 1e-9;
+      if (rho <= rho_limit) {
+        const auto g = static_cast<std::size_t>(cell_of_direction(grid, mean));
+        own_lo[g] = std::min(own_lo[g], lo);
+        own_hi[g] = std::max(own_hi[g], hi);
+        rho_max = std::max(rho_max, rho);
+        continue;
+      }
+      if (rho < 1.0) {
+        wide.push_back({mean, rho, lo, hi});
+        continue;
+      }
+    }
+    global_lo = std::min(global_lo, lo);
+    global_hi = std::max(global_hi, hi);
+  }
+  for (const std::int32_t t : table_->always_candidates) {
+    global_lo = std::min(global_lo, spans.triangle_lo[static_cast<std::size_t>(t)]);
+    global_hi = std::max(global_hi, spans.triangle_hi[static_cast<std::size_t>(t)]);
+  }
+  // A triangle whose cone reaches within the dilation of cell g has its mean direction within
+  // rho_max + dilation of g, i.e. within the cap around g's centre of radius (g's farthest corner)
+  // + rho_max + dilation (cells are convex spherical quadrilaterals: the farthest point is a corner).
+  map_lo_.assign(own_lo.size(), global_lo);
+  map_hi_.assign(own_hi.size(), global_hi);
+  std::vector<int> near;
+  for (int g = 0; g < grid.num_cells(); ++g) {
+    const Vec3 centre = cell_centre_direction(grid, g);
+    const int i = g % n, j = (g / n) % n, face = g / (n * n), k = face / 2;
+    double corner_angle = 0.0;
+    for (const int ci : {i, i + 1}) {
+      for (const int cj : {j, j + 1}) {
+        Vec3 corner;
+        corner[k] = face % 2 == 0 ? 1.0 : -1.0;
+        corner[(k + 1) % 3] = std::tan(ci * (std::numbers::pi / 2.0) / n - std::numbers::pi / 4.0);
+        corner[(k + 2) % 3] = std::tan(cj * (std::numbers::pi / 2.0) / n - std::numbers::pi / 4.0);
+        corner.normalize();
+        corner_angle = std::max(corner_angle, std::atan2(corner.cross(centre).norm(), corner.dot(centre)));
+      }
+    }
+    near.clear();
+    cells_of_cap(grid, centre, corner_angle + rho_max + map_dilation_rad_ + 1e-6, near);
+    for (const int h : near) {
+      map_lo_[static_cast<std::size_t>(g)] = std::min(map_lo_[static_cast<std::size_t>(g)], own_lo[static_cast<std::size_t>(h)]);
+      map_hi_[static_cast<std::size_t>(g)] = std::max(map_hi_[static_cast<std::size_t>(g)], own_hi[static_cast<std::size_t>(h)]);
+    }
+  }
+  for (const WideTriangle& triangle : wide) {
+    near.clear();
+    cells_of_cap(grid, triangle.mean, triangle.rho + map_dilation_rad_ + 1e-6, near);
+    for (const int g : near) {
+      map_lo_[static_cast<std::size_t>(g)] = std::min(map_lo_[static_cast<std::size_t>(g)], triangle.lo);
+      map_hi_[static_cast<std::size_t>(g)] = std::max(map_hi_[static_cast<std::size_t>(g)], triangle.hi);
+    }
+  }
+}
+
+bool RadialPoseQuery::map_culled(const Bucket& bucket, const Vec3& axis, double shift_mm, double scale_mm) const {
+  if (map_lo_.empty() || !(bucket.half_angle_rad < 4.0) || !(shift_mm < bucket.r_lo)) return false;
+  if (!(bucket.half_angle_rad + std::asin(shift_mm / bucket.r_lo) <= map_dilation_rad_)) return false;
+  const auto g = static_cast<std::size_t>(cell_of_direction(coarse_grid_, axis));
+  const double slack = shift_mm + 1e-9 * scale_mm;
+  if (span_side(options_) == SpanCull::kBelowLo) return bucket.r_hi + slack < map_lo_[g] * (1.0 - 1e-12);
+  return bucket.r_lo - slack > map_hi_[g] * (1.0 + 1e-12);
 }
 
 bool RadialPoseQuery::distance_culled(const Bucket& bucket, double shift_mm, double scale_mm) const {
@@ -549,6 +688,7 @@ RadialPoseQuery::KeptBuckets RadialPoseQuery::kept_buckets(const Eigen::Isometry
     const Bucket& bucket = buckets_[b];
     if (distance_culled(bucket, shift, scale)) continue;
     if (has_cap && cap_culled(bucket, rest_cap_axis, cap, shift)) continue;
+    if (map_culled(bucket, pose.linear() * bucket.axis, shift, scale)) continue;
     kept.buckets.push_back(static_cast<std::uint32_t>(b));
     kept.num_vertices += bucket.end - bucket.begin;
     in_block += bucket.end - bucket.begin;

@@ -106,9 +106,10 @@ PenetrationResult radial_segmenting(const RadialTable& table, const geometry::Tr
 // 0.5 mm shell of rest distance). Rotation about the centre keeps each mobile vertex's distance
 // from O and turns a bucket's cone of directions as a whole, so query(pose) drops whole buckets
 // without posing a vertex: those whose distances the radial spans rule out (radial_spans.h: the
-// rule needs a crossing on a side of v where the fixed mesh has none) and those whose cone the
-// pose turns away from the spans' cap (every fixed point lies within the cap). It poses and tests
-// only the vertices of the other buckets. A pose that also translates moves a distance by at
+// rule needs a crossing on a side of v where the fixed mesh has none), those whose cone the
+// pose turns away from the spans' cap (every fixed point lies within the cap), and those whose
+// distances the spans of the triangles near their turned cone rule out (the distance map below).
+// It poses and tests only the vertices of the other buckets. A pose that also translates moves a distance by at
 // most s = |c' - O| (c' = pose^-1 O) and a direction by at most asin(s / |v - O|), which widens
 // both tests. Same answer as radial_segmenting(table, fixed,
 // pose * mobile, options) bit for bit (each kept vertex is posed as pose * v, like
@@ -157,6 +158,11 @@ class RadialPoseQuery {
   struct CapAngle {
     double angle_rad = 0.0, cos = 1.0, sin = 0.0;
   };
+  // Is every vertex of the bucket culled by the spans of the triangles its posed directions can
+  // meet (the bucket's coarse cell of the distance map, see map_lo_)? `axis` is the bucket's
+  // posed axis R axis, shift_mm and scale_mm as for distance_culled.
+  bool map_culled(const Bucket& bucket, const Vec3& axis, double shift_mm, double scale_mm) const;
+  void build_distance_map();
   // Is every vertex of the bucket outside the spans' cap (radial_spans.h) at a pose whose rotation
   // takes rest_cap_axis to the cap's axis and whose centre moves by shift_mm?
   bool cap_culled(const Bucket& bucket, const Vec3& rest_cap_axis, const CapAngle& cap, double shift_mm) const;
@@ -173,6 +179,17 @@ class RadialPoseQuery {
   std::vector<Bucket> buckets_;
   std::vector<Vec3> sorted_position_;
   std::vector<std::int32_t> sorted_index_;
+  // THE DISTANCE MAP (radial spans for whole buckets, so a culled bucket is never posed): on the
+  // buckets' coarse cube grid, map_lo_[g] (map_hi_[g]) is the least lo (largest hi) of every fixed
+  // triangle whose cone reaches within map_dilation_rad_ of coarse cell g, and of the
+  // always-checked ones. A bucket whose posed directions all lie within map_dilation_rad_ of its
+  // posed axis (its half-angle plus asin(shift / r_lo)) meets only such triangles, so when its
+  // distances are beyond that span on the rule's side every one of its vertices is decided as the
+  // per-vertex test decides it (no qualifying crossing). The dilation is a speed trade only: a
+  // wider one covers larger translations with looser spans; the answers never change.
+  RadialGrid coarse_grid_;
+  double map_dilation_rad_ = 0.0;
+  std::vector<double> map_lo_, map_hi_;  // per coarse cell; empty: no map
   std::size_t num_kept_ = 0;  // vertices kept at a pose about O (for num_kept_vertices)
   double largest_distance_ = 0.0;  // largest rest distance from O
 };

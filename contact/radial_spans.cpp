@@ -76,6 +76,15 @@ void triangle_radial_span(const Vec3& a, const Vec3& b, const Vec3& c, double& l
 
 namespace {
 
+double max_abs(const Vec3& v) { return std::max({std::abs(v.x()), std::abs(v.y()), std::abs(v.z())}); }
+
+// The sign of det(a, b, c) = a . (b x c) when planes.det is beyond the bound on its rounding (the
+// bound of the query's edge functions, same expression), else 0.
+int certified_orientation(const RadialSpans::TrianglePlanes& planes, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const double bound = 1e-13 * max_abs(a) * max_abs(b) * max_abs(c);
+  return planes.det > bound ? 1 : (planes.det < -bound ? -1 : 0);
+}
+
 // Floats rounded outward, so the packed spans still contain the double ones.
 float float_below(double value) {
   float f = static_cast<float>(value);
@@ -114,21 +123,53 @@ void compute_radial_spans(RadialTable& table, const geometry::TriMesh& fixed) {
     always_lo = std::min(always_lo, spans.triangle_lo[static_cast<std::size_t>(t)]);
     always_hi = std::max(always_hi, spans.triangle_hi[static_cast<std::size_t>(t)]);
   }
+  const ConeSeparation separation(fixed, table.centre, spans.planes);
   spans.cells.resize(table.cells.size());
+  spans.cell_bounds.resize(table.cells.size());
   spans.entries.clear();
   spans.entries.reserve(table.num_entries());
+  spans.separated.clear();
+  spans.separated.reserve(table.num_entries());
+  std::vector<std::int32_t> listed;
   for (std::size_t id = 0; id < table.cells.size(); ++id) {
     RadialSpans::Cell& cell = spans.cells[id];
     cell.begin = static_cast<std::uint32_t>(spans.entries.size());
     cell.lo = always_lo;
     cell.hi = always_hi;
-    for (const std::int32_t t : table.cells[id]) {
+    // Ascending lo (then index): a vertex at r on the kBelowLo side needs only the prefix of
+    // entries with lo <= r.
+    listed = table.cells[id];
+    std::sort(listed.begin(), listed.end(), [&](std::int32_t x, std::int32_t y) {
+      const float lo_x = float_below(spans.triangle_lo[static_cast<std::size_t>(x)]);
+      const float lo_y = float_below(spans.triangle_lo[static_cast<std::size_t>(y)]);
+      return lo_x != lo_y ? lo_x < lo_y : x < y;
+    });
+    for (const std::int32_t t : listed) {
       const double lo = spans.triangle_lo[static_cast<std::size_t>(t)], hi = spans.triangle_hi[static_cast<std::size_t>(t)];
       cell.lo = std::min(cell.lo, lo);
       cell.hi = std::max(cell.hi, hi);
       spans.entries.push_back({t, float_below(lo), float_above(hi)});
     }
     cell.end = static_cast<std::uint32_t>(spans.entries.size());
+    spans.cell_bounds[id] = {float_below(cell.lo), float_above(cell.hi)};
+    const std::size_t slots = std::min<std::size_t>(listed.size(), 64);
+    const std::size_t first = spans.separated.size();
+    spans.separated.resize(first + listed.size(), 0);
+    for (std::size_t i = 0; i < slots; ++i) {
+      for (std::size_t j = i + 1; j < slots; ++j) {
+        if (separation.separated(listed[i], listed[j])) {
+          spans.separated[first + i] |= std::uint64_t{1} << j;
+          spans.separated[first + j] |= std::uint64_t{1} << i;
+        }
+      }
+    }
+    for (std::size_t i = slots; i < listed.size(); ++i) {  // beyond the mask: separated from the first 64 only
+      for (std::size_t j = 0; j < slots; ++j) {
+        if (separation.separated(listed[i], listed[j])) {
+          spans.separated[first + i] |= std::uint64_t{1} << j;
+        }
+      }
+    }
   }
   if (table.grid.mapping == RadialMapping::kCube) {
     RadialSpans::CubeLocator& cube = spans.cube;
@@ -175,6 +216,49 @@ void compute_radial_spans(RadialTable& table, const geometry::TriMesh& fixed) {
     spans.cap_axis = axis;
     spans.cap_cos = cos_angle;
   }
+}
+
+ConeSeparation::ConeSeparation(const geometry::TriMesh& mesh, const Vec3& centre,
+                               std::span<const RadialSpans::TrianglePlanes> planes)
+    : mesh_(&mesh), planes_(planes), relative_(mesh.num_vertices()), scale_(mesh.num_vertices()),
+      orientation_(mesh.num_triangles()) {
+  for (std::size_t v = 0; v < relative_.size(); ++v) {
+    relative_[v] = mesh.vertices[v] - centre;
+    scale_[v] = max_abs(relative_[v]);
+  }
+  for (std::size_t t = 0; t < orientation_.size(); ++t) {
+    const auto& tri = mesh.triangles[t];
+    orientation_[t] = certified_orientation(planes[t], relative_[static_cast<std::size_t>(tri[0])],
+                                            relative_[static_cast<std::size_t>(tri[1])], relative_[static_cast<std::size_t>(tri[2])]);
+  }
+}
+
+bool ConeSeparation::edge_plane_separates(std::int32_t t, std::int32_t u) const {
+  const auto& tri_t = mesh_->triangles[static_cast<std::size_t>(t)];
+  const auto& tri_u = mesh_->triangles[static_cast<std::size_t>(u)];
+  const RadialSpans::TrianglePlanes& planes = planes_[static_cast<std::size_t>(t)];
+  const int s_t = orientation_[static_cast<std::size_t>(t)];
+  const std::array<const Vec3*, 3> edges{&planes.edge_ab, &planes.edge_bc, &planes.edge_ca};
+  for (std::size_t e = 0; e < 3; ++e) {
+    const std::int32_t p = tri_t[e], q = tri_t[(e + 1) % 3];
+    const double m_pq = scale_[static_cast<std::size_t>(p)] * scale_[static_cast<std::size_t>(q)];
+    bool beyond = true;
+    for (const std::int32_t w : tri_u) {
+      if (w == p || w == q) continue;  // on the plane exactly
+      const double value = relative_[static_cast<std::size_t>(w)].dot(*edges[e]);
+      if (!(s_t * value < -1e-13 * scale_[static_cast<std::size_t>(w)] * m_pq)) {
+        beyond = false;
+        break;
+      }
+    }
+    if (beyond) return true;
+  }
+  return false;
+}
+
+bool ConeSeparation::separated(std::int32_t t, std::int32_t u) const {
+  if (orientation_[static_cast<std::size_t>(t)] == 0 || orientation_[static_cast<std::size_t>(u)] == 0) return false;
+  return edge_plane_separates(t, u) || edge_plane_separates(u, t);
 }
 
 bool radial_spans_valid(const RadialSpans& spans, const geometry::TriMesh& fixed) {

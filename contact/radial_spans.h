@@ -36,9 +36,11 @@
 
 #include <Eigen/Core>
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <span>
 #include <vector>
 
 namespace hipfai::contact {
@@ -66,7 +68,7 @@ struct RadialSpans {
   // |b|_inf (and so on): times |d|_inf they bound the rounding of an edge function by far
   // (radial_segmenting.cpp). A ray is then tested with three dot products instead of three cross
   // products and three dot products over vertices fetched through the triangle's indices.
-  struct TrianglePlanes {
+  struct alignas(64) TrianglePlanes {
     Eigen::Vector3d edge_ab, edge_bc, edge_ca, area_normal;
     double det = 0.0;
     double bound_ab = 0.0, bound_bc = 0.0, bound_ca = 0.0;
@@ -87,7 +89,9 @@ struct RadialSpans {
       int bin = static_cast<int>((u + 1.0) * bins_per_unit);
       bin = bin < 0 ? 0 : (bin >= bins ? bins - 1 : bin);
       int i = start[static_cast<std::size_t>(bin)];
-      while (i + 1 < dimension && u >= border[static_cast<std::size_t>(i + 1)]) ++i;
+      // A bin (width 1 / (2 n) in u) is narrower than any cell (>= pi / (2 n)): at most one border
+      // lies inside it, so one comparison finishes.
+      i += static_cast<int>(i + 1 < dimension && u >= border[static_cast<std::size_t>(i + 1)]);
       return i;
     }
     // The cell id of a non-zero direction (as cell_of_direction for the cube mapping).
@@ -106,7 +110,24 @@ struct RadialSpans {
   std::vector<double> triangle_lo, triangle_hi;  // widened span per fixed triangle
   std::vector<TrianglePlanes> planes;            // per fixed triangle
   std::vector<Cell> cells;
+  // Each cell's [lo, hi] again as floats rounded outward, 8 bytes per cell: the test most vertices
+  // end at reads this small array (a few hundred KB, cache-resident) instead of the cell records.
+  struct CellBounds {
+    float lo = 0.0F, hi = 0.0F;
+  };
+  std::vector<CellBounds> cell_bounds;
+  // A cell's entries in ascending lo (ties: triangle index), so a vertex the kBelowLo side tests
+  // stops at the first entry beyond its distance.
   std::vector<Entry> entries;
+  // SEPARATED CONES (parallel to `entries`): bit s of separated[k] is set when the cone from O over
+  // the triangle of entry k and that over entry cell.begin + s (s < 64, same cell) have disjoint
+  // interiors, proved by a plane through O along an edge of one of them with the other on its
+  // closed far side (separating planes of two convex cones; the signs are those of the exact
+  // triple products, certified by the error bound of TrianglePlanes, and a vertex the two
+  // triangles share lies on that plane exactly). A ray whose crossing with entry k is a clear hit
+  // (all three edge functions beyond their bounds, t > 0) runs strictly inside that cone, so it
+  // misses every triangle separated from it: the query skips them. Same answers bit for bit.
+  std::vector<std::uint64_t> separated;
   double lo = kInfinity, hi = -kInfinity;        // whole mesh
   Eigen::Vector3d cap_axis = Eigen::Vector3d::UnitZ();  // unit
   double cap_cos = -2.0;                         // <= -1: no cap (never culls)
@@ -127,6 +148,27 @@ void compute_radial_spans(RadialTable& table, const geometry::TriMesh& fixed);
 
 // True when the spans were computed for exactly these fixed coordinates.
 bool radial_spans_valid(const RadialSpans& spans, const geometry::TriMesh& fixed);
+
+// Proves cones from O over two triangles of a mesh interior-disjoint (RadialSpans::separated): an
+// edge plane of one (through O) has the other on its closed far side. Signs are those of the exact
+// triple products: a value counts only beyond the rounding bound of TrianglePlanes, and a vertex
+// the two triangles share lies on the plane exactly. Triangles whose orientation det(a, b, c)
+// is within rounding of zero (plane through O) are never separated.
+class ConeSeparation {
+ public:
+  // `planes` from triangle_planes of each triangle of `mesh` relative to `centre`; referenced.
+  ConeSeparation(const geometry::TriMesh& mesh, const Eigen::Vector3d& centre,
+                 std::span<const RadialSpans::TrianglePlanes> planes);
+  bool separated(std::int32_t t, std::int32_t u) const;
+
+ private:
+  bool edge_plane_separates(std::int32_t t, std::int32_t u) const;
+  const geometry::TriMesh* mesh_;
+  std::span<const RadialSpans::TrianglePlanes> planes_;
+  std::vector<Eigen::Vector3d> relative_;  // vertices - centre
+  std::vector<double> scale_;              // |relative|_inf per vertex
+  std::vector<int> orientation_;           // certified sign of det(a, b, c) per triangle, or 0
+};
 
 // Which side of the span a crossing rule needs (see SPAN above).
 enum class SpanCull { kBelowLo, kAboveHi };

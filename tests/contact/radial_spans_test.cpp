@@ -4,6 +4,7 @@
 #include "contact/radial_segmenting.h"
 #include "contact/radial_spans.h"
 #include "contact/radial_table.h"
+#include "contact/ray_triangle.h"
 #include "geometry/hip_generator.h"
 #include "geometry/primitive_meshes.h"
 
@@ -420,5 +421,168 @@ TEST(RadialSpans, PoseQueryRejectsANonFinitePose) {
   EXPECT_EQ(prepared.query(Eigen::Isometry3d::Identity()).pairs.size(), 1u);
 }
 
+
+// SEPARATED CONES (RadialSpans::separated, ConeSeparation). The claim the query relies on: a ray
+// strictly inside the cone over triangle t misses every triangle separated from t. Checked with the
+// exact ray test on random directions inside t's cone (positive barycentric weights), for every
+// separated pair the table records, on a sphere seen from inside and on a generated hip's socket.
+void expect_separations_hold(const RadialTable& table, const TriMesh& fixed, std::size_t min_pairs, const std::string& what) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> w(1e-6, 1.0);
+  auto relative = [&](std::int32_t t, int k) {
+    return Vec3(fixed.vertices[static_cast<std::size_t>(fixed.triangles[static_cast<std::size_t>(t)][static_cast<std::size_t>(k)])] -
+                table.centre);
+  };
+  std::size_t pairs = 0;
+  for (const RadialSpans::Cell& cell : table.spans.cells) {
+    for (std::uint32_t i = cell.begin; i < cell.end; ++i) {
+      const std::uint64_t bits = table.spans.separated[i];
+      for (std::uint32_t j = cell.begin; j < cell.end && j - cell.begin < 64; ++j) {
+        if (((bits >> (j - cell.begin)) & 1U) == 0) continue;
+        ++pairs;
+        const std::int32_t t = table.spans.entries[i].triangle, u = table.spans.entries[j].triangle;
+        for (int k = 0; k < 8; ++k) {
+          const Vec3 d = w(rng) * relative(t, 0) + w(rng) * relative(t, 1) + w(rng) * relative(t, 2);
+          ASSERT_FALSE(ray_triangle_crossing(d, relative(u, 0), relative(u, 1), relative(u, 2)).hit)
+              << what << ": triangles " << t << " and " << u;
+        }
+      }
+    }
+  }
+  EXPECT_GE(pairs, min_pairs) << what;  // the rule is exercised, not vacuous
+}
+
+TEST(RadialSpans, SeparatedConesAreMissedByEveryRayInsideTheOther) {
+  const TriMesh sphere = geometry::make_octasphere(Vec3(0.4, -0.3, 0.2), 20.0, 3);
+  expect_separations_hold(build_radial_table(sphere, Vec3::Zero(), {}), sphere, 500, "sphere");
+  // A box above O: its bottom, side and top faces seen from O overlap pairwise (not separated).
+  const TriMesh box = box_above();
+  expect_separations_hold(build_radial_table(box, Vec3::Zero(), {}), box, 100, "box");
+  geometry::HipParameters parameters;
+  parameters.edge_mm = 5.5;
+  const geometry::HipModel hip = geometry::generate_hip(parameters).model;
+  const TriMesh socket = geometry::merge_meshes({&hip.tissue("acetabular_cartilage"), &hip.tissue("labrum")});
+  RadialTableOptions options;
+  options.table_size = static_cast<std::int64_t>(socket.num_triangles());
+  expect_separations_hold(build_radial_table(socket, hip.hjc_mm, options), socket, 1000, "socket");
+}
+
+TEST(RadialSpans, ConeSeparationHardCases) {
+  // Two triangles sharing an edge on a plane z = 10 (seen from O): their cones meet only along the
+  // shared edge's plane, which holds the shared vertices exactly: separated.
+  TriMesh flat;
+  flat.vertices = {Vec3(-1, -1, 10), Vec3(1, -1, 10), Vec3(1, 1, 10), Vec3(-1, 1, 10)};
+  flat.triangles = {{0, 1, 2}, {0, 2, 3}};
+  auto separated = [](const TriMesh& mesh, const Vec3& centre) {
+    std::vector<RadialSpans::TrianglePlanes> planes;
+    for (const auto& tri : mesh.triangles) {
+      planes.push_back(triangle_planes(mesh.vertices[static_cast<std::size_t>(tri[0])] - centre,
+                                       mesh.vertices[static_cast<std::size_t>(tri[1])] - centre,
+                                       mesh.vertices[static_cast<std::size_t>(tri[2])] - centre));
+    }
+    const ConeSeparation separation(mesh, centre, planes);
+    EXPECT_EQ(separation.separated(0, 1), separation.separated(1, 0));
+    return separation.separated(0, 1);
+  };
+  EXPECT_TRUE(separated(flat, Vec3::Zero()));
+  // The same pair with its shared edge given by copies of the vertices (other indices): the
+  // zero of the shared edge is then a rounded value, not known exactly, so no claim is made.
+  TriMesh copies = flat;
+  copies.vertices.push_back(flat.vertices[0]);
+  copies.vertices.push_back(flat.vertices[2]);
+  copies.triangles = {{0, 1, 2}, {4, 5, 3}};
+  EXPECT_FALSE(separated(copies, Vec3::Zero()));
+  // Seen from a centre in their plane (a plane through O): no interior, never separated.
+  EXPECT_FALSE(separated(flat, Vec3(5, 0, 10)));
+  // One behind the other along the same directions (overlapping cones): not separated.
+  TriMesh layered;
+  layered.vertices = {Vec3(-1, -1, 10), Vec3(1, -1, 10), Vec3(0, 1, 10), Vec3(-1, -1, 12), Vec3(1, -1, 12), Vec3(0, 1, 12)};
+  layered.triangles = {{0, 1, 2}, {3, 4, 5}};
+  EXPECT_FALSE(separated(layered, Vec3::Zero()));
+  // Touching at a single shared vertex, apart elsewhere: separated.
+  TriMesh fan;
+  fan.vertices = {Vec3(0, 0, 10), Vec3(1, -1, 10), Vec3(1, 1, 10), Vec3(-1, 2, 10), Vec3(-2, 1, 10)};
+  fan.triangles = {{0, 1, 2}, {0, 3, 4}};
+  EXPECT_TRUE(separated(fan, Vec3::Zero()));
+  // A copy of the second triangle moved across the shared edge's plane by 1e-15 of its size
+  // (within the rounding bound, other vertex indices): too close to call, not separated.
+  TriMesh grazing = flat;
+  for (const int k : {0, 2, 3}) grazing.vertices.push_back(flat.vertices[static_cast<std::size_t>(k)] + 1e-14 * Vec3(1, -1, 0));
+  grazing.triangles = {{0, 1, 2}, {4, 5, 6}};
+  EXPECT_FALSE(separated(grazing, Vec3::Zero()));
+}
+
+// Rays through the fixed mesh's shared vertices and edges (where no crossing is clear) and just
+// beside them, at distances before, on and beyond the surface: the separated-cone skips and the
+// stop at the first entry beyond r must give the unculled answers bit for bit, for cells of a few
+// and of more than 64 entries (a 6-cell table).
+TEST(RadialSpans, RaysThroughSharedEdgesAndVerticesMatchTheUnculledQuery) {
+  const Vec3 centre(0.3, -0.2, 0.1);
+  TriMesh inner = geometry::make_octasphere(centre, 24.0, 3);
+  for (auto& t : inner.triangles) std::swap(t[1], t[2]);  // a shell: inner surface faces O
+  const TriMesh outer = geometry::make_octasphere(centre, 28.0, 2);
+  const TriMesh socket = geometry::merge_meshes({&inner, &outer});
+  TriMesh mobile;
+  for (const auto& tri : inner.triangles) {
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 a = inner.vertices[static_cast<std::size_t>(tri[static_cast<std::size_t>(k)])];
+      const Vec3 b = inner.vertices[static_cast<std::size_t>(tri[static_cast<std::size_t>((k + 1) % 3)])];
+      for (const Vec3& p : {a, Vec3(0.5 * (a + b)), Vec3(a + 1e-12 * (b - a))}) {
+        for (const double scale : {0.999, 1.0, 1.0 + 1e-15, 1.001, 1.2}) mobile.vertices.push_back(centre + scale * (p - centre));
+      }
+    }
+  }
+  for (const std::int64_t size : {6, 600, 4096}) {
+    RadialTableOptions options;
+    options.table_size = size;
+    const RadialTable table = build_radial_table(socket, centre, options);
+    expect_culling_exact(table, socket, mobile, "shared edges, table " + std::to_string(size));
+  }
+}
+
+// THE DISTANCE MAP of the pose query: a socket (lo 24) on one side of O and a box (lo 10) on the
+// other. A ball of radius 15-16 is beyond the box's span but short of the socket's, so the global
+// span keeps every bucket, the map drops those that face the socket, and the answers equal the
+// unculled query at rest, turned, and turned with translations both within the map's reach and
+// far beyond it (where it must fall back to the per-vertex test).
+TEST(RadialSpans, PoseQueryDistanceMapDropsBucketsFacingFarSurfacesAndStaysExact) {
+  TriMesh inner = geometry::make_octasphere(Vec3::Zero(), 24.0, 3);
+  for (auto& t : inner.triangles) std::swap(t[1], t[2]);
+  TriMesh cap;  // the upper half of the inner shell: a socket patch
+  cap.vertices = inner.vertices;
+  for (const auto& t : inner.triangles) {
+    if (inner.vertices[static_cast<std::size_t>(t[0])].z() > 1.0 && inner.vertices[static_cast<std::size_t>(t[1])].z() > 1.0 &&
+        inner.vertices[static_cast<std::size_t>(t[2])].z() > 1.0) {
+      cap.triangles.push_back(t);
+    }
+  }
+  const TriMesh box = geometry::make_box(Vec3(-5, -5, -25), Vec3(5, 5, -10), 6);
+  const TriMesh fixed = geometry::merge_meshes({&cap, &box});
+  TriMesh ball = geometry::make_octasphere(Vec3::Zero(), 15.0, 6);
+  std::mt19937_64 rng(41);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (auto& v : ball.vertices) v *= 1.0 + 0.06 * u(rng);  // radii 15-15.9
+  const RadialTable table = build_radial_table(fixed, Vec3::Zero(), {});
+  const RadialPoseQuery prepared(table, fixed, ball, {});
+  EXPECT_EQ(prepared.num_kept_vertices(), ball.num_vertices());  // the global span keeps them all
+  const std::size_t tested = prepared.num_tested_vertices(Eigen::Isometry3d::Identity());
+  EXPECT_LT(tested, ball.num_vertices() / 2);  // the buckets facing the socket are dropped
+  std::normal_distribution<double> g;
+  std::vector<Eigen::Isometry3d> poses{Eigen::Isometry3d::Identity()};
+  for (int k = 0; k < 6; ++k) {
+    const double reach = k < 2 ? 0.0 : (k < 4 ? 0.3 : (k < 5 ? 6.0 : 20.0));
+    poses.push_back(turn_about(Vec3::Zero(), Vec3(g(rng), g(rng), g(rng)), 50.0 * g(rng),
+                               reach * Vec3(g(rng), g(rng), g(rng)).normalized()));
+  }
+  // Shifted sideways by most of the ball's radius: vertices whose rest directions lie 28-48 deg
+  // from the box's axis enter it, their directions turned by up to ~50 deg, beyond the map's
+  // dilation: the map must not be used for them.
+  poses.push_back(turn_about(Vec3::Zero(), Vec3::UnitX(), 0.0, Vec3(-12.0, 0, 0)));
+  poses.push_back(turn_about(Vec3::Zero(), Vec3(1, 2, 0.5), 10.0, Vec3(-11.0, 2.0, 0.0)));
+  expect_pose_query_exact(table, fixed, ball, poses, "distance map");
+  // A translation beyond the ball's radius: no bucket's directions are bounded, the map drops nothing.
+  const Eigen::Isometry3d far = turn_about(Vec3::Zero(), Vec3::UnitX(), 0.0, Vec3(0, 0, 20.0));
+  EXPECT_EQ(prepared.num_tested_vertices(far), ball.num_vertices());
+}
 }  // namespace
 }  // namespace hipfai::contact
