@@ -461,6 +461,7 @@ RadialPoseQuery::RadialPoseQuery(const RadialTable& table, const geometry::TriMe
   const std::size_t count = mobile.num_vertices();
   coarse_grid_ = make_radial_grid(RadialMapping::kCube,
                                   std::max<std::int64_t>(6, static_cast<std::int64_t>(count / kBucketVertices)));
+  coarse_locator_ = make_cube_locator(coarse_grid_.dimension);
   const RadialGrid& coarse = coarse_grid_;
   struct Key {
     int coarse_cell;
@@ -629,7 +630,9 @@ void RadialPoseQuery::build_distance_map() {
 bool RadialPoseQuery::map_culled(const Bucket& bucket, const Vec3& axis, double shift_mm, double scale_mm) const {
   if (map_lo_.empty() || !(bucket.half_angle_rad < 4.0) || !(shift_mm < bucket.r_lo)) return false;
   if (!(bucket.half_angle_rad + std::asin(shift_mm / bucket.r_lo) <= map_dilation_rad_)) return false;
-  const auto g = static_cast<std::size_t>(cell_of_direction(coarse_grid_, axis));
+  // The locator may differ from cell_of_direction within ~1e-15 rad of a border; the map's cells
+  // reach 1e-6 rad further than the dilation, which covers it.
+  const auto g = static_cast<std::size_t>(coarse_locator_.cell(axis));
   const double slack = shift_mm + 1e-9 * scale_mm;
   if (span_side(options_) == SpanCull::kBelowLo) return bucket.r_hi + slack < map_lo_[g] * (1.0 - 1e-12);
   return bucket.r_lo - slack > map_hi_[g] * (1.0 + 1e-12);

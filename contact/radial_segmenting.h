@@ -188,6 +188,7 @@ class RadialPoseQuery {
   // per-vertex test decides it (no qualifying crossing). The dilation is a speed trade only: a
   // wider one covers larger translations with looser spans; the answers never change.
   RadialGrid coarse_grid_;
+  RadialSpans::CubeLocator coarse_locator_;  // the coarse grid's cells without atan
   double map_dilation_rad_ = 0.0;
   std::vector<double> map_lo_, map_hi_;  // per coarse cell; empty: no map
   std::size_t num_kept_ = 0;  // vertices kept at a pose about O (for num_kept_vertices)

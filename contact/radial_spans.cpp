@@ -171,24 +171,7 @@ void compute_radial_spans(RadialTable& table, const geometry::TriMesh& fixed) {
       }
     }
   }
-  if (table.grid.mapping == RadialMapping::kCube) {
-    RadialSpans::CubeLocator& cube = spans.cube;
-    const int n = table.grid.dimension;
-    cube.dimension = n;
-    cube.border.resize(static_cast<std::size_t>(n) + 1);
-    for (int i = 0; i <= n; ++i) {
-      cube.border[static_cast<std::size_t>(i)] = std::tan(i * (std::numbers::pi / 2.0) / n - std::numbers::pi / 4.0);
-    }
-    const int bins = 4 * n;
-    cube.bins_per_unit = bins / 2.0;
-    cube.start.resize(static_cast<std::size_t>(bins));
-    for (int bin = 0; bin < bins; ++bin) {
-      const double u = -1.0 + bin / cube.bins_per_unit;
-      int i = 0;
-      while (i + 1 < n && u >= cube.border[static_cast<std::size_t>(i + 1)]) ++i;
-      cube.start[static_cast<std::size_t>(bin)] = i;
-    }
-  }
+  if (table.grid.mapping == RadialMapping::kCube) spans.cube = make_cube_locator(table.grid.dimension);
   // The cap: around the mean direction of the vertices used by triangles; every vertex's
   // direction within it. Kept only when clearly narrower than a hemisphere (convex cone).
   std::vector<std::uint8_t> used(fixed.num_vertices(), 0);
@@ -259,6 +242,26 @@ bool ConeSeparation::edge_plane_separates(std::int32_t t, std::int32_t u) const 
 bool ConeSeparation::separated(std::int32_t t, std::int32_t u) const {
   if (orientation_[static_cast<std::size_t>(t)] == 0 || orientation_[static_cast<std::size_t>(u)] == 0) return false;
   return edge_plane_separates(t, u) || edge_plane_separates(u, t);
+}
+
+RadialSpans::CubeLocator make_cube_locator(int dimension) {
+  RadialSpans::CubeLocator cube;
+  const int n = dimension;
+  cube.dimension = n;
+  cube.border.resize(static_cast<std::size_t>(n) + 1);
+  for (int i = 0; i <= n; ++i) {
+    cube.border[static_cast<std::size_t>(i)] = std::tan(i * (std::numbers::pi / 2.0) / n - std::numbers::pi / 4.0);
+  }
+  const int bins = 4 * n;
+  cube.bins_per_unit = bins / 2.0;
+  cube.start.resize(static_cast<std::size_t>(bins));
+  for (int bin = 0; bin < bins; ++bin) {
+    const double u = -1.0 + bin / cube.bins_per_unit;
+    int i = 0;
+    while (i + 1 < n && u >= cube.border[static_cast<std::size_t>(i + 1)]) ++i;
+    cube.start[static_cast<std::size_t>(bin)] = i;
+  }
+  return cube;
 }
 
 bool radial_spans_valid(const RadialSpans& spans, const geometry::TriMesh& fixed) {

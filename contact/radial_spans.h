@@ -139,6 +139,9 @@ double distance_to_origin(const Eigen::Vector3d& a, const Eigen::Vector3d& b, co
 // The crossing test's per-triangle values of a triangle given relative to O (TrianglePlanes).
 RadialSpans::TrianglePlanes triangle_planes(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c);
 
+// The cube locator of a cube-mapping grid of `dimension` cells per face edge (CubeLocator).
+RadialSpans::CubeLocator make_cube_locator(int dimension);
+
 // The widened radial span of a triangle given relative to O (see EXACTNESS above).
 void triangle_radial_span(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
                           double& lo, double& hi);
