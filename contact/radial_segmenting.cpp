@@ -222,21 +222,59 @@ struct VertexQuery {
     std::vector<Crossing> crossings;
   };
 
-  // The crossing rule for the mobile vertex `index` at `position`; false when it does not penetrate.
-  // The culls that need no triangle (inline, as most vertices end here), then decide().
-  bool penetrates(std::int32_t index, const Vec3& position, Scratch& scratch, PenetrationPair& out) const {
-    const Vec3 direction = position - table.centre;
-    if (direction.isZero(0.0)) return false;  // v == O: no ray
-    if (!use_spans) return decide(index, direction, 0.0, -1, scratch, out);
-    const double r = direction.norm();
-    if (outside_span(side, r, spans.lo, spans.hi) || outside_cap(spans, direction, r)) return false;
-    int id = -1;
+  // A vertex the culls that need no triangle keep, with what decide() needs.
+  struct Kept {
+    std::int32_t index = -1;
+    int id = -1;  // packed cell (spans without neighbour cells), else -1
+    double r = 0.0;
+    Vec3 direction = Vec3::Zero();
+  };
+
+  // The culls that need no triangle (inline, as most vertices end here): false when they decide
+  // that the vertex does not penetrate, else `kept` is filled for decide().
+  bool keep(std::int32_t index, const Vec3& position, Kept& kept) const {
+    kept.index = index;
+    kept.direction = position - table.centre;
+    if (kept.direction.isZero(0.0)) return false;  // v == O: no ray
+    kept.id = -1;
+    kept.r = 0.0;
+    if (!use_spans) return true;
+    kept.r = kept.direction.norm();
+    if (outside_span(side, kept.r, spans.lo, spans.hi) || outside_cap(spans, kept.direction, kept.r)) return false;
     if (options.neighbour_cells == 0) {
-      id = spans.cube.dimension > 0 ? spans.cube.cell(direction) : cell_of_direction(table.grid, direction);
-      const RadialSpans::CellBounds& bounds = spans.cell_bounds[static_cast<std::size_t>(id)];
-      if (outside_span(side, r, bounds.lo, bounds.hi)) return false;
+      kept.id = spans.cube.dimension > 0 ? spans.cube.cell(kept.direction) : cell_of_direction(table.grid, kept.direction);
+      const RadialSpans::CellBounds& bounds = spans.cell_bounds[static_cast<std::size_t>(kept.id)];
+      if (outside_span(side, kept.r, bounds.lo, bounds.hi)) return false;
     }
-    return decide(index, direction, r, id, scratch, out);
+    return true;
+  }
+
+  // Starts loading what decide() reads for a kept vertex, in the order of its dependent reads:
+  // stage 0 the cell record, stage 1 its first entries (the record loaded by then), stage 2 the
+  // first entry's triangle values.
+  void prefetch(const Kept& kept, int stage) const {
+    if (kept.id < 0) return;
+    const RadialSpans::Cell& cell = spans.cells[static_cast<std::size_t>(kept.id)];
+    if (stage == 0) {
+      __builtin_prefetch(&cell);
+    } else if (stage == 1) {
+      if (cell.begin < cell.end) __builtin_prefetch(&spans.entries[cell.begin]);
+    } else {
+      // The triangle values (two cache lines each) of the first entries the vertex will test.
+      for (std::uint32_t k = cell.begin; k < cell.end && k < cell.begin + 4; ++k) {
+        const RadialSpans::Entry& entry = spans.entries[k];
+        if (kept.r < entry.lo * (1.0 - 1e-12) && side == SpanCull::kBelowLo) break;
+        const auto* planes = reinterpret_cast<const char*>(&spans.planes[static_cast<std::size_t>(entry.triangle)]);
+        __builtin_prefetch(planes);
+        __builtin_prefetch(planes + 64);
+      }
+    }
+  }
+
+  // The crossing rule for the mobile vertex `index` at `position`; false when it does not penetrate.
+  bool penetrates(std::int32_t index, const Vec3& position, Scratch& scratch, PenetrationPair& out) const {
+    Kept kept;
+    return keep(index, position, kept) && decide(kept.index, kept.direction, kept.r, kept.id, scratch, out);
   }
 
   // The triangle tests for a vertex the culls kept: `r` = |direction| and `id` its packed cell
@@ -739,7 +777,21 @@ PenetrationResult RadialPoseQuery::run(const Eigen::Isometry3d& pose, const Posi
   const VertexQuery query(*table_, *fixed_, options_, use_spans_);
   result.pairs = gather_blocks(block_start.size() - 1, options_.num_threads,
                                [&](std::size_t block, VertexQuery::Scratch& scratch, std::vector<PenetrationPair>& hits) {
+                                 // Two passes over batches of vertices: the culls first, starting the
+                                 // loads of each kept vertex's cell, then the triangle tests, so the
+                                 // loads of several vertices overlap (hits are sorted by vertex below).
                                  PenetrationPair pair;
+                                 std::array<VertexQuery::Kept, 32> batch;
+                                 std::size_t batched = 0;
+                                 auto flush = [&] {
+                                   for (std::size_t b = 0; b < batched; ++b) {
+                                     if (b + 4 < batched) query.prefetch(batch[b + 4], 1);
+                                     if (b + 2 < batched) query.prefetch(batch[b + 2], 2);
+                                     const VertexQuery::Kept& v = batch[b];
+                                     if (query.decide(v.index, v.direction, v.r, v.id, scratch, pair)) hits.push_back(pair);
+                                   }
+                                   batched = 0;
+                                 };
                                  for (std::size_t i = block_start[block]; i < block_start[block + 1]; ++i) {
                                    const Bucket& bucket = buckets_[kept[i]];
                                    for (std::uint32_t k = bucket.begin; k < bucket.end; ++k) {
@@ -748,9 +800,12 @@ PenetrationResult RadialPoseQuery::run(const Eigen::Isometry3d& pose, const Posi
                                        finite = false;
                                        continue;
                                      }
-                                     if (query.penetrates(sorted_index_[k], position, scratch, pair)) hits.push_back(pair);
+                                     if (!query.keep(sorted_index_[k], position, batch[batched])) continue;
+                                     query.prefetch(batch[batched], 0);
+                                     if (++batched == batch.size()) flush();
                                    }
                                  }
+                                 flush();
                                });
   if (!finite) {
     result.status = QueryStatus::kInvalidInput;
