@@ -12,6 +12,7 @@
 #include <numbers>
 
 namespace hipfai::contact {
+
 namespace {
 
 // The adjacent crossing found so far for one vertex (see the crossing rule in the header).
@@ -73,8 +74,6 @@ RayCrossing crossing_of(const geometry::TriMesh& fixed, const Vec3& centre, cons
 // (d . (a x b) with a x b computed once), the same tail of line_crossing_with_facing on the same
 // N and det, and the exact test on the vertices when the filter cannot decide. Same answers bit
 // for bit.
-// `clear_hit` is set when the ray crosses with every edge function beyond its bound: the ray then
-// runs strictly inside the triangle's cone (RadialSpans::separated).
 // `clear_hit` is set when the ray crosses with every edge function beyond its bound: it then runs
 // strictly inside the triangle's cone (RadialSpans::separated).
 RayCrossing crossing_with_planes(const geometry::TriMesh& fixed, const Vec3& centre, const Vec3& direction,
@@ -251,7 +250,7 @@ struct VertexQuery {
 
   // Starts loading what decide() reads for a kept vertex, in the order of its dependent reads:
   // stage 0 the cell record, stage 1 its first entries (the record loaded by then), stage 2 the
-  // first entry's triangle values.
+  // triangle values of up to four entries it will test (the entries loaded by then).
   void prefetch(const Kept& kept, int stage) const {
     if (kept.id < 0) return;
     const RadialSpans::Cell& cell = spans.cells[static_cast<std::size_t>(kept.id)];
