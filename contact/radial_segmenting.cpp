@@ -262,7 +262,7 @@ struct VertexQuery {
       // The triangle values (two cache lines each) of the first entries the vertex will test.
       for (std::uint32_t k = cell.begin; k < cell.end && k < cell.begin + 4; ++k) {
         const RadialSpans::Entry& entry = spans.entries[k];
-        if (kept.r < entry.lo * (1.0 - 1e-12) && side == SpanCull::kBelowLo) break;
+        if (side == SpanCull::kBelowLo && outside_span(side, kept.r, entry.lo, entry.hi)) break;
         const auto* planes = reinterpret_cast<const char*>(&spans.planes[static_cast<std::size_t>(entry.triangle)]);
         __builtin_prefetch(planes);
         __builtin_prefetch(planes + 64);
@@ -273,13 +273,15 @@ struct VertexQuery {
   // The crossing rule for the mobile vertex `index` at `position`; false when it does not penetrate.
   bool penetrates(std::int32_t index, const Vec3& position, Scratch& scratch, PenetrationPair& out) const {
     Kept kept;
-    return keep(index, position, kept) && decide(kept.index, kept.direction, kept.r, kept.id, scratch, out);
+    return keep(index, position, kept) && decide(kept, scratch, out);
   }
 
-  // The triangle tests for a vertex the culls kept: `r` = |direction| and `id` its packed cell
-  // when the spans are used without neighbour cells (-1 otherwise).
-  [[gnu::noinline]] bool decide(std::int32_t index, const Vec3& direction, double r, int id, Scratch& scratch,
-                                PenetrationPair& out) const {
+  // The triangle tests for a vertex the culls kept.
+  [[gnu::noinline]] bool decide(const Kept& kept, Scratch& scratch, PenetrationPair& out) const {
+    const std::int32_t index = kept.index;
+    const Vec3& direction = kept.direction;
+    const double r = kept.r;
+    const int id = kept.id;
     Adjacent adjacent;
     scratch.crossings.clear();
     const double m_d = max_abs(direction);
@@ -639,10 +641,10 @@ void RadialPoseQuery::build_distance_map() {
     double corner_angle = 0.0;
     for (const int ci : {i, i + 1}) {
       for (const int cj : {j, j + 1}) {
-        Vec3 corner;
+        Vec3 corner;  // the cube map's borders are the locator's
         corner[k] = face % 2 == 0 ? 1.0 : -1.0;
-        corner[(k + 1) % 3] = std::tan(ci * (std::numbers::pi / 2.0) / n - std::numbers::pi / 4.0);
-        corner[(k + 2) % 3] = std::tan(cj * (std::numbers::pi / 2.0) / n - std::numbers::pi / 4.0);
+        corner[(k + 1) % 3] = coarse_locator_.border[static_cast<std::size_t>(ci)];
+        corner[(k + 2) % 3] = coarse_locator_.border[static_cast<std::size_t>(cj)];
         corner.normalize();
         corner_angle = std::max(corner_angle, std::atan2(corner.cross(centre).norm(), corner.dot(centre)));
       }
@@ -786,8 +788,7 @@ PenetrationResult RadialPoseQuery::run(const Eigen::Isometry3d& pose, const Posi
                                    for (std::size_t b = 0; b < batched; ++b) {
                                      if (b + 4 < batched) query.prefetch(batch[b + 4], 1);
                                      if (b + 2 < batched) query.prefetch(batch[b + 2], 2);
-                                     const VertexQuery::Kept& v = batch[b];
-                                     if (query.decide(v.index, v.direction, v.r, v.id, scratch, pair)) hits.push_back(pair);
+                                     if (query.decide(batch[b], scratch, pair)) hits.push_back(pair);
                                    }
                                    batched = 0;
                                  };

@@ -11,6 +11,12 @@ namespace hipfai::contact {
 
 using Vec3 = Eigen::Vector3d;
 
+namespace {
+
+double max_abs(const Vec3& v) { return std::max({std::abs(v.x()), std::abs(v.y()), std::abs(v.z())}); }
+
+}  // namespace
+
 double distance_to_origin(const Vec3& a, const Vec3& b, const Vec3& c) {
   const Vec3 ab = b - a, ac = c - a, ap = -a;
   const double d1 = ab.dot(ap), d2 = ac.dot(ap);
@@ -34,7 +40,6 @@ double distance_to_origin(const Vec3& a, const Vec3& b, const Vec3& c) {
 }
 
 RadialSpans::TrianglePlanes triangle_planes(const Vec3& a, const Vec3& b, const Vec3& c) {
-  auto max_abs = [](const Vec3& v) { return std::max({std::abs(v.x()), std::abs(v.y()), std::abs(v.z())}); };
   RadialSpans::TrianglePlanes planes;
   planes.edge_ab = a.cross(b);
   planes.edge_bc = b.cross(c);
@@ -75,8 +80,6 @@ void triangle_radial_span(const Vec3& a, const Vec3& b, const Vec3& c, double& l
 }
 
 namespace {
-
-double max_abs(const Vec3& v) { return std::max({std::abs(v.x()), std::abs(v.y()), std::abs(v.z())}); }
 
 // The sign of det(a, b, c) = a . (b x c) when planes.det is beyond the bound on its rounding (the
 // bound of the query's edge functions, same expression), else 0.
@@ -139,9 +142,9 @@ void compute_radial_spans(RadialTable& table, const geometry::TriMesh& fixed) {
     // Ascending lo (then index): a vertex at r on the kBelowLo side needs only the prefix of
     // entries with lo <= r.
     listed = table.cells[id];
+    // (float_below is monotone, so the stored float lo ascend too.)
     std::sort(listed.begin(), listed.end(), [&](std::int32_t x, std::int32_t y) {
-      const float lo_x = float_below(spans.triangle_lo[static_cast<std::size_t>(x)]);
-      const float lo_y = float_below(spans.triangle_lo[static_cast<std::size_t>(y)]);
+      const double lo_x = spans.triangle_lo[static_cast<std::size_t>(x)], lo_y = spans.triangle_lo[static_cast<std::size_t>(y)];
       return lo_x != lo_y ? lo_x < lo_y : x < y;
     });
     for (const std::int32_t t : listed) {
@@ -152,22 +155,13 @@ void compute_radial_spans(RadialTable& table, const geometry::TriMesh& fixed) {
     }
     cell.end = static_cast<std::uint32_t>(spans.entries.size());
     spans.cell_bounds[id] = {float_below(cell.lo), float_above(cell.hi)};
+    // Only later entries of the first 64: the query reads a cell's entries in order.
     const std::size_t slots = std::min<std::size_t>(listed.size(), 64);
     const std::size_t first = spans.separated.size();
     spans.separated.resize(first + listed.size(), 0);
     for (std::size_t i = 0; i < slots; ++i) {
       for (std::size_t j = i + 1; j < slots; ++j) {
-        if (separation.separated(listed[i], listed[j])) {
-          spans.separated[first + i] |= std::uint64_t{1} << j;
-          spans.separated[first + j] |= std::uint64_t{1} << i;
-        }
-      }
-    }
-    for (std::size_t i = slots; i < listed.size(); ++i) {  // beyond the mask: separated from the first 64 only
-      for (std::size_t j = 0; j < slots; ++j) {
-        if (separation.separated(listed[i], listed[j])) {
-          spans.separated[first + i] |= std::uint64_t{1} << j;
-        }
+        if (separation.separated(listed[i], listed[j])) spans.separated[first + i] |= std::uint64_t{1} << j;
       }
     }
   }

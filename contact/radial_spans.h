@@ -120,7 +120,8 @@ struct RadialSpans {
   // stops at the first entry beyond its distance.
   std::vector<Entry> entries;
   // SEPARATED CONES (parallel to `entries`): bit s of separated[k] is set when the cone from O over
-  // the triangle of entry k and that over entry cell.begin + s (s < 64, same cell) have disjoint
+  // the triangle of entry k and that over the later entry cell.begin + s of its cell (s < 64; the
+  // query reads a cell's entries in order, so earlier ones are never skipped) have disjoint
   // interiors, proved by a plane through O along an edge of one of them with the other on its
   // closed far side (separating planes of two convex cones; the signs are those of the exact
   // triple products, certified by the error bound of TrianglePlanes, and a vertex the two
