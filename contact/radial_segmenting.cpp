@@ -225,6 +225,7 @@ struct VertexQuery {
   struct Kept {
     std::int32_t index = -1;
     int id = -1;  // packed cell (spans without neighbour cells), else -1
+    int part = -1;  // the direction's part of the cell for its hint (cube mapping), else -1
     double r = 0.0;
     Vec3 direction = Vec3::Zero();
   };
@@ -236,36 +237,52 @@ struct VertexQuery {
     kept.direction = position - table.centre;
     if (kept.direction.isZero(0.0)) return false;  // v == O: no ray
     kept.id = -1;
+    kept.part = -1;
     kept.r = 0.0;
     if (!use_spans) return true;
     kept.r = kept.direction.norm();
     if (outside_span(side, kept.r, spans.lo, spans.hi) || outside_cap(spans, kept.direction, kept.r)) return false;
     if (options.neighbour_cells == 0) {
-      kept.id = spans.cube.dimension > 0 ? spans.cube.cell(kept.direction) : cell_of_direction(table.grid, kept.direction);
+      kept.id = spans.cube.dimension > 0 ? spans.cube.cell(kept.direction, kept.part)
+                                         : cell_of_direction(table.grid, kept.direction);
       const RadialSpans::CellBounds& bounds = spans.cell_bounds[static_cast<std::size_t>(kept.id)];
       if (outside_span(side, kept.r, bounds.lo, bounds.hi)) return false;
     }
     return true;
   }
 
+  // The slot of the entry a kept vertex tests first (RadialSpans, HINTS), or kNoHint.
+  static int hinted_slot(const Kept& kept, const RadialSpans::Cell& cell) {
+    return kept.part >= 0 ? cell.hint[static_cast<std::size_t>(kept.part)] : RadialSpans::kNoHint;
+  }
+
   // Starts loading what decide() reads for a kept vertex, in the order of its dependent reads:
-  // stage 0 the cell record, stage 1 its first entries (the record loaded by then), stage 2 the
-  // triangle values of up to four entries it will test (the entries loaded by then).
+  // stage 0 the cell record, stage 1 its hinted (else first) entry (the record loaded by then),
+  // stage 2 the triangle values of that entry, or of up to four first entries without a hint.
   void prefetch(const Kept& kept, int stage) const {
     if (kept.id < 0) return;
     const RadialSpans::Cell& cell = spans.cells[static_cast<std::size_t>(kept.id)];
+    const int hint = hinted_slot(kept, cell);
     if (stage == 0) {
       __builtin_prefetch(&cell);
     } else if (stage == 1) {
-      if (cell.begin < cell.end) __builtin_prefetch(&spans.entries[cell.begin]);
+      if (hint != RadialSpans::kNoHint) __builtin_prefetch(&spans.entries[cell.begin + static_cast<std::uint32_t>(hint)]);
+      else if (cell.wedge_end < cell.end) __builtin_prefetch(&spans.entries[cell.wedge_end]);
     } else {
-      // The triangle values (two cache lines each) of the first entries the vertex will test.
-      for (std::uint32_t k = cell.begin; k < cell.end && k < cell.begin + 4; ++k) {
-        const RadialSpans::Entry& entry = spans.entries[k];
-        if (side == SpanCull::kBelowLo && outside_span(side, kept.r, entry.lo, entry.hi)) break;
+      // The triangle values (two cache lines each) of the entries the vertex will test first.
+      auto load = [&](const RadialSpans::Entry& entry) {
         const auto* planes = reinterpret_cast<const char*>(&spans.planes[static_cast<std::size_t>(entry.triangle)]);
         __builtin_prefetch(planes);
         __builtin_prefetch(planes + 64);
+      };
+      if (hint != RadialSpans::kNoHint) {
+        load(spans.entries[cell.begin + static_cast<std::uint32_t>(hint)]);
+        return;
+      }
+      for (std::uint32_t k = cell.wedge_end; k < cell.end && k < cell.wedge_end + 4; ++k) {
+        const RadialSpans::Entry& entry = spans.entries[k];
+        if (side == SpanCull::kBelowLo && outside_span(side, kept.r, entry.lo, entry.hi)) break;
+        load(entry);
       }
     }
   }
@@ -317,11 +334,31 @@ struct VertexQuery {
       // Entries come in ascending lo: on the kBelowLo side the first one beyond r ends the cell.
       std::uint64_t missed = 0;
       const bool stop_at_lo = skip_triangles && side == SpanCull::kBelowLo;
-      for (std::uint32_t k = cell.begin; k < cell.end; ++k) {
+      std::uint32_t first = cell.begin;
+      if (cell.wedge_end > cell.begin) {
+        // The leading triangles without a span are thin cones around one plane through O: a ray
+        // clear of their wedge misses them all (radial_spans.h, FLAT WEDGES).
+        const RadialSpans::FlatWedge& wedge = spans.wedges[cell.wedge];
+        if (std::abs(direction.dot(wedge.normal)) > wedge.sin_bound * r) first = cell.wedge_end;
+      }
+      auto skipped = [&](const RadialSpans::Entry& entry) {
+        return skip_triangles && outside_span(side, r, entry.lo, entry.hi);
+      };
+      // The hinted entry first (a clear hit there usually leaves nothing to test), then the others.
+      const int hint = hinted_slot(kept, cell);
+      if (hint != RadialSpans::kNoHint) {
+        const std::uint32_t k = cell.begin + static_cast<std::uint32_t>(hint);
+        if (!skipped(spans.entries[k])) {
+          offer_triangle(spans.entries[k].triangle);
+          if (clear_hit) missed |= spans.separated[k];
+          missed |= std::uint64_t{1} << hint;
+        }
+      }
+      for (std::uint32_t k = first; k < cell.end; ++k) {
         const RadialSpans::Entry& entry = spans.entries[k];
         if (stop_at_lo) {
           if (r < entry.lo * (1.0 - 1e-12)) break;  // outside_span for this and every later entry
-        } else if (skip_triangles && outside_span(side, r, entry.lo, entry.hi)) {
+        } else if (skipped(entry)) {
           continue;
         }
         const std::uint32_t slot = k - cell.begin;

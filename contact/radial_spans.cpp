@@ -1,6 +1,9 @@
 #include "contact/radial_spans.h"
 
 #include "contact/radial_table.h"
+#include "contact/ray_triangle.h"
+
+#include <Eigen/Eigenvalues>
 
 #include <algorithm>
 #include <cmath>
@@ -103,6 +106,89 @@ float float_above(double value) {
 
 }  // namespace
 
+RadialSpans::FlatWedge flat_wedge(std::span<const std::array<Vec3, 3>> triangles) {
+  RadialSpans::FlatWedge wedge;  // sin_bound 2: none
+  if (triangles.empty()) return wedge;
+  // The plane: normal to the direction the unit vertex directions spread least along.
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  for (const auto& triangle : triangles) {
+    for (const Vec3& x : triangle) {
+      const double r = x.norm();
+      if (!(r > 0.0)) return wedge;  // a vertex at O: directions everywhere
+      scatter += (x / r) * (x / r).transpose();
+    }
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(scatter);
+  if (solver.info() != Eigen::Success) return wedge;
+  const Vec3 n = solver.eigenvectors().col(0);
+  // A ray y = sum w_i x_i (w_i >= 0) in a triangle's cone: |y . n| <= across sum w_i |x_i| with
+  // across = max |x_i . n| / |x_i|, and |y| >= y . m >= cos_rho sum w_i |x_i| with m the unit mean of
+  // the vertex directions and cos_rho = min x_i . m / |x_i| (> 1/2: a cone narrower than 60 deg,
+  // convex, so a hit lies in it); so |y . n| / |y| <= across / cos_rho. The 1e-9 margin covers the
+  // rounding here and in the query's |d . n| and |d| (~1e-15 relative).
+  double bound = 0.0;
+  for (const auto& triangle : triangles) {
+    std::array<Vec3, 3> unit;
+    Vec3 sum = Vec3::Zero();
+    for (std::size_t k = 0; k < 3; ++k) {
+      unit[k] = triangle[k] / triangle[k].norm();
+      sum += unit[k];
+    }
+    if (!(sum.norm() > 0.0)) return wedge;
+    const Vec3 mean = sum.normalized();
+    double cos_rho = 1.0, across = 0.0;
+    for (const Vec3& u : unit) {
+      cos_rho = std::min(cos_rho, u.dot(mean));
+      across = std::max(across, std::abs(u.dot(n)));
+    }
+    if (!(cos_rho > 0.5)) return wedge;
+    bound = std::max(bound, across / cos_rho);
+  }
+  bound += 1e-9;
+  if (!(bound < 0.5)) return wedge;
+  wedge.normal = n;
+  wedge.sin_bound = bound;
+  return wedge;
+}
+
+namespace {
+
+// The hints of every cell of a cube-mapping table (RadialSpans, HINTS).
+void compute_hints(RadialSpans& spans, const geometry::TriMesh& fixed, const Vec3& centre) {
+  const RadialSpans::CubeLocator& cube = spans.cube;
+  const int n = cube.dimension, side = RadialSpans::kHintSide;
+  auto relative = [&](std::int32_t t, int k) {
+    return Vec3(fixed.vertices[static_cast<std::size_t>(fixed.triangles[static_cast<std::size_t>(t)][static_cast<std::size_t>(k)])] -
+                centre);
+  };
+  for (std::size_t id = 0; id < spans.cells.size(); ++id) {
+    RadialSpans::Cell& cell = spans.cells[id];
+    cell.hint.fill(RadialSpans::kNoHint);
+    const std::uint32_t last = std::min(cell.end, cell.begin + 64);
+    if (cell.wedge_end >= last) continue;
+    const int i = static_cast<int>(id) % n, j = (static_cast<int>(id) / n) % n, face = static_cast<int>(id) / (n * n);
+    const int k = face / 2;
+    const auto lower_u = static_cast<std::size_t>(i), lower_w = static_cast<std::size_t>(j);
+    for (int part_w = 0; part_w < side; ++part_w) {
+      for (int part_u = 0; part_u < side; ++part_u) {
+        Vec3 d;
+        d[k] = face % 2 == 0 ? 1.0 : -1.0;
+        d[(k + 1) % 3] = cube.border[lower_u] + (part_u + 0.5) / side * (cube.border[lower_u + 1] - cube.border[lower_u]);
+        d[(k + 2) % 3] = cube.border[lower_w] + (part_w + 0.5) / side * (cube.border[lower_w + 1] - cube.border[lower_w]);
+        for (std::uint32_t e = cell.wedge_end; e < last; ++e) {
+          const std::int32_t t = spans.entries[e].triangle;
+          if (ray_triangle_crossing(d, relative(t, 0), relative(t, 1), relative(t, 2)).hit) {
+            cell.hint[static_cast<std::size_t>(part_w * side + part_u)] = static_cast<std::uint8_t>(e - cell.begin);
+            break;
+          }
+        }
+      }
+    }
+  }
+}
+
+}  // namespace
+
 void compute_radial_spans(RadialTable& table, const geometry::TriMesh& fixed) {
   RadialSpans& spans = table.spans;
   spans = RadialSpans{};
@@ -134,11 +220,11 @@ void compute_radial_spans(RadialTable& table, const geometry::TriMesh& fixed) {
   spans.separated.clear();
   spans.separated.reserve(table.num_entries());
   std::vector<std::int32_t> listed;
+  std::vector<std::array<Vec3, 3>> flat;
   for (std::size_t id = 0; id < table.cells.size(); ++id) {
     RadialSpans::Cell& cell = spans.cells[id];
     cell.begin = static_cast<std::uint32_t>(spans.entries.size());
-    cell.lo = always_lo;
-    cell.hi = always_hi;
+    double cell_lo = always_lo, cell_hi = always_hi;
     // Ascending lo (then index): a vertex at r on the kBelowLo side needs only the prefix of
     // entries with lo <= r.
     listed = table.cells[id];
@@ -149,23 +235,45 @@ void compute_radial_spans(RadialTable& table, const geometry::TriMesh& fixed) {
     });
     for (const std::int32_t t : listed) {
       const double lo = spans.triangle_lo[static_cast<std::size_t>(t)], hi = spans.triangle_hi[static_cast<std::size_t>(t)];
-      cell.lo = std::min(cell.lo, lo);
-      cell.hi = std::max(cell.hi, hi);
+      cell_lo = std::min(cell_lo, lo);
+      cell_hi = std::max(cell_hi, hi);
       spans.entries.push_back({t, float_below(lo), float_above(hi)});
     }
     cell.end = static_cast<std::uint32_t>(spans.entries.size());
-    spans.cell_bounds[id] = {float_below(cell.lo), float_above(cell.hi)};
-    // Only later entries of the first 64: the query reads a cell's entries in order.
+    spans.cell_bounds[id] = {float_below(cell_lo), float_above(cell_hi)};
+    // The flat wedge of the leading entries without a span (lo 0).
+    cell.wedge_end = cell.begin;
+    flat.clear();
+    for (std::size_t i = 0; i < listed.size() && spans.triangle_lo[static_cast<std::size_t>(listed[i])] == 0.0; ++i) {
+      const auto& tri = fixed.triangles[static_cast<std::size_t>(listed[i])];
+      flat.push_back({fixed.vertices[static_cast<std::size_t>(tri[0])] - table.centre,
+                      fixed.vertices[static_cast<std::size_t>(tri[1])] - table.centre,
+                      fixed.vertices[static_cast<std::size_t>(tri[2])] - table.centre});
+    }
+    if (!flat.empty()) {
+      const RadialSpans::FlatWedge wedge = flat_wedge(flat);
+      if (wedge.sin_bound < 1.0) {
+        cell.wedge_end = cell.begin + static_cast<std::uint32_t>(flat.size());
+        cell.wedge = static_cast<std::uint32_t>(spans.wedges.size());
+        spans.wedges.push_back(wedge);
+      }
+    }
+    // Pairs among the first 64 entries (both ways: a hinted entry is tested before its cell's others).
     const std::size_t slots = std::min<std::size_t>(listed.size(), 64);
     const std::size_t first = spans.separated.size();
     spans.separated.resize(first + listed.size(), 0);
     for (std::size_t i = 0; i < slots; ++i) {
       for (std::size_t j = i + 1; j < slots; ++j) {
-        if (separation.separated(listed[i], listed[j])) spans.separated[first + i] |= std::uint64_t{1} << j;
+        if (!separation.separated(listed[i], listed[j])) continue;
+        spans.separated[first + i] |= std::uint64_t{1} << j;
+        spans.separated[first + j] |= std::uint64_t{1} << i;
       }
     }
   }
-  if (table.grid.mapping == RadialMapping::kCube) spans.cube = make_cube_locator(table.grid.dimension);
+  if (table.grid.mapping == RadialMapping::kCube) {
+    spans.cube = make_cube_locator(table.grid.dimension);
+    compute_hints(spans, fixed, table.centre);
+  }
   // The cap: around the mean direction of the vertices used by triangles; every vertex's
   // direction within it. Kept only when clearly narrower than a hemisphere (convex cone).
   std::vector<std::uint8_t> used(fixed.num_vertices(), 0);
@@ -245,6 +353,10 @@ RadialSpans::CubeLocator make_cube_locator(int dimension) {
   cube.border.resize(static_cast<std::size_t>(n) + 1);
   for (int i = 0; i <= n; ++i) {
     cube.border[static_cast<std::size_t>(i)] = std::tan(i * (std::numbers::pi / 2.0) / n - std::numbers::pi / 4.0);
+  }
+  cube.part_scale.resize(static_cast<std::size_t>(n));
+  for (std::size_t i = 0; i < cube.part_scale.size(); ++i) {
+    cube.part_scale[i] = RadialSpans::kHintSide / (cube.border[i + 1] - cube.border[i]);
   }
   const int bins = 4 * n;
   cube.bins_per_unit = bins / 2.0;

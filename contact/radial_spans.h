@@ -52,9 +52,32 @@ struct RadialSpans {
   // The cells again, packed for the query (one record per cell, then its entries contiguously, each
   // with its triangle's span as floats rounded outward): the nested vectors of RadialTable cost a
   // cache miss per cell and per triangle span, which dominated the culled query.
-  struct Cell {
+  // HINTS (cube mapping): a cell is cut into kHintSide x kHintSide parts of equal extent in the cube
+  // coordinates (CubeLocator::cell), and hint[part] is the slot (entry - begin, < 64) of the first
+  // entry past the flat wedge, in lo order, whose triangle the ray through the part's centre
+  // crosses, or kNoHint. The query tests that entry first: a clear hit there skips every entry
+  // separated from it wherever it sits in the cell, so a vertex usually needs one test. The order
+  // of the tests never changes an answer (ties go to the lowest triangle index).
+  static constexpr int kHintSide = 4;
+  static constexpr std::uint8_t kNoHint = 255;
+  struct alignas(32) Cell {
     std::uint32_t begin = 0, end = 0;  // entries [begin, end)
-    double lo = kInfinity, hi = -kInfinity;  // always-checked list included
+    // Entries [begin, wedge_end) are the cell's triangles without a span (lo 0: planes through O up
+    // to rounding, the rim faces of a revolved surface), skipped together by wedges[wedge] when
+    // wedge_end > begin (see FLAT WEDGES below).
+    std::uint32_t wedge_end = 0, wedge = 0;
+    std::array<std::uint8_t, kHintSide * kHintSide> hint{};  // kNoHint where no entry is hinted
+  };
+  // FLAT WEDGES. A triangle whose plane passes through O (up to rounding) has no span: the rounding
+  // of its crossing parameter is unbounded, so it is never culled by distance, and a cell on the
+  // rim of a revolved surface holds a stack of them (every rim face projects onto the same curve of
+  // directions). Their cones are thin: each lies within the wedge {x : |x . normal| <= sin_bound |x|}
+  // around one plane through O. A ray outside it by far more than rounding (|d . normal| >
+  // sin_bound |d|, sin_bound holding a 1e-9 margin) misses each of them in the exact test, so the
+  // query skips them all with one dot product. Same answers bit for bit.
+  struct FlatWedge {
+    Eigen::Vector3d normal = Eigen::Vector3d::Zero();  // unit up to rounding (the bound is for these values)
+    double sin_bound = 2.0;
   };
   struct Entry {
     std::int32_t triangle = -1;
@@ -83,6 +106,7 @@ struct RadialSpans {
     int dimension = 0;
     double bins_per_unit = 0.0;
     std::vector<double> border;      // dimension + 1
+    std::vector<double> part_scale;  // per cell index: kHintSide / (border[i + 1] - border[i])
     std::vector<std::int32_t> start;  // per bin
     int index(double u) const {
       const int bins = static_cast<int>(start.size());
@@ -96,13 +120,25 @@ struct RadialSpans {
     }
     // The cell id of a non-zero direction (as cell_of_direction for the cube mapping).
     int cell(const Eigen::Vector3d& d) const {
+      int part = 0;
+      return cell(d, part);
+    }
+    // The same, and the direction's part of the cell for the hints (HINTS).
+    int cell(const Eigen::Vector3d& d, int& part) const {
       int k = 0;
       if (std::abs(d.y()) > std::abs(d[k])) k = 1;
       if (std::abs(d.z()) > std::abs(d[k])) k = 2;
       const double along = std::abs(d[k]);
       const int face = 2 * k + (d[k] < 0.0 ? 1 : 0);
-      const int i = index(d[(k + 1) % 3] / along), j = index(d[(k + 2) % 3] / along);
+      const double u = d[(k + 1) % 3] / along, w = d[(k + 2) % 3] / along;
+      const int i = index(u), j = index(w);
+      part = part_of(w, j) * kHintSide + part_of(u, i);
       return (face * dimension + j) * dimension + i;
+    }
+    int part_of(double u, int i) const {
+      const auto at = static_cast<std::size_t>(i);
+      const int p = static_cast<int>((u - border[at]) * part_scale[at]);
+      return p < 0 ? 0 : (p >= kHintSide ? kHintSide - 1 : p);
     }
   };
   CubeLocator cube;
@@ -110,6 +146,7 @@ struct RadialSpans {
   std::vector<double> triangle_lo, triangle_hi;  // widened span per fixed triangle
   std::vector<TrianglePlanes> planes;            // per fixed triangle
   std::vector<Cell> cells;
+  std::vector<FlatWedge> wedges;
   // Each cell's [lo, hi] again as floats rounded outward, 8 bytes per cell: the test most vertices
   // end at reads this small array (a few hundred KB, cache-resident) instead of the cell records.
   struct CellBounds {
@@ -120,8 +157,7 @@ struct RadialSpans {
   // stops at the first entry beyond its distance.
   std::vector<Entry> entries;
   // SEPARATED CONES (parallel to `entries`): bit s of separated[k] is set when the cone from O over
-  // the triangle of entry k and that over the later entry cell.begin + s of its cell (s < 64; the
-  // query reads a cell's entries in order, so earlier ones are never skipped) have disjoint
+  // the triangle of entry k and that over the entry cell.begin + s of its cell (s < 64) have disjoint
   // interiors, proved by a plane through O along an edge of one of them with the other on its
   // closed far side (separating planes of two convex cones; the signs are those of the exact
   // triple products, certified by the error bound of TrianglePlanes, and a vertex the two
@@ -142,6 +178,11 @@ RadialSpans::TrianglePlanes triangle_planes(const Eigen::Vector3d& a, const Eige
 
 // The cube locator of a cube-mapping grid of `dimension` cells per face edge (CubeLocator).
 RadialSpans::CubeLocator make_cube_locator(int dimension);
+
+// The flat wedge of triangles given by their vertices relative to O: a plane through O and the sine
+// of the largest angle from it of any ray in their cones, with a 1e-9 margin (FLAT WEDGES); sin_bound
+// is 2 (no wedge) when they do not fit in one clearly narrower than a half-space.
+RadialSpans::FlatWedge flat_wedge(std::span<const std::array<Eigen::Vector3d, 3>> triangles);
 
 // The widened radial span of a triangle given relative to O (see EXACTNESS above).
 void triangle_radial_span(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,

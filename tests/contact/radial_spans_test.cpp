@@ -422,6 +422,24 @@ TEST(RadialSpans, PoseQueryRejectsANonFinitePose) {
 }
 
 
+// The generated hip's socket (acetabular cartilage and labrum) with its table about the HJC, about
+// one cell per triangle (as the bench builds it).
+struct Socket {
+  TriMesh mesh;
+  RadialTable table;
+};
+Socket generated_socket(double edge_mm) {
+  geometry::HipParameters parameters;
+  parameters.edge_mm = edge_mm;
+  const geometry::HipModel hip = geometry::generate_hip(parameters).model;
+  Socket socket;
+  socket.mesh = geometry::merge_meshes({&hip.tissue("acetabular_cartilage"), &hip.tissue("labrum")});
+  RadialTableOptions options;
+  options.table_size = static_cast<std::int64_t>(socket.mesh.num_triangles());
+  socket.table = build_radial_table(socket.mesh, hip.hjc_mm, options);
+  return socket;
+}
+
 // SEPARATED CONES (RadialSpans::separated, ConeSeparation). The claim the query relies on: a ray
 // strictly inside the cone over triangle t misses every triangle separated from t. Checked with the
 // exact ray test on random directions inside t's cone (positive barycentric weights), for every
@@ -458,13 +476,8 @@ TEST(RadialSpans, SeparatedConesAreMissedByEveryRayInsideTheOther) {
   // A box above O: its bottom, side and top faces seen from O overlap pairwise (not separated).
   const TriMesh box = box_above();
   expect_separations_hold(build_radial_table(box, Vec3::Zero(), {}), box, 100, "box");
-  geometry::HipParameters parameters;
-  parameters.edge_mm = 5.5;
-  const geometry::HipModel hip = geometry::generate_hip(parameters).model;
-  const TriMesh socket = geometry::merge_meshes({&hip.tissue("acetabular_cartilage"), &hip.tissue("labrum")});
-  RadialTableOptions options;
-  options.table_size = static_cast<std::int64_t>(socket.num_triangles());
-  expect_separations_hold(build_radial_table(socket, hip.hjc_mm, options), socket, 1000, "socket");
+  const Socket socket = generated_socket(5.5);
+  expect_separations_hold(socket.table, socket.mesh, 1000, "socket");
 }
 
 TEST(RadialSpans, ConeSeparationHardCases) {
@@ -583,6 +596,169 @@ TEST(RadialSpans, PoseQueryDistanceMapDropsBucketsFacingFarSurfacesAndStaysExact
   // A translation beyond the ball's radius: no bucket's directions are bounded, the map drops nothing.
   const Eigen::Isometry3d far = turn_about(Vec3::Zero(), Vec3::UnitX(), 0.0, Vec3(0, 0, 20.0));
   EXPECT_EQ(prepared.num_tested_vertices(far), ball.num_vertices());
+}
+
+// FLAT WEDGES (RadialSpans::wedges): every ray inside the cone over a triangle of a cell's wedge
+// lies within the wedge (checked on random rays with positive barycentric weights), on the
+// generated hip's socket (its rim faces lie in planes through O) and on a revolved band whose faces
+// are exactly such planes.
+void expect_wedges_hold(const RadialTable& table, const TriMesh& fixed, std::size_t min_wedges, const std::string& what) {
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<double> w(1e-6, 1.0);
+  const RadialSpans& spans = table.spans;
+  std::size_t wedges = 0;
+  for (const RadialSpans::Cell& cell : spans.cells) {
+    if (cell.wedge_end == cell.begin) continue;
+    ++wedges;
+    const RadialSpans::FlatWedge& wedge = spans.wedges[cell.wedge];
+    const Vec3& normal = wedge.normal;
+    for (std::uint32_t e = cell.begin; e < cell.wedge_end; ++e) {
+      const auto& tri = fixed.triangles[static_cast<std::size_t>(spans.entries[e].triangle)];
+      ASSERT_EQ(spans.triangle_lo[static_cast<std::size_t>(spans.entries[e].triangle)], 0.0) << what;
+      for (int k = 0; k < 16; ++k) {
+        Vec3 d = Vec3::Zero();
+        for (const auto v : tri) d += w(rng) * (fixed.vertices[static_cast<std::size_t>(v)] - table.centre);
+        ASSERT_LE(std::abs(d.dot(normal)), wedge.sin_bound * d.norm()) << what;
+      }
+    }
+  }
+  EXPECT_GE(wedges, min_wedges) << what;
+}
+
+// A band of faces on the cone of revolution of half-angle 60 deg about z through `centre` (every
+// face in a plane through it), from 24 to 28 mm, in `rings` rings of `segments` faces around.
+TriMesh revolved_band(const Vec3& centre, int segments, int rings) {
+  TriMesh band;
+  const double slant = 60.0 * 3.14159265358979323846 / 180.0;
+  for (int ring = 0; ring <= rings; ++ring) {
+    const double r = 24.0 + 4.0 * ring / rings;
+    for (int s = 0; s < segments; ++s) {
+      const double phi = 2.0 * 3.14159265358979323846 * s / segments;
+      band.vertices.push_back(centre + r * Vec3(std::sin(slant) * std::cos(phi), std::sin(slant) * std::sin(phi), std::cos(slant)));
+    }
+  }
+  for (int ring = 0; ring < rings; ++ring) {
+    for (int s = 0; s < segments; ++s) {
+      const int a = ring * segments + s, b = ring * segments + (s + 1) % segments;
+      band.triangles.push_back({a, b, a + segments});
+      band.triangles.push_back({b, b + segments, a + segments});
+    }
+  }
+  return band;
+}
+
+TEST(RadialSpans, FlatWedgesHoldEveryRayInTheirTrianglesCones) {
+  const Vec3 centre(0.2, 0.1, -0.3);
+  const TriMesh band = revolved_band(centre, 96, 6);
+  RadialTableOptions options;
+  options.table_size = 20000;
+  expect_wedges_hold(build_radial_table(band, centre, options), band, 100, "revolved band");
+  const Socket socket = generated_socket(2.5);
+  expect_wedges_hold(socket.table, socket.mesh, 10, "socket");
+}
+
+TEST(RadialSpans, FlatWedgeHardCases) {
+  using Triangle = std::array<Vec3, 3>;
+  auto wedge_of = [](std::vector<Triangle> triangles) { return flat_wedge(triangles); };
+  // Faces exactly in the plane z = 0 through O: a wedge around it, as thin as the margin.
+  const RadialSpans::FlatWedge plane = wedge_of({{Vec3(10, 0, 0), Vec3(20, 1, 0), Vec3(15, 4, 0)},
+                                                 {Vec3(10, 0, 0), Vec3(15, 4, 0), Vec3(9, 3, 0)}});
+  EXPECT_LT(plane.sin_bound, 1e-8);
+  EXPECT_NEAR(std::abs(plane.normal.z()), 1.0, 1e-12);
+  // A face around O in its plane (its cone is nearly a half-space): no wedge.
+  EXPECT_GT(wedge_of({{Vec3(10, -1, 1e-9), Vec3(-10, -1, 0), Vec3(0, 10, 0)}}).sin_bound, 1.0);
+  // A vertex at O: no wedge.
+  EXPECT_GT(wedge_of({{Vec3(0, 0, 0), Vec3(20, 1, 0), Vec3(15, 4, 0)}}).sin_bound, 1.0);
+  // Faces in planes through O around the three axes: no plane through O passes near them all.
+  EXPECT_GT(wedge_of({{Vec3(10, 0, 0), Vec3(20, 1, 0), Vec3(15, 4, 0)},
+                      {Vec3(0, 10, 0), Vec3(0, 20, 1), Vec3(0, 15, 4)},
+                      {Vec3(0, 0, 10), Vec3(1, 0, 20), Vec3(4, 0, 15)}})
+                .sin_bound,
+            1.0);
+  // A face 1e-11 mm off a plane through O (a real, very thin cone, no span): a vertex whose ray
+  // runs inside that cone, and one just outside, give the unculled answers.
+  TriMesh rim;
+  rim.vertices = {Vec3(24, 0, 1e-11), Vec3(28, 0, 1e-11), Vec3(26, 3, 1e-11), Vec3(26, -3, 1e-11)};
+  rim.triangles = {{0, 1, 2}, {0, 3, 1}};
+  const TriMesh shell = geometry::make_box(Vec3(30, -8, -8), Vec3(34, 8, 8), 2);
+  const TriMesh fixed = geometry::merge_meshes({&rim, &shell});
+  TriMesh mobile;
+  for (const double z : {0.0, 5e-12, 1e-11, 1.1e-11, 1e-9, 1e-6}) {
+    for (const double x : {20.0, 25.0, 27.0, 31.0, 40.0}) mobile.vertices.push_back(Vec3(x, 0.5, z * x / 25.0));
+  }
+  const RadialTable table = build_radial_table(fixed, Vec3::Zero(), {});
+  std::size_t wedges = 0;
+  for (const RadialSpans::Cell& cell : table.spans.cells) wedges += cell.wedge_end > cell.begin ? 1 : 0;
+  EXPECT_GT(wedges, 0U);
+  expect_culling_exact(table, fixed, mobile, "rim face off a plane through O");
+}
+
+// HINTS: the hinted entry is tested first. Rays through every part's centre (where the hint was
+// taken), its corners and borders (where another triangle may be the one crossed) and random points,
+// at distances on, just before and just after every crossing of the ray and between them, give the
+// unculled answers bit for bit, on the generated hip's socket and on a two-layer shell.
+void expect_hints_exact(const RadialTable& table, const TriMesh& fixed, const std::string& what) {
+  const RadialSpans& spans = table.spans;
+  ASSERT_GT(spans.cube.dimension, 0) << what;
+  const int n = spans.cube.dimension, side = RadialSpans::kHintSide;
+  std::mt19937_64 rng(13);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  TriMesh mobile;
+  std::size_t hinted = 0;
+  for (std::size_t id = 0; id < spans.cells.size(); id += 3) {
+    const RadialSpans::Cell& cell = spans.cells[id];
+    for (const auto h : cell.hint) hinted += h != RadialSpans::kNoHint ? 1 : 0;
+    if (cell.begin == cell.end) continue;
+    const int i = static_cast<int>(id) % n, j = (static_cast<int>(id) / n) % n, face = static_cast<int>(id) / (n * n), k = face / 2;
+    auto direction = [&](double fu, double fw) {
+      Vec3 d;
+      d[k] = face % 2 == 0 ? 1.0 : -1.0;
+      d[(k + 1) % 3] = spans.cube.border[static_cast<std::size_t>(i)] +
+                       fu * (spans.cube.border[static_cast<std::size_t>(i) + 1] - spans.cube.border[static_cast<std::size_t>(i)]);
+      d[(k + 2) % 3] = spans.cube.border[static_cast<std::size_t>(j)] +
+                       fw * (spans.cube.border[static_cast<std::size_t>(j) + 1] - spans.cube.border[static_cast<std::size_t>(j)]);
+      return d;
+    };
+    std::vector<Vec3> directions;
+    for (int a = 0; a <= 2 * side; ++a) {
+      for (int b = 0; b <= 2 * side; ++b) directions.push_back(direction(0.5 * a / side, 0.5 * b / side));
+    }
+    for (int r = 0; r < 4; ++r) directions.push_back(direction(u01(rng), u01(rng)));
+    for (const Vec3& d : directions) {
+      std::vector<double> t{0.5, 2.0};
+      for (std::uint32_t e = cell.begin; e < cell.end; ++e) {
+        const auto& tri = fixed.triangles[static_cast<std::size_t>(spans.entries[e].triangle)];
+        const RayCrossing crossing = ray_triangle_crossing(d, fixed.vertices[static_cast<std::size_t>(tri[0])] - table.centre,
+                                                           fixed.vertices[static_cast<std::size_t>(tri[1])] - table.centre,
+                                                           fixed.vertices[static_cast<std::size_t>(tri[2])] - table.centre);
+        if (!crossing.hit) continue;
+        for (const double scale : {1.0 - 1e-3, 1.0 - 1e-12, 1.0, 1.0 + 1e-12, 1.0 + 1e-3}) t.push_back(crossing.t * scale);
+      }
+      for (const double s : t) mobile.vertices.push_back(table.centre + s * d);
+    }
+  }
+  EXPECT_GT(hinted, spans.cells.size()) << what;  // hints are there to be used
+  expect_culling_exact(table, fixed, mobile, what);
+  RadialQueryOptions options;
+  for (auto configuration : {RadialConfiguration::kMobileInsideFixed, RadialConfiguration::kFixedInsideMobile}) {
+    options.configuration = configuration;
+    const RadialPoseQuery prepared(table, fixed, mobile, options);
+    expect_identical(prepared.query(Eigen::Isometry3d::Identity()),
+                     query(table, fixed, mobile, configuration, RadialCrossingRule::kAdjacent, false), what + " pose query");
+  }
+}
+
+TEST(RadialSpans, HintedEntriesGiveTheUnculledAnswersAtPartBordersAndCrossings) {
+  const Socket socket = generated_socket(5.5);
+  expect_hints_exact(socket.table, socket.mesh, "socket");
+  RadialTableOptions options;
+  const Vec3 centre(0.3, -0.2, 0.1);
+  TriMesh inner = geometry::make_octasphere(centre, 24.0, 3);
+  for (auto& t : inner.triangles) std::swap(t[1], t[2]);
+  const TriMesh outer = geometry::make_octasphere(centre, 26.0, 4);
+  const TriMesh shell = geometry::merge_meshes({&inner, &outer});
+  options.table_size = 600;  // several triangles per cell and part
+  expect_hints_exact(build_radial_table(shell, centre, options), shell, "shell");
 }
 }  // namespace
 }  // namespace hipfai::contact
