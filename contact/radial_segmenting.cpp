@@ -245,8 +245,8 @@ struct VertexQuery {
     if (options.neighbour_cells == 0) {
       kept.id = spans.cube.dimension > 0 ? spans.cube.cell(kept.direction, kept.part)
                                          : cell_of_direction(table.grid, kept.direction);
-      const RadialSpans::CellBounds& bounds = spans.cell_bounds[static_cast<std::size_t>(kept.id)];
-      if (outside_span(side, kept.r, bounds.lo, bounds.hi)) return false;
+      const auto id = static_cast<std::size_t>(kept.id);
+      if (side == SpanCull::kBelowLo ? kept.r < spans.cell_lo[id] * (1.0 - 1e-12) : kept.r > spans.cell_hi[id] * (1.0 + 1e-12)) return false;
     }
     return true;
   }
@@ -266,8 +266,8 @@ struct VertexQuery {
     if (stage == 0) {
       __builtin_prefetch(&cell);
     } else if (stage == 1) {
-      if (hint != RadialSpans::kNoHint) __builtin_prefetch(&spans.entries[cell.begin + static_cast<std::uint32_t>(hint)]);
-      else if (cell.wedge_end < cell.end) __builtin_prefetch(&spans.entries[cell.wedge_end]);
+      if (cell.wedge_end < cell.end) __builtin_prefetch(&spans.entries[cell.wedge_end]);
+      if (hint != RadialSpans::kNoHint) __builtin_prefetch(&spans.entries[cell.wedge_end + static_cast<std::uint32_t>(hint)]);
     } else {
       // The triangle values (two cache lines each) of the entries the vertex will test first.
       auto load = [&](const RadialSpans::Entry& entry) {
@@ -276,7 +276,7 @@ struct VertexQuery {
         __builtin_prefetch(planes + 64);
       };
       if (hint != RadialSpans::kNoHint) {
-        load(spans.entries[cell.begin + static_cast<std::uint32_t>(hint)]);
+        load(spans.entries[cell.wedge_end + static_cast<std::uint32_t>(hint)]);
         return;
       }
       for (std::uint32_t k = cell.wedge_end; k < cell.end && k < cell.wedge_end + 4; ++k) {
@@ -332,7 +332,7 @@ struct VertexQuery {
       const RadialSpans::Cell& cell = spans.cells[static_cast<std::size_t>(id)];
       // Triangles whose cones are separated from one the ray clearly crosses are misses: skipped.
       // Entries come in ascending lo: on the kBelowLo side the first one beyond r ends the cell.
-      std::uint64_t missed = 0;
+      std::uint32_t missed = 0;  // bit s: entry wedge_end + s is known to be missed
       const bool stop_at_lo = skip_triangles && side == SpanCull::kBelowLo;
       std::uint32_t first = cell.begin;
       if (cell.wedge_end > cell.begin) {
@@ -347,11 +347,11 @@ struct VertexQuery {
       // The hinted entry first (a clear hit there usually leaves nothing to test), then the others.
       const int hint = hinted_slot(kept, cell);
       if (hint != RadialSpans::kNoHint) {
-        const std::uint32_t k = cell.begin + static_cast<std::uint32_t>(hint);
-        if (!skipped(spans.entries[k])) {
-          offer_triangle(spans.entries[k].triangle);
-          if (clear_hit) missed |= spans.separated[k];
-          missed |= std::uint64_t{1} << hint;
+        const RadialSpans::Entry& entry = spans.entries[cell.wedge_end + static_cast<std::uint32_t>(hint)];
+        if (!skipped(entry)) {
+          offer_triangle(entry.triangle);
+          if (clear_hit) missed |= entry.separated;
+          missed |= std::uint32_t{1} << hint;
         }
       }
       for (std::uint32_t k = first; k < cell.end; ++k) {
@@ -361,10 +361,10 @@ struct VertexQuery {
         } else if (skipped(entry)) {
           continue;
         }
-        const std::uint32_t slot = k - cell.begin;
-        if (slot < 64 && ((missed >> slot) & 1U) != 0) continue;
+        const std::uint32_t slot = k - cell.wedge_end;  // wraps for the wedge's entries: no bit
+        if (slot < 32 && ((missed >> slot) & 1U) != 0) continue;
         offer_triangle(entry.triangle);
-        if (clear_hit) missed |= spans.separated[k];
+        if (clear_hit) missed |= entry.separated;
       }
     } else {
       visit(table.cell(cell_of_direction(table.grid, direction)));

@@ -164,21 +164,21 @@ void compute_hints(RadialSpans& spans, const geometry::TriMesh& fixed, const Vec
   for (std::size_t id = 0; id < spans.cells.size(); ++id) {
     RadialSpans::Cell& cell = spans.cells[id];
     cell.hint.fill(RadialSpans::kNoHint);
-    const std::uint32_t last = std::min(cell.end, cell.begin + 64);
+    const std::uint32_t last = std::min(cell.end, cell.wedge_end + 32);
     if (cell.wedge_end >= last) continue;
     const int i = static_cast<int>(id) % n, j = (static_cast<int>(id) / n) % n, face = static_cast<int>(id) / (n * n);
     const int k = face / 2;
-    const auto lower_u = static_cast<std::size_t>(i), lower_w = static_cast<std::size_t>(j);
     for (int part_w = 0; part_w < side; ++part_w) {
       for (int part_u = 0; part_u < side; ++part_u) {
         Vec3 d;
         d[k] = face % 2 == 0 ? 1.0 : -1.0;
-        d[(k + 1) % 3] = cube.border[lower_u] + (part_u + 0.5) / side * (cube.border[lower_u + 1] - cube.border[lower_u]);
-        d[(k + 2) % 3] = cube.border[lower_w] + (part_w + 0.5) / side * (cube.border[lower_w + 1] - cube.border[lower_w]);
+        const auto su = static_cast<std::size_t>(i * side + part_u), sw = static_cast<std::size_t>(j * side + part_w);
+        d[(k + 1) % 3] = 0.5 * (cube.slice_border[su] + cube.slice_border[su + 1]);
+        d[(k + 2) % 3] = 0.5 * (cube.slice_border[sw] + cube.slice_border[sw + 1]);
         for (std::uint32_t e = cell.wedge_end; e < last; ++e) {
           const std::int32_t t = spans.entries[e].triangle;
           if (ray_triangle_crossing(d, relative(t, 0), relative(t, 1), relative(t, 2)).hit) {
-            cell.hint[static_cast<std::size_t>(part_w * side + part_u)] = static_cast<std::uint8_t>(e - cell.begin);
+            cell.hint[static_cast<std::size_t>(part_w * side + part_u)] = static_cast<std::uint8_t>(e - cell.wedge_end);
             break;
           }
         }
@@ -214,11 +214,10 @@ void compute_radial_spans(RadialTable& table, const geometry::TriMesh& fixed) {
   }
   const ConeSeparation separation(fixed, table.centre, spans.planes);
   spans.cells.resize(table.cells.size());
-  spans.cell_bounds.resize(table.cells.size());
+  spans.cell_lo.resize(table.cells.size());
+  spans.cell_hi.resize(table.cells.size());
   spans.entries.clear();
   spans.entries.reserve(table.num_entries());
-  spans.separated.clear();
-  spans.separated.reserve(table.num_entries());
   std::vector<std::int32_t> listed;
   std::vector<std::array<Vec3, 3>> flat;
   for (std::size_t id = 0; id < table.cells.size(); ++id) {
@@ -237,10 +236,11 @@ void compute_radial_spans(RadialTable& table, const geometry::TriMesh& fixed) {
       const double lo = spans.triangle_lo[static_cast<std::size_t>(t)], hi = spans.triangle_hi[static_cast<std::size_t>(t)];
       cell_lo = std::min(cell_lo, lo);
       cell_hi = std::max(cell_hi, hi);
-      spans.entries.push_back({t, float_below(lo), float_above(hi)});
+      spans.entries.push_back({t, float_below(lo), float_above(hi), 0});
     }
     cell.end = static_cast<std::uint32_t>(spans.entries.size());
-    spans.cell_bounds[id] = {float_below(cell_lo), float_above(cell_hi)};
+    spans.cell_lo[id] = float_below(cell_lo);
+    spans.cell_hi[id] = float_above(cell_hi);
     // The flat wedge of the leading entries without a span (lo 0).
     cell.wedge_end = cell.begin;
     flat.clear();
@@ -258,15 +258,14 @@ void compute_radial_spans(RadialTable& table, const geometry::TriMesh& fixed) {
         spans.wedges.push_back(wedge);
       }
     }
-    // Pairs among the first 64 entries (both ways: a hinted entry is tested before its cell's others).
-    const std::size_t slots = std::min<std::size_t>(listed.size(), 64);
-    const std::size_t first = spans.separated.size();
-    spans.separated.resize(first + listed.size(), 0);
-    for (std::size_t i = 0; i < slots; ++i) {
-      for (std::size_t j = i + 1; j < slots; ++j) {
-        if (!separation.separated(listed[i], listed[j])) continue;
-        spans.separated[first + i] |= std::uint64_t{1} << j;
-        spans.separated[first + j] |= std::uint64_t{1} << i;
+    // Pairs among the first 32 entries past the wedge (both ways: a hinted entry is tested before
+    // the cell's others).
+    const std::uint32_t base = cell.wedge_end, last = std::min(cell.end, base + 32);
+    for (std::uint32_t i = base; i < last; ++i) {
+      for (std::uint32_t j = i + 1; j < last; ++j) {
+        if (!separation.separated(spans.entries[i].triangle, spans.entries[j].triangle)) continue;
+        spans.entries[i].separated |= std::uint32_t{1} << (j - base);
+        spans.entries[j].separated |= std::uint32_t{1} << (i - base);
       }
     }
   }
@@ -354,18 +353,22 @@ RadialSpans::CubeLocator make_cube_locator(int dimension) {
   for (int i = 0; i <= n; ++i) {
     cube.border[static_cast<std::size_t>(i)] = std::tan(i * (std::numbers::pi / 2.0) / n - std::numbers::pi / 4.0);
   }
-  cube.part_scale.resize(static_cast<std::size_t>(n));
-  for (std::size_t i = 0; i < cube.part_scale.size(); ++i) {
-    cube.part_scale[i] = RadialSpans::kHintSide / (cube.border[i + 1] - cube.border[i]);
+  const int side = RadialSpans::kHintSide, slices = n * side;
+  cube.slice_border.resize(static_cast<std::size_t>(slices) + 1);
+  for (int m = 0; m <= slices; ++m) {
+    const auto i = static_cast<std::size_t>(m / side);
+    const int p = m % side;
+    cube.slice_border[static_cast<std::size_t>(m)] =
+        p == 0 ? cube.border[i] : cube.border[i] + (static_cast<double>(p) / side) * (cube.border[i + 1] - cube.border[i]);
   }
-  const int bins = 4 * n;
+  const int bins = 2 * slices;
   cube.bins_per_unit = bins / 2.0;
   cube.start.resize(static_cast<std::size_t>(bins));
+  int m = 0;
   for (int bin = 0; bin < bins; ++bin) {
     const double u = -1.0 + bin / cube.bins_per_unit;
-    int i = 0;
-    while (i + 1 < n && u >= cube.border[static_cast<std::size_t>(i + 1)]) ++i;
-    cube.start[static_cast<std::size_t>(bin)] = i;
+    while (m + 1 < slices && u >= cube.slice_border[static_cast<std::size_t>(m + 1)]) ++m;
+    cube.start[static_cast<std::size_t>(bin)] = m;
   }
   return cube;
 }

@@ -53,8 +53,8 @@ struct RadialSpans {
   // with its triangle's span as floats rounded outward): the nested vectors of RadialTable cost a
   // cache miss per cell and per triangle span, which dominated the culled query.
   // HINTS (cube mapping): a cell is cut into kHintSide x kHintSide parts of equal extent in the cube
-  // coordinates (CubeLocator::cell), and hint[part] is the slot (entry - begin, < 64) of the first
-  // entry past the flat wedge, in lo order, whose triangle the ray through the part's centre
+  // coordinates (CubeLocator::cell), and hint[part] is the slot (entry - wedge_end, < 32) of the
+  // first entry past the flat wedge, in lo order, whose triangle the ray through the part's centre
   // crosses, or kNoHint. The query tests that entry first: a clear hit there skips every entry
   // separated from it wherever it sits in the cell, so a vertex usually needs one test. The order
   // of the tests never changes an answer (ties go to the lowest triangle index).
@@ -82,6 +82,7 @@ struct RadialSpans {
   struct Entry {
     std::int32_t triangle = -1;
     float lo = 0.0F, hi = 0.0F;
+    std::uint32_t separated = 0;  // SEPARATED CONES below
   };
   // What the crossing test of a ray from O needs of one fixed triangle abc (coordinates relative
   // to O), computed once with the very expressions the per-ray test used, so every value is the
@@ -97,27 +98,30 @@ struct RadialSpans {
     double bound_ab = 0.0, bound_bc = 0.0, bound_ca = 0.0;
   };
   // The cube mapping's cell without atan: the a1 (a2) borders atan(u) + pi/4 = i pi / (2 n) sit at
-  // u = tan(i pi / (2 n) - pi/4); a lookup over u in [-1, 1] (4 n bins) gives the cell of the bin's
-  // lower end, and at most a step or two against the borders finishes. It may differ from
-  // cell_of_direction only for directions within rounding (~1e-15 rad) of a border, where both
-  // cells hold every triangle the ray can meet (the table bins with a 1e-8 rad margin), so the
-  // answers are the same. Empty unless the table uses the cube mapping.
+  // u = tan(i pi / (2 n) - pi/4). Each cell's range of u is cut into kHintSide parts of equal
+  // length (HINTS), n kHintSide slices in all; a lookup over u in [-1, 1] (2 n kHintSide bins)
+  // gives the slice of the bin's lower end, and one comparison with the next slice border finishes.
+  // Slice m lies in cell m / kHintSide (the cell borders are the slice borders m = i kHintSide,
+  // the same values). It may differ from cell_of_direction only for directions within rounding
+  // (~1e-15 rad) of a border, where both cells hold every triangle the ray can meet (the table bins
+  // with a 1e-8 rad margin), so the answers are the same. Empty unless the table uses the cube mapping.
   struct CubeLocator {
     int dimension = 0;
     double bins_per_unit = 0.0;
-    std::vector<double> border;      // dimension + 1
-    std::vector<double> part_scale;  // per cell index: kHintSide / (border[i + 1] - border[i])
-    std::vector<std::int32_t> start;  // per bin
-    int index(double u) const {
+    std::vector<double> border;        // dimension + 1 cell borders
+    std::vector<double> slice_border;  // dimension kHintSide + 1
+    std::vector<std::int32_t> start;   // per bin: the slice of its lower end
+    int slice(double u) const {
       const int bins = static_cast<int>(start.size());
       int bin = static_cast<int>((u + 1.0) * bins_per_unit);
       bin = bin < 0 ? 0 : (bin >= bins ? bins - 1 : bin);
-      int i = start[static_cast<std::size_t>(bin)];
-      // A bin (width 1 / (2 n) in u) is narrower than any cell (>= pi / (2 n)): at most one border
-      // lies inside it, so one comparison finishes.
-      i += static_cast<int>(i + 1 < dimension && u >= border[static_cast<std::size_t>(i + 1)]);
-      return i;
+      int m = start[static_cast<std::size_t>(bin)];
+      // A bin (width 1 / (n kHintSide) in u) is narrower than any slice (>= pi / (2 n kHintSide), as
+      // du / dangle >= 1): at most one border lies inside it, so one comparison finishes.
+      m += static_cast<int>(m + 1 < dimension * kHintSide && u >= slice_border[static_cast<std::size_t>(m + 1)]);
+      return m;
     }
+    int index(double u) const { return slice(u) / kHintSide; }
     // The cell id of a non-zero direction (as cell_of_direction for the cube mapping).
     int cell(const Eigen::Vector3d& d) const {
       int part = 0;
@@ -130,15 +134,9 @@ struct RadialSpans {
       if (std::abs(d.z()) > std::abs(d[k])) k = 2;
       const double along = std::abs(d[k]);
       const int face = 2 * k + (d[k] < 0.0 ? 1 : 0);
-      const double u = d[(k + 1) % 3] / along, w = d[(k + 2) % 3] / along;
-      const int i = index(u), j = index(w);
-      part = part_of(w, j) * kHintSide + part_of(u, i);
-      return (face * dimension + j) * dimension + i;
-    }
-    int part_of(double u, int i) const {
-      const auto at = static_cast<std::size_t>(i);
-      const int p = static_cast<int>((u - border[at]) * part_scale[at]);
-      return p < 0 ? 0 : (p >= kHintSide ? kHintSide - 1 : p);
+      const int su = slice(d[(k + 1) % 3] / along), sw = slice(d[(k + 2) % 3] / along);
+      part = (sw % kHintSide) * kHintSide + su % kHintSide;
+      return (face * dimension + sw / kHintSide) * dimension + su / kHintSide;
     }
   };
   CubeLocator cube;
@@ -149,22 +147,19 @@ struct RadialSpans {
   std::vector<FlatWedge> wedges;
   // Each cell's [lo, hi] again as floats rounded outward, 8 bytes per cell: the test most vertices
   // end at reads this small array (a few hundred KB, cache-resident) instead of the cell records.
-  struct CellBounds {
-    float lo = 0.0F, hi = 0.0F;
-  };
-  std::vector<CellBounds> cell_bounds;
+  std::vector<float> cell_lo, cell_hi;
   // A cell's entries in ascending lo (ties: triangle index), so a vertex the kBelowLo side tests
   // stops at the first entry beyond its distance.
   std::vector<Entry> entries;
-  // SEPARATED CONES (parallel to `entries`): bit s of separated[k] is set when the cone from O over
-  // the triangle of entry k and that over the entry cell.begin + s of its cell (s < 64) have disjoint
+  // SEPARATED CONES (Entry::separated, in the entry so that one cache line brings both): bit s of
+  // entries[k].separated is set when the cone from O over the triangle of entry k and that over the
+  // entry cell.wedge_end + s of its cell (s < 32; flat triangles are never separated) have disjoint
   // interiors, proved by a plane through O along an edge of one of them with the other on its
   // closed far side (separating planes of two convex cones; the signs are those of the exact
   // triple products, certified by the error bound of TrianglePlanes, and a vertex the two
   // triangles share lies on that plane exactly). A ray whose crossing with entry k is a clear hit
   // (all three edge functions beyond their bounds, t > 0) runs strictly inside that cone, so it
   // misses every triangle separated from it: the query skips them. Same answers bit for bit.
-  std::vector<std::uint64_t> separated;
   double lo = kInfinity, hi = -kInfinity;        // whole mesh
   Eigen::Vector3d cap_axis = Eigen::Vector3d::UnitZ();  // unit
   double cap_cos = -2.0;                         // <= -1: no cap (never culls)

@@ -454,9 +454,12 @@ void expect_separations_hold(const RadialTable& table, const TriMesh& fixed, std
   std::size_t pairs = 0;
   for (const RadialSpans::Cell& cell : table.spans.cells) {
     for (std::uint32_t i = cell.begin; i < cell.end; ++i) {
-      const std::uint64_t bits = table.spans.separated[i];
-      for (std::uint32_t j = cell.begin; j < cell.end && j - cell.begin < 64; ++j) {
-        if (((bits >> (j - cell.begin)) & 1U) == 0) continue;
+      const std::uint32_t bits = table.spans.entries[i].separated;
+      if (i < cell.wedge_end) {
+        EXPECT_EQ(bits, 0U) << what;  // flat triangles are never separated
+      }
+      for (std::uint32_t j = cell.wedge_end; j < cell.end && j - cell.wedge_end < 32; ++j) {
+        if (((bits >> (j - cell.wedge_end)) & 1U) == 0) continue;
         ++pairs;
         const std::int32_t t = table.spans.entries[i].triangle, u = table.spans.entries[j].triangle;
         for (int k = 0; k < 8; ++k) {
