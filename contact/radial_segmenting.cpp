@@ -622,6 +622,7 @@ void RadialPoseQuery::build_distance_map() {
   double global_lo = RadialSpans::kInfinity, global_hi = -RadialSpans::kInfinity;
   std::vector<double> own_lo(static_cast<std::size_t>(grid.num_cells()), RadialSpans::kInfinity);
   std::vector<double> own_hi(own_lo.size(), -RadialSpans::kInfinity);
+  std::vector<std::vector<std::int32_t>> own_flat(own_lo.size());
   double rho_max = 0.0;
   struct WideTriangle {
     Vec3 mean;
@@ -649,9 +650,13 @@ void RadialPoseQuery::build_distance_map() {
       rho += 1e-9;
       if (rho <= rho_limit) {
         const auto g = static_cast<std::size_t>(cell_of_direction(grid, mean));
+        rho_max = std::max(rho_max, rho);
+        if (lo == 0.0) {  // no span: kept for the cell's flat wedge
+          own_flat[g].push_back(static_cast<std::int32_t>(t));
+          continue;
+        }
         own_lo[g] = std::min(own_lo[g], lo);
         own_hi[g] = std::max(own_hi[g], hi);
-        rho_max = std::max(rho_max, rho);
         continue;
       }
       if (rho < 1.0) {
@@ -671,7 +676,9 @@ void RadialPoseQuery::build_distance_map() {
   // + rho_max + dilation (cells are convex spherical quadrilaterals: the farthest point is a corner).
   map_lo_.assign(own_lo.size(), global_lo);
   map_hi_.assign(own_hi.size(), global_hi);
+  map_wedge_.assign(own_lo.size(), MapWedge{});
   std::vector<int> near;
+  std::vector<std::array<Vec3, 3>> flat;
   for (int g = 0; g < grid.num_cells(); ++g) {
     const Vec3 centre = cell_centre_direction(grid, g);
     const int i = g % n, j = (g / n) % n, face = g / (n * n), k = face / 2;
@@ -688,9 +695,24 @@ void RadialPoseQuery::build_distance_map() {
     }
     near.clear();
     cells_of_cap(grid, centre, corner_angle + rho_max + map_dilation_rad_ + 1e-6, near);
+    flat.clear();
     for (const int h : near) {
       map_lo_[static_cast<std::size_t>(g)] = std::min(map_lo_[static_cast<std::size_t>(g)], own_lo[static_cast<std::size_t>(h)]);
       map_hi_[static_cast<std::size_t>(g)] = std::max(map_hi_[static_cast<std::size_t>(g)], own_hi[static_cast<std::size_t>(h)]);
+      for (const std::int32_t t : own_flat[static_cast<std::size_t>(h)]) {
+        const auto& tri = fixed.triangles[static_cast<std::size_t>(t)];
+        flat.push_back({fixed.vertices[static_cast<std::size_t>(tri[0])] - table_->centre,
+                        fixed.vertices[static_cast<std::size_t>(tri[1])] - table_->centre,
+                        fixed.vertices[static_cast<std::size_t>(tri[2])] - table_->centre});
+      }
+    }
+    if (flat.empty()) continue;
+    const RadialSpans::FlatWedge wedge = flat_wedge(flat);
+    if (wedge.sin_bound < 0.5) {
+      map_wedge_[static_cast<std::size_t>(g)] = {wedge.normal, std::asin(wedge.sin_bound) + 1e-9};
+    } else {  // no thin wedge: their spans [0, inf] count
+      map_lo_[static_cast<std::size_t>(g)] = std::min(map_lo_[static_cast<std::size_t>(g)], 0.0);
+      map_hi_[static_cast<std::size_t>(g)] = RadialSpans::kInfinity;
     }
   }
   for (const WideTriangle& triangle : wide) {
@@ -705,13 +727,21 @@ void RadialPoseQuery::build_distance_map() {
 
 bool RadialPoseQuery::map_culled(const Bucket& bucket, const Vec3& axis, double shift_mm, double scale_mm) const {
   if (map_lo_.empty() || !(bucket.half_angle_rad < 4.0) || !(shift_mm < bucket.r_lo)) return false;
-  if (!(bucket.half_angle_rad + std::asin(shift_mm / bucket.r_lo) <= map_dilation_rad_)) return false;
+  const double cone_rad = bucket.half_angle_rad + std::asin(shift_mm / bucket.r_lo);  // posed directions about axis
+  if (!(cone_rad <= map_dilation_rad_)) return false;
   // The locator may differ from cell_of_direction within ~1e-15 rad of a border; the map's cells
   // reach 1e-6 rad further than the dilation, which covers it.
   const auto g = static_cast<std::size_t>(coarse_locator_.cell(axis));
   const double slack = shift_mm + 1e-9 * scale_mm;
-  if (span_side(options_) == SpanCull::kBelowLo) return bucket.r_hi + slack < map_lo_[g] * (1.0 - 1e-12);
-  return bucket.r_lo - slack > map_hi_[g] * (1.0 + 1e-12);
+  const bool beyond = span_side(options_) == SpanCull::kBelowLo ? bucket.r_hi + slack < map_lo_[g] * (1.0 - 1e-12)
+                                                                 : bucket.r_lo - slack > map_hi_[g] * (1.0 + 1e-12);
+  if (!beyond) return false;
+  // The triangles without a span near g: every posed direction must stay out of their wedge, so
+  // farther from its plane than the wedge's angle (then the exact test misses each of them).
+  const MapWedge& wedge = map_wedge_[g];
+  if (wedge.angle_rad < 0.0) return true;
+  const double from_plane = std::asin(std::min(1.0, std::abs(axis.dot(wedge.normal)) / axis.norm()));
+  return from_plane - cone_rad > wedge.angle_rad + 1e-9;
 }
 
 bool RadialPoseQuery::distance_culled(const Bucket& bucket, double shift_mm, double scale_mm) const {

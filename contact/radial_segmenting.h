@@ -187,10 +187,19 @@ class RadialPoseQuery {
   // distances are beyond that span on the rule's side every one of its vertices is decided as the
   // per-vertex test decides it (no qualifying crossing). The dilation is a speed trade only: a
   // wider one covers larger translations with looser spans; the answers never change.
+  // Triangles without a span (planes through O up to rounding, the socket's rim faces) would make
+  // those spans [0, inf] near the rim; where the ones within the dilation of cell g fit in a thin
+  // flat wedge (radial_spans.h, FLAT WEDGES), map_wedge_[g] holds it and they are left out of
+  // map_lo_ / map_hi_: a bucket whose posed cone stays clear of the wedge cannot meet them.
+  struct MapWedge {
+    Vec3 normal = Vec3::Zero();
+    double angle_rad = -1.0;  // asin of the wedge's sin_bound; < 0: no wedge at this cell
+  };
   RadialGrid coarse_grid_;
   RadialSpans::CubeLocator coarse_locator_;  // the coarse grid's cells without atan
   double map_dilation_rad_ = 0.0;
   std::vector<double> map_lo_, map_hi_;  // per coarse cell; empty: no map
+  std::vector<MapWedge> map_wedge_;       // per coarse cell
   std::size_t num_kept_ = 0;  // vertices kept at a pose about O (for num_kept_vertices)
   double largest_distance_ = 0.0;  // largest rest distance from O
 };

@@ -763,5 +763,39 @@ TEST(RadialSpans, HintedEntriesGiveTheUnculledAnswersAtPartBordersAndCrossings) 
   options.table_size = 600;  // several triangles per cell and part
   expect_hints_exact(build_radial_table(shell, centre, options), shell, "shell");
 }
+
+// The distance map leaves faces without a span (planes through O up to rounding) out of its spans
+// where they fit in a flat wedge, and must then keep every bucket whose posed cone meets the wedge.
+// A shell of radius 24 seen from inside, and a face 1e-11 mm off the plane y = 0 (no span: the
+// rounding of its crossing parameter is unbounded) at 12-14 mm along +x; a ball of radius 15-16
+// whose vertices lie beyond that face, some inside its very thin cone, where the ray enters it:
+// those penetrate, every other ball vertex is short of the shell.
+TEST(RadialSpans, PoseQueryDistanceMapKeepsBucketsMeetingTheWedgeOfFacesWithoutASpan) {
+  TriMesh shell = geometry::make_octasphere(Vec3::Zero(), 24.0, 3);
+  for (auto& t : shell.triangles) std::swap(t[1], t[2]);  // facing O
+  TriMesh face;
+  face.vertices = {Vec3(12, 1e-11, -1), Vec3(14, 1e-11, -1), Vec3(13, 1e-11, 1)};
+  face.triangles = {{0, 1, 2}};
+  const TriMesh fixed = geometry::merge_meshes({&shell, &face});
+  TriMesh ball = geometry::make_octasphere(Vec3::Zero(), 15.0, 5);
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(0.05, 1.0);
+  for (int k = 0; k < 20; ++k) {
+    const double wa = u(rng), wb = u(rng), wc = u(rng);
+    const Vec3 inside = (wa * face.vertices[0] + wb * face.vertices[1] + wc * face.vertices[2]) / (wa + wb + wc);
+    ball.vertices.push_back(inside * (15.0 + 0.05 * k) / inside.norm());
+  }
+  const RadialTable table = build_radial_table(fixed, Vec3::Zero(), {});
+  ASSERT_EQ(table.spans.triangle_lo.back(), 0.0);  // the face has no span
+  const RadialPoseQuery prepared(table, fixed, ball, {});
+  const PenetrationResult rest = prepared.query(Eigen::Isometry3d::Identity());
+  ASSERT_EQ(rest.status, QueryStatus::kOk);
+  EXPECT_GE(rest.pairs.size(), 10U);  // the vertices inside the face's cone
+  EXPECT_LT(prepared.num_tested_vertices(Eigen::Isometry3d::Identity()), ball.num_vertices() / 4);  // the map drops the rest
+  std::vector<Eigen::Isometry3d> poses{Eigen::Isometry3d::Identity()};
+  for (const double angle : {0.2, 1.0, 5.0}) poses.push_back(turn_about(Vec3::Zero(), Vec3(0.3, 1, 0.2), angle, Vec3::Zero()));
+  poses.push_back(turn_about(Vec3::Zero(), Vec3::UnitZ(), 0.0, Vec3(0, 0.2, 0)));
+  expect_pose_query_exact(table, fixed, ball, poses, "face without a span");
+}
 }  // namespace
 }  // namespace hipfai::contact
