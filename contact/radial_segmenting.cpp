@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <atomic>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -205,7 +206,11 @@ struct VertexQuery {
         beyond_rule(options_in.rule == RadialCrossingRule::kBeyond), side(span_side(options_in)),
         // Per-triangle skipping only where the rule looks at crossings on one side of v.
         skip_triangles(use_spans_in && options_in.rule != RadialCrossingRule::kUnion),
-        cap_radius(options_in.neighbour_cells * table_in.grid.nominal_cell_angle_rad()) {}
+        cap_radius(options_in.neighbour_cells * table_in.grid.nominal_cell_angle_rad()),
+        // The whole mesh's span and the cap, only where they can cull (a span from 0, or to
+        // infinity on the side that counts, and no cap, never do).
+        global_culls(use_spans_in && (side == SpanCull::kBelowLo ? spans.lo > 0.0 : spans.hi < RadialSpans::kInfinity)),
+        cap_culls(use_spans_in && spans.cap_cos > -1.0) {}
 
   const RadialTable& table;
   const geometry::TriMesh& fixed;
@@ -215,6 +220,7 @@ struct VertexQuery {
   SpanCull side;
   bool skip_triangles;
   double cap_radius;
+  bool global_culls, cap_culls;
 
   struct Scratch {
     std::vector<int> cap_cells;
@@ -241,7 +247,8 @@ struct VertexQuery {
     kept.r = 0.0;
     if (!use_spans) return true;
     kept.r = kept.direction.norm();
-    if (outside_span(side, kept.r, spans.lo, spans.hi) || outside_cap(spans, kept.direction, kept.r)) return false;
+    if (global_culls && outside_span(side, kept.r, spans.lo, spans.hi)) return false;
+    if (cap_culls && outside_cap(spans, kept.direction, kept.r)) return false;
     if (options.neighbour_cells == 0) {
       kept.id = spans.cube.dimension > 0 ? spans.cube.cell(kept.direction, kept.part)
                                          : cell_of_direction(table.grid, kept.direction);
@@ -354,18 +361,34 @@ struct VertexQuery {
           missed |= std::uint32_t{1} << hint;
         }
       }
-      for (std::uint32_t k = first; k < cell.end; ++k) {
-        const RadialSpans::Entry& entry = spans.entries[k];
+      // Returns false when the entry ends the cell (the first beyond r on the kBelowLo side);
+      // clear_hit tells whether it was tested and clearly crossed.
+      auto consider = [&](const RadialSpans::Entry& entry) {
+        clear_hit = false;
         if (stop_at_lo) {
-          if (r < entry.lo * (1.0 - 1e-12)) break;  // outside_span for this and every later entry
+          if (r < entry.lo * (1.0 - 1e-12)) return false;  // outside_span for this and every later entry
         } else if (skipped(entry)) {
-          continue;
+          return true;
         }
-        const std::uint32_t slot = k - cell.wedge_end;  // wraps for the wedge's entries: no bit
-        if (slot < 32 && ((missed >> slot) & 1U) != 0) continue;
         offer_triangle(entry.triangle);
-        if (clear_hit) missed |= entry.separated;
+        return true;
+      };
+      bool open = true;
+      for (std::uint32_t k = first; k < cell.wedge_end && open; ++k) open = consider(spans.entries[k]);
+      // The first 32 entries past the wedge by their bits (skipping those known to be missed), then
+      // any beyond in order.
+      const std::uint32_t past_wedge = cell.end - cell.wedge_end;
+      std::uint32_t todo = open ? (past_wedge >= 32 ? ~std::uint32_t{0} : (std::uint32_t{1} << past_wedge) - 1) & ~missed : 0;
+      while (todo != 0) {
+        const RadialSpans::Entry& entry = spans.entries[cell.wedge_end + static_cast<std::uint32_t>(std::countr_zero(todo))];
+        todo &= todo - 1;
+        if (!consider(entry)) {
+          open = false;
+          break;
+        }
+        if (clear_hit) todo &= ~entry.separated;
       }
+      for (std::uint32_t k = cell.wedge_end + 32; k < cell.end && open; ++k) open = consider(spans.entries[k]);
     } else {
       visit(table.cell(cell_of_direction(table.grid, direction)));
     }
