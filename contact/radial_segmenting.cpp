@@ -750,7 +750,12 @@ void RadialPoseQuery::build_distance_map() {
 
 bool RadialPoseQuery::map_culled(const Bucket& bucket, const Vec3& axis, double shift_mm, double scale_mm) const {
   if (map_lo_.empty() || !(bucket.half_angle_rad < 4.0) || !(shift_mm < bucket.r_lo)) return false;
-  const double cone_rad = bucket.half_angle_rad + std::asin(shift_mm / bucket.r_lo);  // posed directions about axis
+  // The posed directions lie within half_angle + asin(x) of axis, x = shift / r_lo; asin(x) <=
+  // tan(asin(x)) = x / sqrt(1 - x^2) (x < 1 above), by far more than rounding except for x so small
+  // that the difference is below 1e-20 rad, which the 1e-6 rad reach of the map's cells and the
+  // 1e-9 margin of the wedge test cover.
+  const double x = shift_mm / bucket.r_lo;
+  const double cone_rad = bucket.half_angle_rad + x / std::sqrt(1.0 - x * x);
   if (!(cone_rad <= map_dilation_rad_)) return false;
   // The locator may differ from cell_of_direction within ~1e-15 rad of a border; the map's cells
   // reach 1e-6 rad further than the dilation, which covers it.

@@ -97,22 +97,6 @@ RayCrossing line_crossing_with_facing(const Vec3& direction, const Vec3& a, cons
   return plane_crossing_with_facing(direction, (b - a).cross(c - a), a.dot(b.cross(c)), facing);
 }
 
-RayCrossing plane_crossing_with_facing(const Vec3& direction, const Vec3& area_normal, double det, int facing) {
-  RayCrossing crossing;
-  if (area_normal.x() == 0.0 && area_normal.y() == 0.0 && area_normal.z() == 0.0) return crossing;
-  // d . N with the facing's sign: rounding may flip the float sign only for rays grazing the
-  // plane, where the crossing distance is meaningless anyway (treated as no crossing below).
-  const double along_normal = direction.dot(area_normal);
-  if (along_normal == 0.0 || (along_normal > 0.0) != (facing > 0)) return crossing;
-  // det(a, b, c) = a . (b x c) = (A-O).N, so t = (A-O).N / (d.N)  (Eq. 34, unnormalised d).
-  const double t = det / along_normal;
-  if (!(t > 0.0) || !std::isfinite(t)) return crossing;  // at or behind O
-  crossing.hit = true;
-  crossing.t = t;
-  crossing.facing = facing;
-  return crossing;
-}
-
 RayCrossing ray_triangle_crossing(const Vec3& direction, const Vec3& a, const Vec3& b,
                                   const Vec3& c) {
   RayCrossing crossing;

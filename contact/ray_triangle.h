@@ -33,6 +33,8 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <cmath>
+
 namespace hipfai::contact {
 
 using Vec3 = Eigen::Vector3d;
@@ -65,7 +67,22 @@ RayCrossing line_crossing_with_facing(const Vec3& direction, const Vec3& a, cons
 
 // The same tail given the triangle's area normal N = (b - a) x (c - a) and det(a, b, c) =
 // a . (b x c) computed beforehand with those expressions (as line_crossing_with_facing does).
-RayCrossing plane_crossing_with_facing(const Vec3& direction, const Vec3& area_normal, double det, int facing);
+// (Inline: the radial query calls it once per clear hit.)
+inline RayCrossing plane_crossing_with_facing(const Vec3& direction, const Vec3& area_normal, double det, int facing) {
+  RayCrossing crossing;
+  if (area_normal.x() == 0.0 && area_normal.y() == 0.0 && area_normal.z() == 0.0) return crossing;
+  // d . N with the facing's sign: rounding may flip the float sign only for rays grazing the
+  // plane, where the crossing distance is meaningless anyway (treated as no crossing below).
+  const double along_normal = direction.dot(area_normal);
+  if (along_normal == 0.0 || (along_normal > 0.0) != (facing > 0)) return crossing;
+  // det(a, b, c) = a . (b x c) = (A-O).N, so t = (A-O).N / (d.N)  (Eq. 34, unnormalised d).
+  const double t = det / along_normal;
+  if (!(t > 0.0) || !std::isfinite(t)) return crossing;  // at or behind O
+  crossing.hit = true;
+  crossing.t = t;
+  crossing.facing = facing;
+  return crossing;
+}
 
 // Thesis Eq. 34: distance from O to the triangle's plane along the unit direction of `direction`
 // (a, b, c relative to O), or NaN if the line is parallel to the plane or the triangle has zero
