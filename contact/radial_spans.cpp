@@ -1,7 +1,6 @@
 #include "contact/radial_spans.h"
 
 #include "contact/radial_table.h"
-#include "contact/ray_triangle.h"
 
 #include <Eigen/Eigenvalues>
 
@@ -153,14 +152,18 @@ RadialSpans::FlatWedge flat_wedge(std::span<const std::array<Vec3, 3>> triangles
 
 namespace {
 
+// Does the ray from O along d cross the triangle, in plain floating point (edge functions of one
+// sign, t > 0)? Enough for a hint, which only orders the tests: ten times cheaper than the exact test.
+bool roughly_crossed(const Vec3& d, const RadialSpans::TrianglePlanes& planes) {
+  const double e_ab = d.dot(planes.edge_ab), e_bc = d.dot(planes.edge_bc), e_ca = d.dot(planes.edge_ca);
+  const bool one_sign = (e_ab >= 0.0 && e_bc >= 0.0 && e_ca >= 0.0) || (e_ab <= 0.0 && e_bc <= 0.0 && e_ca <= 0.0);
+  return one_sign && planes.det / d.dot(planes.area_normal) > 0.0;
+}
+
 // The hints of every cell of a cube-mapping table (RadialSpans, HINTS).
-void compute_hints(RadialSpans& spans, const geometry::TriMesh& fixed, const Vec3& centre) {
+void compute_hints(RadialSpans& spans) {
   const RadialSpans::CubeLocator& cube = spans.cube;
   const int n = cube.dimension, side = RadialSpans::kHintSide;
-  auto relative = [&](std::int32_t t, int k) {
-    return Vec3(fixed.vertices[static_cast<std::size_t>(fixed.triangles[static_cast<std::size_t>(t)][static_cast<std::size_t>(k)])] -
-                centre);
-  };
   for (std::size_t id = 0; id < spans.cells.size(); ++id) {
     RadialSpans::Cell& cell = spans.cells[id];
     cell.hint.fill(RadialSpans::kNoHint);
@@ -176,8 +179,7 @@ void compute_hints(RadialSpans& spans, const geometry::TriMesh& fixed, const Vec
         d[(k + 1) % 3] = 0.5 * (cube.slice_border[su] + cube.slice_border[su + 1]);
         d[(k + 2) % 3] = 0.5 * (cube.slice_border[sw] + cube.slice_border[sw + 1]);
         for (std::uint32_t e = cell.wedge_end; e < last; ++e) {
-          const std::int32_t t = spans.entries[e].triangle;
-          if (ray_triangle_crossing(d, relative(t, 0), relative(t, 1), relative(t, 2)).hit) {
+          if (roughly_crossed(d, spans.planes[static_cast<std::size_t>(spans.entries[e].triangle)])) {
             cell.hint[static_cast<std::size_t>(part_w * side + part_u)] = static_cast<std::uint8_t>(e - cell.wedge_end);
             break;
           }
@@ -271,7 +273,7 @@ void compute_radial_spans(RadialTable& table, const geometry::TriMesh& fixed) {
   }
   if (table.grid.mapping == RadialMapping::kCube) {
     spans.cube = make_cube_locator(table.grid.dimension);
-    compute_hints(spans, fixed, table.centre);
+    compute_hints(spans);
   }
   // The cap: around the mean direction of the vertices used by triangles; every vertex's
   // direction within it. Kept only when clearly narrower than a hemisphere (convex cone).
