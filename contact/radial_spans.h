@@ -55,7 +55,7 @@ struct RadialSpans {
   // HINTS (cube mapping): a cell is cut into kHintSide x kHintSide parts of equal extent in the cube
   // coordinates (CubeLocator::cell), and hint[part] is the slot (entry - wedge_end, < 32) of the
   // first entry past the flat wedge, in lo order, whose triangle the ray through the part's centre
-  // crosses, or kNoHint. The query tests that entry first: a clear hit there skips every entry
+  // crosses (in plain floating point: a hint only orders the tests), or kNoHint. The query tests that entry first: a clear hit there skips every entry
   // separated from it wherever it sits in the cell, so a vertex usually needs one test. The order
   // of the tests never changes an answer (ties go to the lowest triangle index).
   static constexpr int kHintSide = 4;
@@ -145,8 +145,8 @@ struct RadialSpans {
   std::vector<TrianglePlanes> planes;            // per fixed triangle
   std::vector<Cell> cells;
   std::vector<FlatWedge> wedges;
-  // Each cell's [lo, hi] again as floats rounded outward, 8 bytes per cell: the test most vertices
-  // end at reads this small array (a few hundred KB, cache-resident) instead of the cell records.
+  // Each cell's [lo, hi] again as floats rounded outward, in two arrays (4 bytes per cell each):
+  // the test most vertices end at reads the one its side needs instead of the cell records.
   std::vector<float> cell_lo, cell_hi;
   // A cell's entries in ascending lo (ties: triangle index), so a vertex the kBelowLo side tests
   // stops at the first entry beyond its distance.
@@ -176,7 +176,8 @@ RadialSpans::CubeLocator make_cube_locator(int dimension);
 
 // The flat wedge of triangles given by their vertices relative to O: a plane through O and the sine
 // of the largest angle from it of any ray in their cones, with a 1e-9 margin (FLAT WEDGES); sin_bound
-// is 2 (no wedge) when they do not fit in one clearly narrower than a half-space.
+// is 2 (no wedge) when a vertex is at O, a triangle's cone reaches 60 deg from its mean direction, or the wedge would
+// reach 30 deg from its plane.
 RadialSpans::FlatWedge flat_wedge(std::span<const std::array<Eigen::Vector3d, 3>> triangles);
 
 // The widened radial span of a triangle given relative to O (see EXACTNESS above).
