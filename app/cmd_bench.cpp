@@ -55,7 +55,7 @@ const CommandRegistrar registrar("bench", [](CLI::App& parent) {
   collision->add_option("--out", args->out, "Output directory (CSV, report.md, SVG)");
   collision->add_option("--threads", args->threads, "Report figures for 1..N threads")->check(CLI::Range(1, 2));
   collision->add_option("--real-bones", args->lhdl_dir,
-                        "Folder of the real CT bones (hip.json, femur and pelvis; default: the project's meshes/real-hips/LHDL_CT from the source root); skipped in --quick or when absent")
+                        "Folder of the real CT bones (hip.json, femur and pelvis; default: meshes/real-hips/LHDL_CT relative to the working directory, i.e. run from the source root); skipped in --quick or when absent, with a line on the console and in the report")
       ->check(CLI::ExistingDirectory);
   collision->callback([args] { run(*args); });
   auto probe = std::make_shared<bench::RadialProbeOptions>();

@@ -768,6 +768,7 @@ CollisionBenchReport Bench::run() {
       bench_striking(*real);
     } catch (const Error& error) {
       measured_.notes.push_back(std::string("real CT scenario skipped: ") + error.what());
+      log(measured_.notes.back());  // on the console too: a run from another folder misses the default
     }
   }
   // The non-medical examples of thesis §3.7.2: a lever turning about its fulcrum against a stone
