@@ -723,10 +723,7 @@ void RadialPoseQuery::build_distance_map() {
       map_lo_[static_cast<std::size_t>(g)] = std::min(map_lo_[static_cast<std::size_t>(g)], own_lo[static_cast<std::size_t>(h)]);
       map_hi_[static_cast<std::size_t>(g)] = std::max(map_hi_[static_cast<std::size_t>(g)], own_hi[static_cast<std::size_t>(h)]);
       for (const std::int32_t t : own_flat[static_cast<std::size_t>(h)]) {
-        const auto& tri = fixed.triangles[static_cast<std::size_t>(t)];
-        flat.push_back({fixed.vertices[static_cast<std::size_t>(tri[0])] - table_->centre,
-                        fixed.vertices[static_cast<std::size_t>(tri[1])] - table_->centre,
-                        fixed.vertices[static_cast<std::size_t>(tri[2])] - table_->centre});
+        flat.push_back(triangle_relative(fixed, static_cast<std::size_t>(t), table_->centre));
       }
     }
     if (flat.empty()) continue;

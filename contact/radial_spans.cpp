@@ -200,10 +200,7 @@ void compute_radial_spans(RadialTable& table, const geometry::TriMesh& fixed) {
   spans.triangle_hi.resize(num_triangles);
   spans.planes.resize(num_triangles);
   for (std::size_t t = 0; t < num_triangles; ++t) {
-    const auto& tri = fixed.triangles[t];
-    const Vec3 a = fixed.vertices[static_cast<std::size_t>(tri[0])] - table.centre;
-    const Vec3 b = fixed.vertices[static_cast<std::size_t>(tri[1])] - table.centre;
-    const Vec3 c = fixed.vertices[static_cast<std::size_t>(tri[2])] - table.centre;
+    const auto [a, b, c] = triangle_relative(fixed, t, table.centre);
     triangle_radial_span(a, b, c, spans.triangle_lo[t], spans.triangle_hi[t]);
     spans.planes[t] = triangle_planes(a, b, c);
     spans.lo = std::min(spans.lo, spans.triangle_lo[t]);
@@ -247,10 +244,7 @@ void compute_radial_spans(RadialTable& table, const geometry::TriMesh& fixed) {
     cell.wedge_end = cell.begin;
     flat.clear();
     for (std::size_t i = 0; i < listed.size() && spans.triangle_lo[static_cast<std::size_t>(listed[i])] == 0.0; ++i) {
-      const auto& tri = fixed.triangles[static_cast<std::size_t>(listed[i])];
-      flat.push_back({fixed.vertices[static_cast<std::size_t>(tri[0])] - table.centre,
-                      fixed.vertices[static_cast<std::size_t>(tri[1])] - table.centre,
-                      fixed.vertices[static_cast<std::size_t>(tri[2])] - table.centre});
+      flat.push_back(triangle_relative(fixed, static_cast<std::size_t>(listed[i]), table.centre));
     }
     if (!flat.empty()) {
       const RadialSpans::FlatWedge wedge = flat_wedge(flat);

@@ -121,7 +121,6 @@ struct RadialSpans {
       m += static_cast<int>(m + 1 < dimension * kHintSide && u >= slice_border[static_cast<std::size_t>(m + 1)]);
       return m;
     }
-    int index(double u) const { return slice(u) / kHintSide; }
     // The cell id of a non-zero direction (as cell_of_direction for the cube mapping).
     int cell(const Eigen::Vector3d& d) const {
       int part = 0;
@@ -173,6 +172,14 @@ RadialSpans::TrianglePlanes triangle_planes(const Eigen::Vector3d& a, const Eige
 
 // The cube locator of a cube-mapping grid of `dimension` cells per face edge (CubeLocator).
 RadialSpans::CubeLocator make_cube_locator(int dimension);
+
+// The corners of triangle t of `mesh` relative to `centre`.
+inline std::array<Eigen::Vector3d, 3> triangle_relative(const geometry::TriMesh& mesh, std::size_t t,
+                                                        const Eigen::Vector3d& centre) {
+  const auto& tri = mesh.triangles[t];
+  return {mesh.vertices[static_cast<std::size_t>(tri[0])] - centre, mesh.vertices[static_cast<std::size_t>(tri[1])] - centre,
+          mesh.vertices[static_cast<std::size_t>(tri[2])] - centre};
+}
 
 // The flat wedge of triangles given by their vertices relative to O: a plane through O and the sine
 // of the largest angle from it of any ray in their cones, with a 1e-9 margin (FLAT WEDGES); sin_bound

@@ -98,10 +98,7 @@ bool cells_of_arc_triangle(const RadialGrid& grid, const std::array<Vec3, 3>& co
 // Bins triangle t of `fixed` into the table (its cells or the always list).
 void insert_triangle(RadialTable& table, const geometry::TriMesh& fixed, std::int32_t t,
                      std::vector<int>& scratch) {
-  const auto& tri = fixed.triangles[static_cast<std::size_t>(t)];
-  const std::array<Vec3, 3> corners = {fixed.vertices[static_cast<std::size_t>(tri[0])] - table.centre,
-                                       fixed.vertices[static_cast<std::size_t>(tri[1])] - table.centre,
-                                       fixed.vertices[static_cast<std::size_t>(tri[2])] - table.centre};
+  const std::array<Vec3, 3> corners = triangle_relative(fixed, static_cast<std::size_t>(t), table.centre);
   auto& own_cells = table.triangle_cells[static_cast<std::size_t>(t)];
   own_cells.clear();
   table.is_always[static_cast<std::size_t>(t)] = 0;
