@@ -258,8 +258,11 @@ const CommandRegistrar registrar{"fem", [](CLI::App& parent) {
       ->check(kFiniteLengthMm);
   run->add_option("--out", run_options->out_file, "HDF5 results file")->required();
   run->add_option("--csv", run_options->csv_file, "Also write one summary row per step (CSV)");
-  run->add_option("--solver", run_options->solver, "Linear solver: direct (MUMPS) or cg (CG + GAMG)")
-      ->check(CLI::IsMember({"direct", "cg"}));
+  run->add_option("--solver", run_options->solver,
+                  "Solver: substructured (each body factorised once, contact condensed; default), "
+                  "direct (MUMPS on the whole system: the monolithic reference) or cg (CG + GAMG)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"substructured", "direct", "cg"}));
   auto* vtu_prefix = run->add_option("--vtu-prefix", run_options->vtu_prefix,
                                      "Fields to <prefix>_<step>.vtu and <prefix>.pvd (ParaView)");
   run->add_option("--vtu-every", run_options->vtu_every, "Write VTU every N steps (and the last)")

@@ -2,6 +2,8 @@
 
 #include "core/error.h"
 #include "fem/active_set_strategy.h"
+#include "fem/body_compliance.h"
+#include "fem/condensed_contact.h"
 #include "fem/contact_constraints.h"
 #include "fem/contact_output.h"
 #include "fem/contact_summary.h"
@@ -55,6 +57,9 @@ class ContactProblem::Impl {
   std::vector<Linearization> solve_active_set(
       const std::vector<std::vector<dealii::Tensor<1, 3>>>& translation_sets);
   void solve_contact(std::vector<dealii::Tensor<1, 3>>& translations, ContactResult& result);
+  void solve_contact_condensed(std::vector<dealii::Tensor<1, 3>>& translations,
+                               ContactResult& result);
+  bool substructured() const { return options.linear_solver == LinearSolver::kSubstructured; }
   void postprocess(ContactResult& result);
 
   dealii::ConditionalOStream pcout;
@@ -62,6 +67,10 @@ class ContactProblem::Impl {
   ContactConstraints constraints;
   ActiveSetStrategy strategy;
   std::unique_ptr<ContactLinearSolver> solver;
+  // The substructured path: the bodies' factors (kept across runs) and the condensed problem.
+  BodyCompliance compliance;
+  CondensedContact condensed;
+  bool compliance_failed = false;
   LinearSolver solver_kind = LinearSolver::kCgAmg;
   std::vector<SlaveNode> nodes;
   std::vector<bool> active;
@@ -78,6 +87,16 @@ void ContactProblem::Impl::setup_system() {
   system.place_bodies(model);
   system.setup(model);
   constraints.collect_fixed_dofs(system, model);
+  if (substructured()) {
+    // The cell matrices are needed only to factorise a body anew.
+    compliance.begin_run(system, constraints, model);
+    compliance_failed = false;
+    if (compliance.needs_factorisation()) {
+      system.compute_cell_matrices();
+      compliance_failed = !compliance.factorise(system, constraints, model, timer, pcout);
+    }
+    return;
+  }
   system.compute_cell_matrices();
   if (!solver || solver_kind != options.linear_solver) {
     solver = make_contact_linear_solver(options.linear_solver, system, constraints, timer, pcout);
@@ -160,6 +179,75 @@ void ContactProblem::Impl::solve_contact(std::vector<dealii::Tensor<1, 3>>& tran
   }
 }
 
+void ContactProblem::Impl::solve_contact_condensed(std::vector<dealii::Tensor<1, 3>>& translations,
+                                                   ContactResult& result) {
+  // The same active-set rules as solve_contact; each set is solved on the condensed interface
+  // (fem/condensed_contact.h) and the whole displacement recovered once, after the last set.
+  const unsigned int factorisations_before = compliance.factorisations();
+  const unsigned int columns_before = compliance.solved_columns();
+  const bool load_controlled = !LoadControl(model).empty();
+  const double gap_tolerance = 1e-10 * dealii::GridTools::diameter(system.triangulation());
+  strategy.begin_run({options.holder_switch_mm, options.warm_start_active_set}, gap_tolerance);
+  active = strategy.initial(nodes, translations, system.dof_handler().n_dofs());
+  pcout << "fem: " << result.statistics.n_cells << " cells, " << result.statistics.n_dofs
+        << " dofs, " << nodes.size() << " contact nodes, substructured" << std::endl;
+  {
+    dealii::TimerOutput::Scope scope(timer, "condensation");
+    condensed.begin_run(compliance, model, nodes, translations);
+  }
+  result.status = compliance_failed ? ContactStatus::kLinearSolverFailed
+                                    : ContactStatus::kActiveSetNotConverged;
+  bool solved = false;
+  for (unsigned int iteration = 1;
+       !compliance_failed && iteration <= options.max_active_set_iterations; ++iteration) {
+    result.statistics.active_set_iterations = iteration;
+    CondensedOutcome outcome;
+    {
+      dealii::TimerOutput::Scope scope(timer, "active set (condensed)");
+      outcome = condensed.solve(active, translations, force, gap, pcout);
+    }
+    if (outcome == CondensedOutcome::kNoContact) {
+      result.status = ContactStatus::kNoContact;
+      break;
+    }
+    if (outcome == CondensedOutcome::kFailed) {
+      result.status = ContactStatus::kLinearSolverFailed;
+      break;
+    }
+    solved = true;
+    std::vector<bool> next = strategy.next(iteration, load_controlled, nodes, active, force, gap, pcout);
+    std::size_t n_active = 0, changes = 0;
+    for (std::size_t n = 0; n < nodes.size(); ++n) {
+      n_active += next[n];
+      changes += next[n] != active[n];
+    }
+    pcout << "fem: active-set iteration " << iteration << ": " << n_active << " active, " << changes
+          << " changed" << std::endl;
+    if (changes == 0) {
+      result.status = ContactStatus::kConverged;
+      break;
+    }
+    active = std::move(next);
+  }
+  {
+    dealii::TimerOutput::Scope scope(timer, "recovery");
+    state = Linearization();
+    state.displacement.reinit(system.dof_handler().n_dofs());
+    std::vector<dealii::Tensor<1, 3>> no_force;
+    if (!solved) no_force.assign(compliance.n_nodes(), dealii::Tensor<1, 3>());
+    if (!compliance_failed &&
+        !compliance.recover(translations, solved ? condensed.node_forces() : no_force,
+                            state.displacement, pcout))
+      result.status = ContactStatus::kLinearSolverFailed;
+    if (!solved) {
+      force.assign(nodes.size(), 0.0);
+      gap.assign(nodes.size(), 0.0);
+    }
+  }
+  result.statistics.factorisations = compliance.factorisations() - factorisations_before;
+  result.statistics.linear_solves = compliance.solved_columns() - columns_before + 1;
+}
+
 void ContactProblem::Impl::postprocess(ContactResult& result) {
   {
     dealii::TimerOutput::Scope scope(timer, "results");
@@ -205,13 +293,17 @@ ContactResult ContactProblem::Impl::run() {
   force.clear();
   gap.clear();
 
-  solve_contact(translations, result);
-  solver->end_run();  // the factor's memory goes now
-  const LinearSolverStatistics& statistics = solver->statistics();
-  result.statistics.factorisations = statistics.factorisations;
-  result.statistics.low_rank_updates = statistics.low_rank_updates;
-  result.statistics.linear_solves = statistics.linear_solves;
-  result.statistics.linear_iterations = statistics.linear_iterations;
+  if (substructured()) {
+    solve_contact_condensed(translations, result);
+  } else {
+    solve_contact(translations, result);
+    solver->end_run();  // the factor's memory goes now
+    const LinearSolverStatistics& statistics = solver->statistics();
+    result.statistics.factorisations = statistics.factorisations;
+    result.statistics.low_rank_updates = statistics.low_rank_updates;
+    result.statistics.linear_solves = statistics.linear_solves;
+    result.statistics.linear_iterations = statistics.linear_iterations;
+  }
   result.rigid_translation_mm = translations;
   postprocess(result);
   if (!options.vtu_file.empty()) {

@@ -10,6 +10,9 @@
 //   kDirect  on several ranks DistributedDirectSolver (P^T K P by PETSc's MatPtAP, MUMPS
 //            Cholesky); on one rank SerialDirectSolver (P^T K P row by row, MUMPS Cholesky, and
 //            active sets near the factorised one by a bordered low-rank correction).
+//   kSubstructured  not a linear solver of this interface: each body factorised once in its own
+//            frame and the contact problem condensed onto the active constraints and the free
+//            translations (fem/body_compliance.h, fem/condensed_contact.h; one rank).
 #pragma once
 
 #include "fem/contact_constraints.h"
@@ -30,8 +33,10 @@ namespace hipfai::fem {
 // kCgAmg: CG + smoothed-aggregation AMG (GAMG with rigid-body modes), scales to large meshes
 // and many ranks. kDirect: sparse Cholesky by MUMPS, factorised once per active set and reused
 // for its 1 + (free directions) right-hand sides; faster on small problems (a few 10^4 dofs),
-// memory grows faster than linearly.
-enum class LinearSolver { kCgAmg, kDirect };
+// memory grows faster than linearly. kSubstructured: each body's stiffness factorised once per
+// model (not per active set or step), the contact problem solved on the condensed contact
+// interface; the same discrete problem as kDirect, the fastest path for a motion.
+enum class LinearSolver { kCgAmg, kDirect, kSubstructured };
 const char* to_string(LinearSolver solver);
 
 // Settings a run reads (ContactOptions has them).

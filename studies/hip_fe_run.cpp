@@ -92,7 +92,9 @@ HipFeRunSummary run_hip_fe(const HipFeRunOptions& options, bool throw_on_failure
   solver.peak_average_radius_mm = options.peak_radius_mm;
   // Direct (MUMPS) by default: the hip meshes have 15-150 k DOFs with thin, nearly incompressible
   // layers, where CG + GAMG needs ~600 iterations per solve (127 s vs 13 s per coarse step).
-  solver.linear_solver = options.solver == "cg" ? fem::LinearSolver::kCgAmg : fem::LinearSolver::kDirect;
+  solver.linear_solver = options.solver == "cg"       ? fem::LinearSolver::kCgAmg
+                         : options.solver == "direct" ? fem::LinearSolver::kDirect
+                                                      : fem::LinearSolver::kSubstructured;
   fem::ContactProblem problem(MPI_COMM_WORLD, solver);
   fem::build_hip_fe_model(problem, volume.mesh, model.tissue("femur_bone"), model.hjc_mm);
 

@@ -49,7 +49,9 @@ struct HipFeRunOptions {
   int labrum_refinement = 1;
   std::string out_file;  // per-step HDF5 (required)
   std::string csv_file;  // per-step table (empty: none), written atomically after the motion
-  std::string solver = "direct";  // "direct" (MUMPS) or "cg" (CG + GAMG)
+  // "substructured" (each body factorised once, contact condensed), "direct" (MUMPS on the
+  // whole system per active set: the monolithic reference) or "cg" (CG + GAMG)
+  std::string solver = "substructured";
   unsigned int vtu_every = 0;     // fields to <vtu_prefix>_<step>.vtu every n steps and the last
   std::string vtu_prefix;
   bool verbose = false;   // active-set iterations on stdout
