@@ -147,6 +147,28 @@ void BodyCompliance::begin_run(const ElasticSystem& system, const ContactConstra
     }
   }
 
+  // Each body must be held by its bonded boundary: the factorisation is of the body alone, so a
+  // body that only the contact holds (a rigid motion left free) has a singular stiffness.
+  std::vector<bool> is_bonded(n_dofs, false);
+  for (const BondedDof& dof : constraints.bonded_dofs()) is_bonded[dof.dof] = true;
+  for (std::size_t b = 0; b < bodies_.size(); ++b) {
+    std::vector<dealii::Point<3>> held;
+    for (const int node : bodies_[b].nodes) {
+      const NodeDofs& dofs = node_dofs_[node];
+      if (is_bonded[dofs[0]] && is_bonded[dofs[1]] && is_bonded[dofs[2]])
+        held.push_back(system.support_points()[dofs[0]]);
+    }
+    bool spans_a_plane = false;
+    for (std::size_t i = 2; i < held.size() && !spans_a_plane && held.size() >= 3; ++i) {
+      const double area = dealii::cross_product_3d(held[1] - held[0], held[i] - held[0]).norm();
+      spans_a_plane = area > 1e-12 * std::max(1.0, held[1].distance(held[0]) * held[i].distance(held[0]));
+    }
+    if (!spans_a_plane) {
+      throw_error("fem: the substructured solver needs every deformable body bonded to a bone; '",
+                  model.bodies[b].name, "' is held only by its contacts (use --solver direct)");
+    }
+  }
+
   // Is each body still the one that was factorised, up to its rigid rotation?
   const std::vector<bool>& fixed = constraints.fixed_dofs();
   std::vector<double> extra_now(n_dofs, 0.0);

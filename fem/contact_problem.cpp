@@ -71,6 +71,7 @@ class ContactProblem::Impl {
   BodyCompliance compliance;
   CondensedContact condensed;
   bool compliance_failed = false;
+  unsigned int factorisations_before_run = 0;
   LinearSolver solver_kind = LinearSolver::kCgAmg;
   std::vector<SlaveNode> nodes;
   std::vector<bool> active;
@@ -91,6 +92,7 @@ void ContactProblem::Impl::setup_system() {
     // The cell matrices are needed only to factorise a body anew.
     compliance.begin_run(system, constraints, model);
     compliance_failed = false;
+    factorisations_before_run = compliance.factorisations();
     if (compliance.needs_factorisation()) {
       system.compute_cell_matrices();
       compliance_failed = !compliance.factorise(system, constraints, model, timer, pcout);
@@ -108,7 +110,7 @@ void ContactProblem::Impl::setup_system() {
 
 void ContactProblem::Impl::find_contact_nodes() {
   dealii::TimerOutput::Scope scope(timer, "contact search");
-  nodes = collect_slave_nodes(system, model, constraints.fixed_dofs());
+  nodes = collect_slave_nodes(system, model, constraints.fixed_dofs(), options.tangent_plane_cull);
 }
 
 std::vector<Linearization> ContactProblem::Impl::solve_active_set(
@@ -183,7 +185,6 @@ void ContactProblem::Impl::solve_contact_condensed(std::vector<dealii::Tensor<1,
                                                    ContactResult& result) {
   // The same active-set rules as solve_contact; each set is solved on the condensed interface
   // (fem/condensed_contact.h) and the whole displacement recovered once, after the last set.
-  const unsigned int factorisations_before = compliance.factorisations();
   const unsigned int columns_before = compliance.solved_columns();
   const bool load_controlled = !LoadControl(model).empty();
   const double gap_tolerance = 1e-10 * dealii::GridTools::diameter(system.triangulation());
@@ -244,7 +245,7 @@ void ContactProblem::Impl::solve_contact_condensed(std::vector<dealii::Tensor<1,
       gap.assign(nodes.size(), 0.0);
     }
   }
-  result.statistics.factorisations = compliance.factorisations() - factorisations_before;
+  result.statistics.factorisations = compliance.factorisations() - factorisations_before_run;
   result.statistics.linear_solves = compliance.solved_columns() - columns_before + 1;
 }
 

@@ -69,6 +69,9 @@ struct ContactOptions {
   // nodes is solved with that factor and a bordered (low-rank) correction, exactly, instead of
   // a new factorisation. Off: every active set is factorised anew (for comparison).
   bool low_rank_updates = true;
+  // Contact search: skip master faces clear of a slave face's tangent-plane extent
+  // (MortarSegmentOptions::tangent_plane_cull); off only to check that it changes nothing.
+  bool tangent_plane_cull = true;
   std::string vtu_file;  // written after the solve when not empty
   bool verbose = false;  // per-iteration statistics and the stage timings on rank 0
   // Radius (mm) of the balls of the mesh-objective peaks (fem/peak_measures.h; ContactPeaks::

@@ -129,8 +129,7 @@ dealii::Tensor<1, 3> FacePatch::normal(double s, double t) const {
   dealii::Point<3> x;
   dealii::Tensor<1, 3> ds, dt;
   evaluate(s, t, x, ds, dt);
-  dealii::Tensor<1, 3> n = orientation_ * dealii::cross_product_3d(ds, dt);
-  return n / n.norm();
+  return normal(ds, dt);
 }
 
 dealii::Point<3> FacePatch::vertex(unsigned int i) const {
@@ -171,6 +170,18 @@ bool FacePatch::intersect_line(const dealii::Point<3>& x0, const dealii::Tensor<
   s = 0.5;
   t = 0.5;
   lambda = 0.0;
+  return newton_intersect(x0, direction, s, t, lambda);
+}
+
+bool FacePatch::intersect_line_from(const dealii::Point<3>& x0,
+                                    const dealii::Tensor<1, 3>& direction, double& s, double& t,
+                                    double& lambda) const {
+  if (newton_intersect(x0, direction, s, t, lambda)) return true;
+  return intersect_line(x0, direction, s, t, lambda);
+}
+
+bool FacePatch::newton_intersect(const dealii::Point<3>& x0, const dealii::Tensor<1, 3>& direction,
+                                 double& s, double& t, double& lambda) const {
   double last_step = 1.0;
   dealii::Point<3> x;
   dealii::Tensor<1, 3> ds, dt;

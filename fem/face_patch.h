@@ -28,6 +28,11 @@ class FacePatch {
                 dealii::Tensor<1, 3>& dt) const;
   // Unit normal pointing out of the cell at (s, t).
   dealii::Tensor<1, 3> normal(double s, double t) const;
+  // The same from the tangents evaluate() gave at (s, t).
+  dealii::Tensor<1, 3> normal(const dealii::Tensor<1, 3>& ds, const dealii::Tensor<1, 3>& dt) const {
+    const dealii::Tensor<1, 3> n = orientation_ * dealii::cross_product_3d(ds, dt);
+    return n / n.norm();
+  }
   // Reference-cell point of face parameters (s, t).
   dealii::Point<3> unit_cell_point(double s, double t) const;
 
@@ -38,13 +43,21 @@ class FacePatch {
   // does not converge.
   bool intersect_line(const dealii::Point<3>& x, const dealii::Tensor<1, 3>& direction, double& s,
                       double& t, double& lambda) const;
+  // The same from the starting (s, t, lambda) given (a neighbouring line's answer: fewer Newton
+  // steps); from the face centre when that does not converge.
+  bool intersect_line_from(const dealii::Point<3>& x, const dealii::Tensor<1, 3>& direction,
+                           double& s, double& t, double& lambda) const;
 
   dealii::DoFHandler<3>::active_cell_iterator cell;
   unsigned int face_no = 0;
   dealii::Point<3> box_min, box_max;  // bounding box, padded for curvature
   dealii::Point<3> vertex(unsigned int i) const;  // corners in counter-clockwise (s, t) order
+  // The patch's interpolation points: (kDegree+1)^2 on an equispaced grid of (s, t), s fastest.
+  const std::vector<dealii::Point<3>>& samples() const { return samples_; }
 
  private:
+  bool newton_intersect(const dealii::Point<3>& x, const dealii::Tensor<1, 3>& direction,
+                        double& s, double& t, double& lambda) const;
   std::vector<dealii::Point<3>> samples_;  // (kDegree+1)^2, s fastest
   double orientation_ = 1.0;               // makes ds x dt point out of the cell
 };

@@ -72,7 +72,8 @@ struct MortarIntegrals {
 
 MortarIntegrals integrate_mortar(const ElasticSystem& system, const BoundaryProjector& projector,
                                  dealii::types::boundary_id slave_boundary_id,
-                                 const PairNodes& pair_nodes, double search_radius_mm) {
+                                 const PairNodes& pair_nodes, double search_radius_mm,
+                                 bool tangent_plane_cull) {
   const std::size_t count = pair_nodes.nodes.size();
   MortarIntegrals out;
   out.mortar.resize(count);
@@ -80,6 +81,7 @@ MortarIntegrals integrate_mortar(const ElasticSystem& system, const BoundaryProj
   out.covered.assign(count, 0.0);
   MortarSegmentOptions segment_options;
   segment_options.search_radius_mm = search_radius_mm;
+  segment_options.tangent_plane_cull = tangent_plane_cull;
   const MortarSegmenter segmenter(projector.faces(), segment_options);
   const dealii::FESystem<3>& fe = system.fe();
   const dealii::FiniteElement<3>& base = fe.base_element(0);
@@ -152,7 +154,9 @@ MortarIntegrals integrate_mortar(const ElasticSystem& system, const BoundaryProj
       }
     }
   };
-  run_in_chunks(slave_faces.size(), threads_per_rank(system.communicator()), integrate_faces);
+  // Faces opposite the master cost far more than the rest: blocks taken dynamically.
+  parallel_blocks(slave_faces.size(), static_cast<int>(threads_per_rank(system.communicator())), 8,
+                  integrate_faces);
 
   std::vector<global_dof_index> dofs(fe.n_dofs_per_cell()), master_dofs(fe.n_dofs_per_cell());
   for (std::size_t f = 0; f < slave_faces.size(); ++f) {
@@ -200,7 +204,8 @@ bool choose_constrained_component(SlaveNode& node, const std::vector<bool>& fixe
 }  // namespace
 
 std::vector<SlaveNode> collect_slave_nodes(const ElasticSystem& system, const ContactModel& model,
-                                           const std::vector<bool>& fixed_dof) {
+                                           const std::vector<bool>& fixed_dof,
+                                           bool tangent_plane_cull) {
   std::vector<SlaveNode> nodes;
   // Search radius: contact partners are close; 5 % of the model size is generous.
   const double search_radius_mm = 0.05 * dealii::GridTools::diameter(system.triangulation());
@@ -223,7 +228,7 @@ std::vector<SlaveNode> collect_slave_nodes(const ElasticSystem& system, const Co
     MortarIntegrals integrals;
     if (projector)
       integrals = integrate_mortar(system, *projector, pair.slave_boundary_id, pair_nodes,
-                                   search_radius_mm);
+                                   search_radius_mm, tangent_plane_cull);
 
     // Project, choose the constrained component, drop nodes that cannot be constrained.
     for (std::size_t local = 0; local < pair_nodes.nodes.size(); ++local) {

@@ -48,7 +48,10 @@ struct SlaveNode {
 // The contact nodes of all pairs, pair by pair. fixed_dof: dofs that carry another constraint
 // (hanging, bonded, symmetry), which a contact constraint may not eliminate.
 // Throws hipfai::Error for a pair whose slave or deformable master boundary has no faces.
+// tangent_plane_cull: MortarSegmentOptions::tangent_plane_cull (off only to check that it changes
+// nothing).
 std::vector<SlaveNode> collect_slave_nodes(const ElasticSystem& system, const ContactModel& model,
-                                           const std::vector<bool>& fixed_dof);
+                                           const std::vector<bool>& fixed_dof,
+                                           bool tangent_plane_cull = true);
 
 }  // namespace hipfai::fem

@@ -43,6 +43,11 @@ struct MortarSegmentOptions {
   unsigned int gauss_points = 5;  // per direction of the collapsed rule: exact to degree 8 on flat Q2 faces
   unsigned int curved_edge_samples = 2;  // polygon vertices per curved master sub-square edge
   unsigned int curved_subdivisions = 3;  // curved master faces are cut into n x n sub-squares
+  // Skip a master face whose projection on the slave face's tangent plane lies clear of the
+  // slave face's own, by more than the largest tangential offset a point within the search
+  // radius can have there (see MortarSegmenter::integrate). Off: every master face whose box
+  // meets the slave face's padded box is segmented (the same points, slower).
+  bool tangent_plane_cull = true;
 };
 
 class MortarSegmenter {

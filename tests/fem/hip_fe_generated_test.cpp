@@ -61,10 +61,11 @@ std::vector<MotionStep> sitting_down_steps() {
 }
 
 std::vector<ContactResult> run_coarse_motion(const geometry::HipGeneratorResult& hip,
-                                             const std::vector<MotionStep>& steps, ContactOptions solver) {
+                                             const std::vector<MotionStep>& steps, ContactOptions solver,
+                                             LinearSolver kind = LinearSolver::kDirect) {
   const geometry::HipVolumeMesh volume =
       geometry::build_hip_volume_mesh(hip.model, hip_volume_options(HipFeLevel::kCoarse));
-  solver.linear_solver = LinearSolver::kDirect;
+  solver.linear_solver = kind;
   ContactProblem problem(MPI_COMM_WORLD, solver);
   build_hip_fe_model(problem, volume.mesh, hip.model.tissue("femur_bone"), hip.model.hjc_mm);
   if (problem.model().bodies.size() != 3u) throw std::runtime_error("expected three deformable bodies");
@@ -89,7 +90,9 @@ TEST_P(HipFeGenerated, CompletesStandingToSittingAtTheCoarseLevel) {
   const geometry::HipGeneratorResult hip = generated_hip(GetParam());
   ASSERT_EQ(hip.status, geometry::HipGeneratorResult::Status::kOk);
   const std::vector<MotionStep> steps = sitting_down_steps();
-  const std::vector<ContactResult> results = run_coarse_motion(hip, steps, ContactOptions());
+  // The hip runs' solver (fem run's default).
+  const std::vector<ContactResult> results =
+      run_coarse_motion(hip, steps, ContactOptions(), LinearSolver::kSubstructured);
   ASSERT_EQ(results.size(), steps.size());
 
   const double thickness = literature::kFemoralCartilageMaxThicknessMm;
@@ -208,6 +211,36 @@ TEST(HipFeLowRank, BorderedUpdateGivesTheRefactorisedResult) {
               factorisations_with, updates, factorisations_without);
   EXPECT_GT(updates, 0u);
   EXPECT_LT(factorisations_with, factorisations_without);
+}
+
+// The substructured solver against the monolithic direct solve on the hardest hips of the
+// grid: the deep socket with the largest cam (CE 40 / alpha 80: the cam levers the head against
+// the rim, corner nodes held by one of two masters) and the dysplastic socket (CE 0 / alpha 40),
+// through large increments of standing-to-sitting (steps 1, 10, 20, 25, 28, 30: the contact zone
+// jumps between steps). Every step the same active set, pressures, gaps, translation and
+// stresses.
+TEST(HipFeSubstructured, EqualsTheMonolithicSolveOnTheHardHips) {
+  const std::vector<MotionStep> all = sitting_down_steps();
+  std::vector<MotionStep> steps;
+  for (const int k : {1, 10, 20, 25, 28, 30}) steps.push_back(all[k - 1]);
+  for (const Hip hip_angles : {Hip{40.0, 80.0}, Hip{0.0, 40.0}}) {
+    SCOPED_TRACE("CE " + std::to_string(int(hip_angles.ce_deg)) + " / alpha " +
+                 std::to_string(int(hip_angles.alpha_deg)));
+    const geometry::HipGeneratorResult hip = generated_hip(hip_angles);
+    ASSERT_EQ(hip.status, geometry::HipGeneratorResult::Status::kOk);
+    const std::vector<ContactResult> condensed =
+        run_coarse_motion(hip, steps, ContactOptions(), LinearSolver::kSubstructured);
+    const std::vector<ContactResult> monolithic =
+        run_coarse_motion(hip, steps, ContactOptions(), LinearSolver::kDirect);
+    ASSERT_EQ(condensed.size(), steps.size());
+    ASSERT_EQ(monolithic.size(), steps.size());
+    for (std::size_t k = 0; k < steps.size(); ++k) {
+      SCOPED_TRACE("step " + std::to_string(k + 1));
+      ASSERT_EQ(condensed[k].status, ContactStatus::kConverged);
+      ASSERT_EQ(monolithic[k].status, ContactStatus::kConverged);
+      expect_same_nodes_and_solution(condensed[k], monolithic[k]);
+    }
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(StudyGrid, HipFeGenerated, ::testing::Values(Hip{40.0, 80.0}, Hip{0.0, 40.0}),

@@ -273,6 +273,97 @@ TEST(HipFeModel, BorderedUpdatesGiveTheRefactorisedResultOnTwoCaps) {
   EXPECT_GT(updates, 0u);
 }
 
+// The two caps through three steps of sitting down and a fourth whose joint force turns by 15
+// degrees (the head translates sideways and the contact zone moves; the acetabular cap's normals
+// reach 31 degrees from its axis, so the turned force is still carried), each solved with one
+// solver setting from a fresh problem.
+std::vector<ContactResult> two_caps_motion(const ContactOptions& solver,
+                                           std::size_t first_step = 0) {
+  const HexMesh mesh = two_caps();
+  const geometry::TriMesh bone = geometry::make_octasphere(Vec3::Zero(), kBoneRadius, 5);
+  const Eigen::Vector3d force = constant_joint_force_n(kDefaultBodyWeightN);
+  std::vector<MotionStep> steps;
+  for (int k = 1; k <= 3; ++k) steps.push_back(make_hip_motion_step(sub_motion(k, 30), force));
+  const Eigen::Vector3d turned =
+      Eigen::AngleAxisd(15.0 * M_PI / 180.0, Eigen::Vector3d::UnitY()) * force;
+  steps.push_back(make_hip_motion_step(sub_motion(3, 30), turned));
+  steps.erase(steps.begin(), steps.begin() + static_cast<std::ptrdiff_t>(first_step));
+  ContactProblem problem(MPI_COMM_WORLD, solver);
+  build_hip_fe_model(problem, mesh, bone, Vec3::Zero());
+  MotionOptions options;
+  options.moving_body = kFemurBody;
+  return run_motion(problem, steps, options);
+}
+
+ContactOptions with_solver(LinearSolver kind) {
+  ContactOptions solver;
+  solver.linear_solver = kind;
+  return solver;
+}
+
+// The substructured solver (each body factorised once, the contact condensed) against the
+// monolithic direct solve of the same discrete problem: the same active sets, pressures, gaps,
+// translations and stresses at every step, including the one where the zone moves.
+TEST(HipFeSubstructured, EqualsTheMonolithicSolveOnTwoCaps) {
+  const std::vector<ContactResult> condensed = two_caps_motion(with_solver(LinearSolver::kSubstructured));
+  const std::vector<ContactResult> monolithic = two_caps_motion(with_solver(LinearSolver::kDirect));
+  ASSERT_EQ(condensed.size(), 4u);
+  ASSERT_EQ(monolithic.size(), 4u);
+  for (std::size_t k = 0; k < condensed.size(); ++k) {
+    SCOPED_TRACE("step " + std::to_string(k + 1));
+    ASSERT_EQ(condensed[k].status, ContactStatus::kConverged);
+    ASSERT_EQ(monolithic[k].status, ContactStatus::kConverged);
+    expect_same_nodes_and_solution(condensed[k], monolithic[k]);
+    // Factorised once, in the first step only.
+    EXPECT_EQ(condensed[k].statistics.factorisations, k == 0 ? 2u : 0u);
+  }
+  // The turned force moved the head sideways by more than a tenth of a millimetre, and the
+  // contact zone with it (a different set of active nodes).
+  const dealii::Tensor<1, 3> shift =
+      condensed[3].rigid_translation_mm[kFemurBody] - condensed[2].rigid_translation_mm[kFemurBody];
+  EXPECT_GT(shift.norm(), 0.01);
+  std::size_t changed = 0;
+  for (std::size_t n = 0; n < condensed[3].nodes.size(); ++n)
+    changed += condensed[3].nodes[n].active != condensed[2].nodes[n].active;
+  EXPECT_GT(changed, 0u);
+  std::printf("two caps: the turned force moved the head %.4f mm, %zu nodes changed state\n",
+              shift.norm(), changed);
+}
+
+// A step solved with the compliance columns kept from earlier steps (computed in the frame of
+// the first step's pose, rotated since) equals the same step solved by a fresh problem that
+// factorises and computes every column at that pose.
+TEST(HipFeSubstructured, ReusedComplianceEqualsAFreshOne) {
+  const std::vector<ContactResult> after_others = two_caps_motion(with_solver(LinearSolver::kSubstructured));
+  const std::vector<ContactResult> alone = two_caps_motion(with_solver(LinearSolver::kSubstructured), 2);
+  ASSERT_EQ(alone.size(), 2u);
+  for (std::size_t k = 0; k < 2; ++k) {
+    SCOPED_TRACE("step " + std::to_string(k + 3));
+    ASSERT_EQ(alone[k].status, ContactStatus::kConverged);
+    expect_same_nodes_and_solution(after_others[k + 2], alone[k]);
+  }
+  EXPECT_EQ(after_others[2].statistics.factorisations, 0u);
+  EXPECT_EQ(alone[0].statistics.factorisations, 2u);
+}
+
+// The contact search's tangent-plane cull skips only master faces that contribute nothing: the
+// solution with it is bit for bit the solution without it.
+TEST(HipFeSubstructured, TangentPlaneCullChangesNothing) {
+  ContactOptions plain = with_solver(LinearSolver::kSubstructured);
+  plain.tangent_plane_cull = false;
+  const std::vector<ContactResult> culled = two_caps_motion(with_solver(LinearSolver::kSubstructured));
+  const std::vector<ContactResult> unculled = two_caps_motion(plain);
+  ASSERT_EQ(culled.size(), unculled.size());
+  for (std::size_t k = 0; k < culled.size(); ++k) {
+    ASSERT_EQ(culled[k].nodes.size(), unculled[k].nodes.size());
+    for (std::size_t n = 0; n < culled[k].nodes.size(); ++n) {
+      EXPECT_EQ(culled[k].nodes[n].pressure_mpa, unculled[k].nodes[n].pressure_mpa);
+      EXPECT_EQ(culled[k].nodes[n].gap_mm, unculled[k].nodes[n].gap_mm);
+    }
+    EXPECT_EQ(culled[k].peaks.max_von_mises_mpa, unculled[k].peaks.max_von_mises_mpa);
+  }
+}
+
 TEST(HipFeModel, RejectsAMeshWithoutFemoralCartilage) {
   HexMesh mesh;
   add_cap(mesh, kContactRadius, kCupRadius, kAcetabularExtent, 3, 1, VolumeTag::kAcetabularCartilage,
