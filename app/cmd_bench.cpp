@@ -1,4 +1,4 @@
-// hipfai bench collision: the collision benchmark of issue 4 (thesis §3.4-3.6, Tables 1-7): the
+// hipfai bench collision: the collision benchmark (thesis §3.4-3.6, Tables 1-7): the
 // thesis' methods against FCL, Embree, CGAL, spatial hashing, ray-based sampling and stepping ROM,
 // in the same process, with exactness against the oracle; writes CSV + report.md + SVG plots.
 #include "app/command_registry.h"

@@ -332,7 +332,7 @@ void Bench::bench_striking(const Scenario& s) {
   }
   bench_bandwidth_floor(s);
   const Reference reference = make_reference(s, posed, ours_vertices, budget_);
-  // FCL, both bounding volumes, all contacts with contact data (the configuration).
+  // FCL, both bounding volumes, all contacts with contact data (the configuration the goals name).
   for (auto bv : {FclBoundingVolume::kObbRss, FclBoundingVolume::kObb}) {
     BenchRow row = base_row(s, std::string("fcl_") + to_string(bv), 1);
     FclModel fixed_model, mobile_model;
@@ -416,7 +416,8 @@ contact::RadialTableOptions radial_table_options(const Scenario& s, contact::Rad
   contact::RadialTableOptions options;
   options.mapping = mapping;
   // About one cell per fixed triangle, as the thesis advises (a cell about a triangle's size); on
-  // cartilage_L3 the pose query is faster there than with twice the cells (bench/README.md).
+  // cartilage_L3 the pose query is faster there than with twice the cells
+  // (docs/collision-performance-history.md).
   options.table_size = std::max<std::int64_t>(4096, static_cast<std::int64_t>(s.fixed.num_triangles()));
   return options;
 }

@@ -1,4 +1,4 @@
-// hipfai — the collision benchmark driver (issue 4; thesis §3.4-3.6, Tables 1-7, Figs. 31-39).
+// hipfai — the collision benchmark driver (thesis §3.4-3.6, Tables 1-7, Figs. 31-39).
 //
 // `run_collision_bench` generates the thesis' scenarios (scenarios.h), runs the thesis' methods and
 // their peers on the same poses in the same process, checks each against the exhaustive oracle
@@ -13,7 +13,7 @@
 //   sweep_stepping.csv          stepping ROM: step size vs ROM error vs time (FCL, spatial hashing)
 //                               and the one-pass range finder; rom_table7.csv per resolution;
 //   scaling.csv                 fitted log-log exponent of time vs vertex count per method;
-//   report.md + *.svg           the tables, the targets of the issue (met / not met with the
+//   report.md + *.svg           the tables, the benchmark's goals (met / not met with the
 //                               measured ratios) and one plot per sweep / scaling family.
 // Timing: std::chrono steady clock; each figure is the median of repeated runs (min-max shown);
 // pre-processing and per-pose query are timed separately; the posing of the mobile mesh is part of

@@ -1,6 +1,6 @@
 // hipfai — what one run of the collision benchmark measured (collision_bench.h), as one value: a
 // row per scenario x method x thread count, the sweeps and the range-of-motion table. The driver
-// (collision_bench.cpp) fills it; collision_bench_targets.h judges it against the issues' goals;
+// (collision_bench.cpp) fills it; collision_bench_targets.h judges it against the goals;
 // collision_bench_report.h writes its tables, figures and report.md. Nothing here is written to
 // disk by the driver itself.
 #pragma once

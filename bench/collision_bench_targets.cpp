@@ -103,7 +103,7 @@ std::vector<TargetVerdict> evaluate_targets(const CollisionBenchResults& results
     targets.push_back(t);
   }
   {
-    // Issue 18: the one-pass ROM >= 10x faster than 1 degree stepping with FCL and with hashing at
+    // The one-pass ROM >= 10x faster than 1 degree stepping with FCL and with hashing at
     // every hip level and on the real CT, exact (the lever of §3.7.2 is not a hip: above).
     TargetVerdict t;
     t.target = "Issue 18: one-pass ROM >= 10x faster than 1 degree stepping (FCL and hashing), every striking_hip level and the real CT, exact";
@@ -123,7 +123,7 @@ std::vector<TargetVerdict> evaluate_targets(const CollisionBenchResults& results
     targets.push_back(t);
   }
   {
-    // Issue 18: radial >= 3x Embree on the hip (cartilage) and >= 1.5x on sphere_cube, 1 thread;
+    // Radial >= 3x Embree on the hip (cartilage) and >= 1.5x on sphere_cube, 1 thread;
     // 2 threads >= 1.7x faster than 1. Ours = the faster of the posed-mesh query and the pose query.
     TargetVerdict t;
     t.target = "Issue 18: radial query >= 3x Embree (cartilage), >= 1.5x (sphere_cube), 1 thread; 2 threads >= 1.7x faster than 1" + size_note;
@@ -147,7 +147,7 @@ std::vector<TargetVerdict> evaluate_targets(const CollisionBenchResults& results
     targets.push_back(t);
   }
   {
-    // Issue 18: the cylindrical per-pose query with the pose cache >= 50x FCL all-contacts at
+    // The cylindrical per-pose query with the pose cache >= 50x FCL all-contacts at
     // striking_hip_L3 and >= 10x on the real CT bones; the one-pass query on a posed mesh (no
     // cache) at least as fast as FCL. 1 thread, the slower of FCL's two bounding volumes taken
     // as FCL's time would flatter us, so the faster one is.
@@ -186,7 +186,7 @@ std::vector<TargetVerdict> evaluate_targets(const CollisionBenchResults& results
   }
   {
     // Not a target with a threshold: how far each largest scenario's query is from streaming its
-    // mobile vertices once (issue 18).
+    // mobile vertices once.
     TargetVerdict t;
     t.target = "Bandwidth floor (stream the mobile vertex positions once): ours / floor, 1 thread";
     std::ostringstream m;

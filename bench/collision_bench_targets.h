@@ -1,6 +1,6 @@
-// hipfai — the collision benchmark's results judged against the goals of the issues that set them
-// (issue 4: the thesis' speed-ups; issue 18: radial vs Embree, the pose cache vs FCL, the one-pass
-// range of motion vs stepping, two threads; zero false negatives / positives), with the measured
+// hipfai — the collision benchmark's results judged against its goals (the thesis' speed-ups; the
+// project's own goals: radial vs Embree, the pose cache vs FCL, the one-pass range of motion vs
+// stepping, two threads; zero false negatives / positives; bench/README.md), with the measured
 // ratios behind every verdict, and the bandwidth floor as a measurement without a threshold.
 #pragma once
 

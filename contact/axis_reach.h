@@ -1,5 +1,5 @@
-// hipfai — what of two bodies can ever meet when one turns about an axis (issue 18's "drop once
-// per body pair"): rotation about the axis keeps every point's (r, z), its distance from the axis
+// hipfai — what of two bodies can ever meet when one turns about an axis (found once per body
+// pair): rotation about the axis keeps every point's (r, z), its distance from the axis
 // and its height along it. Two points can meet at some angle only if they share (r, z); so a
 // triangle, edge or vertex of one body whose (r, z) extent lies where the other body has nothing
 // takes part in no contact at any angle, and every pass of the range finder (tables, pose caches,

@@ -101,7 +101,7 @@ PenetrationResult radial_segmenting(const RadialTable& table, const geometry::Tr
                                     const geometry::TriMesh& mobile,
                                     const RadialQueryOptions& options);
 
-// A rigid body pair prepared for many poses (issue 18): the fixed mesh with its table, and the
+// A rigid body pair prepared for many poses: the fixed mesh with its table, and the
 // mobile mesh at rest, its vertices stored in buckets (a coarse rest direction about O and a
 // 0.5 mm shell of rest distance). Rotation about the centre keeps each mobile vertex's distance
 // from O and turns a bucket's cone of directions as a whole, so query(pose) drops whole buckets

@@ -1,4 +1,4 @@
-// hipfai — radial spans of a radial table: which mobile vertices need no triangle test (issue 18).
+// hipfai — radial spans of a radial table: which mobile vertices need no triangle test.
 //
 // Rotation about the centre O keeps every point's distance r = |v - O|. A ray from O meets a fixed
 // triangle only at a distance within the triangle's radial span [lo, hi] (lo = distance from O to

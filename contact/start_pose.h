@@ -1,4 +1,4 @@
-// hipfai — start-pose check: do the two bodies already intersect before any motion (issue 19)?
+// hipfai — start-pose check: do the two bodies already intersect before any motion?
 //
 // Every motion query of hipfai (range finder, collide, the studies) starts from the meshes as
 // given, and the range finder assumes that pose is collision-free: on bodies that already

@@ -1,4 +1,4 @@
-// hipfai — the HJC estimators against a known truth (issue 17): generated hips, whose centre is
+// hipfai — the HJC estimators against a known truth: generated hips, whose centre is
 // known exactly, perturbed the way real segmentations are, and each method's centre error in mm.
 // The table thesis §4.4 could not make (it had no ground truth and compared methods with dref).
 //

@@ -97,7 +97,7 @@ struct PenetrationRun {
 using StepObserver = std::function<void(std::size_t step, const DepthFields& fields)>;
 
 // Throws hipfai::Error "<hip id>: femur_bone and labrum already intersect in the neutral pose: ..."
-// when they overlap beyond the contact tolerance before any motion (issue 19): every depth of
+// when they overlap beyond the contact tolerance before any motion: every depth of
 // the motion would include that overlap.
 PenetrationRun compute_penetration(const LoadedHip& hip, const Motion& motion,
                                    const PenetrationOptions& options, StageLog& log,

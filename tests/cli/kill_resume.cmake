@@ -1,4 +1,4 @@
-# Kill-and-resume (issue: interruption): SIGKILL at a random point of a long command, then a re-run,
+# Kill-and-resume after an interruption: SIGKILL at a random point of a long command, then a re-run,
 # gives the uninterrupted run's results and no partial files. Seeds fixed (printed); slow tests.
 foreach(kind grid fai validate)
   if(kind STREQUAL "validate" AND NOT TARGET hipfai_fem)

@@ -23,7 +23,7 @@ hipfai_cli_test(NAME rom_bad_fan_steps EXIT nonzero STDERR "fan-steps"
 hipfai_cli_test(NAME rom_nan_centre EXIT nonzero STDERR "center-mm"
   COMMAND rom --fixed ${LHDL}/pelvis_no_sacrum.ply --mobile ${LHDL}/femur_r.ply --center-mm nan,0,0 --axis 0,0,1)
 
-# Bodies that already intersect in the start pose (issue 19): the box [9, 12] x [3, 5] x [4, 6]
+# Bodies that already intersect in the start pose: the box [9, 12] x [3, 5] x [4, 6]
 # pokes 1 mm into the box [0, 10]^3 (4 corners inside, 1 mm deep). rom refuses with one line;
 # --allow-start-overlap warns and reports the ranges; collide only warns.
 function(hipfai_write_box_obj path min_x min_y min_z max_x max_y max_z)

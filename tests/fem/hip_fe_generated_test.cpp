@@ -2,8 +2,8 @@
 //
 // Two hips of the study grid at the coarse level, the thesis's 30 sub-motions with the
 // sitting-down load: every step must converge, balance the joint force, keep the residual
-// penetration below 1 % of the cartilage thickness and stay finite (issue 5, "hard cases stay
-// stable"). CE 40 deg, alpha 80 deg: deepest socket and largest cam (thesis Table 11: the ABAQUS
+// penetration below 1 % of the cartilage thickness and stay finite (hard cases stay
+// stable). CE 40 deg, alpha 80 deg: deepest socket and largest cam (thesis Table 11: the ABAQUS
 // model of this hip stopped at 50 % of the motion). CE 0 deg, alpha 40 deg: the shallow socket,
 // where late in the motion acetabular nodes touch both the femoral cartilage and, past its edge,
 // the bone (two contact constraints on one node once made the constraint closure run out of

@@ -27,7 +27,7 @@ using geometry::SurfaceTag;
 using geometry::Vec3;
 using geometry::VolumeTag;
 
-constexpr double kBoneRadius = 23.0, kContactRadius = 25.0, kCupRadius = 27.0;  // mm, issue 5
+constexpr double kBoneRadius = 23.0, kContactRadius = 25.0, kCupRadius = 27.0;  // mm
 
 // Cap of a spherical shell about the origin around +Z (superior), r in [r_in, r_out]: the
 // gnomonic grid direction (u, v, 1) / |.| for u, v in [-extent, extent], n x n cells, `layers`
@@ -215,7 +215,7 @@ TEST(HipFeModel, FirstStepsOfSittingDownBalanceTheJointForce) {
     for (const auto& pair_force : r.pair_force_n) resultant += pair_force;
     const dealii::Tensor<1, 3> applied = steps[k].force_n;
     EXPECT_LT((resultant - applied).norm(), 1e-6 * applied.norm()) << "step " << k;
-    // Residual penetration below 1 % of the cartilage thickness (issue 5).
+    // Residual penetration below 1 % of the cartilage thickness.
     EXPECT_LT(r.peaks.max_penetration_mm, 0.01 * h) << "step " << k;
     // Peak pressure bounds. Lower: F = sum p_i (n_i . e_z) A_i <= p_max * (projected contact
     // area) <= p_max * projected_area, exact for any pressure distribution on this surface.

@@ -22,7 +22,7 @@ namespace {
 using dealii::Point;
 using dealii::Tensor;
 
-constexpr double kWidth = 4.0, kThickness = 2.0;  // mm, the acetabular cartilage's 2 mm (issue 5)
+constexpr double kWidth = 4.0, kThickness = 2.0;  // mm, the acetabular cartilage's 2 mm
 constexpr dealii::types::boundary_id kBottom = 0, kTop = 1, kWallX = 2, kWallY = 3;
 // 5 N on 16 mm^2: 0.3 MPa, ~1.5 % strain when flat: small strain, the plate tilts by up to 2 %.
 constexpr double kLoad = 5.0;
@@ -39,7 +39,7 @@ void build_layer(ContactProblem& problem, unsigned int cells_across) {
     else if (c[0] < 1e-9 || c[0] > kWidth - 1e-9) face->set_boundary_id(kWallX);
     else face->set_boundary_id(kWallY);
   }
-  problem.model().bodies = {{"cartilage", 0, {12.0, 0.45}, -1}};  // issue 5: E 12 MPa, nu 0.45
+  problem.model().bodies = {{"cartilage", 0, {12.0, 0.45}, -1}};  // E 12 MPa, nu 0.45 (core/literature.h)
   RigidBody bone{"bone", nullptr, {}, false, {}, {}, dealii::unit_symmetric_tensor<3>(), {}};
   RigidBody plate{"plate", std::make_shared<RigidPlane>(Point<3>(0, 0, kThickness), Tensor<1, 3>({0, 0, -1})),
                   {}, false, {}, {}, dealii::unit_symmetric_tensor<3>(), Point<3>(kWidth / 2, kWidth / 2, kThickness)};

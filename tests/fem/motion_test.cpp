@@ -21,10 +21,10 @@ namespace {
 using dealii::Point;
 using dealii::Tensor;
 
-constexpr double kCoreRadius = 23.0, kContactRadius = 25.0, kCupRadius = 27.0;  // mm (issue 5)
+constexpr double kCoreRadius = 23.0, kContactRadius = 25.0, kCupRadius = 27.0;  // mm
 constexpr double kExpansion = 0.02;  // mm, radial, keeps the whole interface closed
 
-ElasticMaterial cartilage() { return {12.0, 0.45}; }  // issue 5: E = 12 MPa, nu = 0.45
+ElasticMaterial cartilage() { return {12.0, 0.45}; }  // E = 12 MPa, nu = 0.45 (core/literature.h)
 
 // Lame: contact pressure between the shells, core expanded by d, cup fixed; both shells of the
 // same material. u = A r + B / r^2, sigma_rr = 3K A - 4 mu B / r^3; unknowns A1 B1 A2 B2 p.

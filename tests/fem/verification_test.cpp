@@ -82,7 +82,7 @@ TEST(FemVerification, StackedLayersOnNonMatchingMeshes) {
   // The exact field is piecewise linear and the interface displacement uniform, both inside the
   // Q2 spaces. Segment-based mortar integrals are exact on these flat faces (Gauss rule exact
   // for the degree-8 integrand on every clipped piece), so the discrete solution is the exact
-  // one up to the CG tolerance (1e-12 relative residual): 1e-6 per node, as the issue asks
+  // one up to the CG tolerance (1e-12 relative residual): 1e-6 per node, the accuracy required
   // (the earlier composite-quadrature mortar gave 9e-4, node-to-surface 3e-2).
   double worst = 0.0;
   for (const ContactNode& node : result.solve.nodes) {
