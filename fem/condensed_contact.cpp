@@ -1,6 +1,7 @@
 #include "fem/condensed_contact.h"
 
 #include "core/error.h"
+#include "core/parallel.h"
 
 #include <Eigen/Dense>
 
@@ -11,7 +12,9 @@ namespace hipfai::fem {
 
 void CondensedContact::begin_run(BodyCompliance& bodies, const ContactModel& model,
                                  const std::vector<SlaveNode>& nodes,
-                                 const std::vector<dealii::Tensor<1, 3>>& translations) {
+                                 const std::vector<dealii::Tensor<1, 3>>& translations,
+                                 std::size_t n_threads) {
+  n_threads_ = static_cast<int>(std::max<std::size_t>(1, n_threads));
   bodies_ = &bodies;
   model_ = &model;
   t0_ = translations;
@@ -79,9 +82,8 @@ void CondensedContact::begin_run(BodyCompliance& bodies, const ContactModel& mod
   node_force_.assign(bodies.n_nodes(), dealii::Tensor<1, 3>());
 }
 
-const std::vector<double>& CondensedContact::h(std::size_t n) {
+void CondensedContact::compute_h(std::size_t n) {
   std::vector<double>& out = h_[n];
-  if (!out.empty()) return out;
   out.assign(n_surface_dofs_, 0.0);
   for (const Term& term : constraints_[n].terms) {
     const double* columns = bodies_->columns(term.node);
@@ -94,7 +96,6 @@ const std::vector<double>& CondensedContact::h(std::size_t n) {
       for (std::size_t i = 0; i < size; ++i) target[i] += weight * column[i];
     }
   }
-  return out;
 }
 
 CondensedOutcome CondensedContact::solve(const std::vector<bool>& active,
@@ -113,20 +114,29 @@ CondensedOutcome CondensedContact::solve(const std::vector<bool>& active,
   if (d > 0 && m == 0) return CondensedOutcome::kNoContact;  // nothing carries the load
   if (!bodies_->ensure_columns(needed, log)) return CondensedOutcome::kFailed;
 
-  // W = B_A K^-1 B_A^T (lower triangle), the active gaps at the current translations and their
-  // sensitivity to the free directions.
+  // h of the nodes new to the set (kept for the run), then W = B_A K^-1 B_A^T (lower triangle),
+  // the active gaps at the current translations and their sensitivity to the free directions.
+  // Each thread writes its own h and its own columns of W.
+  std::vector<std::size_t> fresh;
+  for (const std::size_t n : set)
+    if (h_[n].empty()) fresh.push_back(n);
+  parallel_blocks(fresh.size(), n_threads_, 8, [&](std::size_t first, std::size_t last) {
+    for (std::size_t k = first; k < last; ++k) compute_h(fresh[k]);
+  });
   Eigen::MatrixXd w(m, m);
-  for (std::size_t j = 0; j < m; ++j) {
-    const std::vector<double>& hj = h(set[j]);
-    for (std::size_t i = j; i < m; ++i) {
-      double value = 0.0;
-      for (const Term& term : constraints_[set[i]].terms) {
-        const double* x = hj.data() + body_offset_[term.body] + 3 * term.surface;
-        value += term.local[0] * x[0] + term.local[1] * x[1] + term.local[2] * x[2];
+  parallel_blocks(m, n_threads_, 16, [&](std::size_t first, std::size_t last) {
+    for (std::size_t j = first; j < last; ++j) {
+      const std::vector<double>& hj = h_[set[j]];
+      for (std::size_t i = j; i < m; ++i) {
+        double value = 0.0;
+        for (const Term& term : constraints_[set[i]].terms) {
+          const double* x = hj.data() + body_offset_[term.body] + 3 * term.surface;
+          value += term.local[0] * x[0] + term.local[1] * x[1] + term.local[2] * x[2];
+        }
+        w(i, j) = value;
       }
-      w(i, j) = value;
     }
-  }
+  });
   const auto gap_at = [&](std::size_t n, const std::vector<dealii::Tensor<1, 3>>& t) {
     double value = constraints_[n].base_gap;
     for (std::size_t r = 0; r < n_rigid; ++r)
@@ -175,11 +185,13 @@ CondensedOutcome CondensedContact::solve(const std::vector<bool>& active,
 
   // Displacements of the surface dofs (body frames), every node's gap and the nodal forces.
   std::vector<double> u(n_surface_dofs_, 0.0);
-  for (std::size_t j = 0; j < m; ++j) {
-    const std::vector<double>& hj = h(set[j]);
-    const double l = lambda(j);
-    for (std::size_t i = 0; i < n_surface_dofs_; ++i) u[i] += l * hj[i];
-  }
+  parallel_blocks(n_surface_dofs_, n_threads_, 1024, [&](std::size_t first, std::size_t last) {
+    for (std::size_t j = 0; j < m; ++j) {
+      const double* hj = h_[set[j]].data();
+      const double l = lambda(j);
+      for (std::size_t i = first; i < last; ++i) u[i] += l * hj[i];
+    }
+  });
   gap.assign(constraints_.size(), 0.0);
   for (std::size_t n = 0; n < constraints_.size(); ++n) {
     double value = gap_at(n, translations);

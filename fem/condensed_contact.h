@@ -44,9 +44,10 @@ class CondensedContact {
   // A run's contact nodes: their constraint coefficients, the liftings at their nodes and the
   // translations' effect on their gaps. `bodies` must have begun the run (and be factorised);
   // `translations`: the rigid bodies' current translations.
+  // `n_threads` share the dense work of each active set.
   void begin_run(BodyCompliance& bodies, const ContactModel& model,
                  const std::vector<SlaveNode>& nodes,
-                 const std::vector<dealii::Tensor<1, 3>>& translations);
+                 const std::vector<dealii::Tensor<1, 3>>& translations, std::size_t n_threads);
 
   // Solves the active set: on kSolved, `translations` move to the balance (load-controlled
   // bones along their free directions), `force` and `gap` hold every node's normal force
@@ -78,13 +79,14 @@ class CondensedContact {
     unsigned int component = 0;                 // constrained component
     double normal_component = 1.0;
   };
-  const std::vector<double>& h(std::size_t n);  // K0^-1 B_n^T over all surface dofs
+  void compute_h(std::size_t n);  // h_[n] = K0^-1 B_n^T over all surface dofs
 
   BodyCompliance* bodies_ = nullptr;
   const ContactModel* model_ = nullptr;
   std::vector<Constraint> constraints_;
   std::vector<std::size_t> body_offset_;  // into the concatenated surface dofs
   std::size_t n_surface_dofs_ = 0;
+  int n_threads_ = 1;
   std::vector<dealii::Tensor<1, 3>> t0_;
   std::vector<std::vector<double>> h_;    // per node, empty until needed
   std::vector<dealii::Tensor<1, 3>> node_force_;

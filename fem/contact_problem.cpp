@@ -10,6 +10,7 @@
 #include "fem/elastic_system.h"
 #include "fem/load_control.h"
 #include "fem/mortar_coupling.h"
+#include "fem/thread_chunks.h"
 
 #include <deal.II/base/conditional_ostream.h>
 #include <deal.II/base/mpi.h>
@@ -194,7 +195,8 @@ void ContactProblem::Impl::solve_contact_condensed(std::vector<dealii::Tensor<1,
         << " dofs, " << nodes.size() << " contact nodes, substructured" << std::endl;
   {
     dealii::TimerOutput::Scope scope(timer, "condensation");
-    condensed.begin_run(compliance, model, nodes, translations);
+    condensed.begin_run(compliance, model, nodes, translations,
+                        threads_per_rank(system.communicator()));
   }
   result.status = compliance_failed ? ContactStatus::kLinearSolverFailed
                                     : ContactStatus::kActiveSetNotConverged;
