@@ -10,6 +10,8 @@
 #include <deal.II/fe/fe_values.h>
 #include <deal.II/grid/grid_tools.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <memory>
@@ -62,6 +64,52 @@ PairNodes gather_pair_nodes(const ElasticSystem& system, unsigned int p,
   return out;
 }
 
+// The shape functions of a tensor-product Lagrange element (FE_Q: support points on a grid),
+// evaluated as products of 1D Lagrange polynomials on the grid's coordinates: the mortar
+// integration asks for them at every segment point, where the generic
+// FiniteElement::shape_value goes through several virtual layers per call.
+class TensorLagrange {
+ public:
+  explicit TensorLagrange(const dealii::FiniteElement<3>& fe) {
+    const std::vector<dealii::Point<3>>& points = fe.get_unit_support_points();
+    for (const dealii::Point<3>& p : points) nodes_.push_back(p[0]);
+    std::sort(nodes_.begin(), nodes_.end());
+    nodes_.erase(std::unique(nodes_.begin(), nodes_.end(),
+                             [](double a, double b) { return std::abs(a - b) < 1e-12; }),
+                 nodes_.end());
+    for (const dealii::Point<3>& p : points) {
+      std::array<unsigned int, 3> index{};
+      for (unsigned int d = 0; d < 3; ++d) {
+        const auto it = std::min_element(nodes_.begin(), nodes_.end(), [&](double a, double b) {
+          return std::abs(a - p[d]) < std::abs(b - p[d]);
+        });
+        index[d] = static_cast<unsigned int>(it - nodes_.begin());
+      }
+      index_.push_back(index);
+    }
+  }
+  // Values of the 1D polynomials at the coordinates of `p`, for value().
+  void at(const dealii::Point<3>& p, std::array<std::array<double, 8>, 3>& l) const {
+    for (unsigned int d = 0; d < 3; ++d) {
+      for (std::size_t k = 0; k < nodes_.size(); ++k) {
+        double v = 1.0;
+        for (std::size_t m = 0; m < nodes_.size(); ++m) {
+          if (m != k) v *= (p[d] - nodes_[m]) / (nodes_[k] - nodes_[m]);
+        }
+        l[d][k] = v;
+      }
+    }
+  }
+  double value(unsigned int i, const std::array<std::array<double, 8>, 3>& l) const {
+    return l[0][index_[i][0]] * l[1][index_[i][1]] * l[2][index_[i][2]];
+  }
+  std::size_t n_nodes() const { return nodes_.size(); }
+
+ private:
+  std::vector<double> nodes_;
+  std::vector<std::array<unsigned int, 3>> index_;  // per shape function: its grid node
+};
+
 // Mortar integrals of the slave nodes against a deformable master, per node: M_sj per component
 // (keyed by master dof), the integral of phi_s (x_s - x_m) and the covered part of D_s.
 struct MortarIntegrals {
@@ -84,7 +132,12 @@ MortarIntegrals integrate_mortar(const ElasticSystem& system, const BoundaryProj
   segment_options.tangent_plane_cull = tangent_plane_cull;
   const MortarSegmenter segmenter(projector.faces(), segment_options);
   const dealii::FESystem<3>& fe = system.fe();
-  const dealii::FiniteElement<3>& base = fe.base_element(0);
+  const TensorLagrange base(fe.base_element(0));
+  if (base.n_nodes() > 8 || base.n_nodes() * base.n_nodes() * base.n_nodes() !=
+                                fe.base_element(0).n_dofs_per_cell()) {
+    throw_error("fem: mortar integration needs a tensor-product Lagrange element (FE_Q) of "
+                "degree 7 or less");
+  }
   // The slave faces are integrated independently (threads), each into small dense blocks per
   // master face it sees; the blocks are then added into the sparse rows in face order, so the
   // sums do not depend on the number of threads.
@@ -130,7 +183,10 @@ MortarIntegrals integrate_mortar(const ElasticSystem& system, const BoundaryProj
       result.gap.assign(ns, dealii::Tensor<1, 3>());
       const FacePatch slave(system.mapping(), slave_face.cell, slave_face.face_no);
       std::vector<double> slave_values(ns);
+      std::array<std::array<double, 8>, 3> slave_l{}, master_l{};
       for (const MortarPoint& point : segmenter.integrate(slave)) {
+        base.at(point.slave_unit_point, slave_l);
+        base.at(point.master_unit_point, master_l);
         if (result.blocks.empty() || result.blocks.back().master != point.master) {
           Block block;
           block.master = point.master;
@@ -143,12 +199,12 @@ MortarIntegrals integrate_mortar(const ElasticSystem& system, const BoundaryProj
         const dealii::Tensor<1, 3> separation = point.slave_point_mm - point.master_point_mm;
         for (std::size_t a = 0; a < ns; ++a) {
           slave_values[a] =
-              base.shape_value(result.slave_base[a], point.slave_unit_point) * point.jxw;
+              base.value(result.slave_base[a], slave_l) * point.jxw;
           result.covered[a] += slave_values[a];
           result.gap[a] += slave_values[a] * separation;
         }
         for (std::size_t b = 0; b < nm; ++b) {
-          const double value = base.shape_value(block.master_base[b], point.master_unit_point);
+          const double value = base.value(block.master_base[b], master_l);
           for (std::size_t a = 0; a < ns; ++a) block.m[a * nm + b] += slave_values[a] * value;
         }
       }

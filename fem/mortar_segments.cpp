@@ -170,35 +170,45 @@ std::vector<MortarPoint> MortarSegmenter::integrate(const FacePatch& slave) cons
     const bool straight = slave_straight && master_straight_[m];
     const unsigned samples = straight ? 1 : options_.curved_edge_samples;
     const unsigned pieces = straight ? 1 : options_.curved_subdivisions;
+    // The pieces' boundary points lie on a grid of (grid + 1)^2 master parameters, and
+    // neighbouring pieces share theirs: each point is projected once per master face.
+    const unsigned grid = pieces * samples;
+    std::vector<signed char> projected((grid + 1) * (grid + 1), 0);  // 0: not yet, 1: ok, -1: not
+    std::vector<Point2> projection((grid + 1) * (grid + 1));
+    const auto project_grid_point = [&](unsigned a, unsigned b) {
+      const unsigned index = b * (grid + 1) + a;
+      if (projected[index] != 0) return projected[index] > 0;
+      projected[index] = -1;
+      dealii::Point<3> y;
+      dealii::Tensor<1, 3> ds, dt;
+      master.evaluate(double(a) / grid, double(b) / grid, y, ds, dt);
+      double s, t;
+      // A point far from the slave patch can project onto a spurious point of the patch's
+      // extension; a master point opposite the slave lies within the search radius.
+      if (!slave.project(y, s, t)) return false;
+      dealii::Point<3> foot;
+      dealii::Tensor<1, 3> fs, ft;
+      slave.evaluate(s, t, foot, fs, ft);
+      if (foot.distance(y) > options_.search_radius_mm) return false;
+      projected[index] = 1;
+      projection[index] = {s, t};
+      return true;
+    };
     for (unsigned piece = 0; piece < pieces * pieces; ++piece) {
-    const double s0 = double(piece % pieces) / pieces, t0 = double(piece / pieces) / pieces;
-    const double size = 1.0 / pieces;
-    static constexpr double kS[5] = {0, 1, 1, 0, 0}, kT[5] = {0, 0, 1, 1, 0};
+    const unsigned a0 = (piece % pieces) * samples, b0 = (piece / pieces) * samples;
+    static constexpr unsigned kS[5] = {0, 1, 1, 0, 0}, kT[5] = {0, 0, 1, 1, 0};
     std::vector<Point2> polygon;
     bool ok = true;
     for (unsigned edge = 0; edge < 4 && ok; ++edge) {
       for (unsigned k = 0; k < samples; ++k) {
-        const double f = double(k) / samples;
-        const double sm = s0 + size * (kS[edge] + f * (kS[edge + 1] - kS[edge]));
-        const double tm = t0 + size * (kT[edge] + f * (kT[edge + 1] - kT[edge]));
-        dealii::Point<3> y;
-        dealii::Tensor<1, 3> ds, dt;
-        master.evaluate(sm, tm, y, ds, dt);
-        double s, t;
-        // A point far from the slave patch can project onto a spurious point of the patch's
-        // extension; a master point opposite the slave lies within the search radius.
-        dealii::Point<3> foot;
-        dealii::Tensor<1, 3> fs, ft;
-        if (!slave.project(y, s, t)) {
+        // Along the edge from corner kS/kT[edge] to kS/kT[edge + 1], k samples in.
+        const unsigned a = a0 + samples * kS[edge] + k * kS[edge + 1] - k * kS[edge];
+        const unsigned b = b0 + samples * kT[edge] + k * kT[edge + 1] - k * kT[edge];
+        if (!project_grid_point(a, b)) {
           ok = false;
           break;
         }
-        slave.evaluate(s, t, foot, fs, ft);
-        if (foot.distance(y) > options_.search_radius_mm) {
-          ok = false;
-          break;
-        }
-        polygon.push_back({s, t});
+        polygon.push_back(projection[b * (grid + 1) + a]);
       }
     }
     if (!ok) continue;
