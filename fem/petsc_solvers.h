@@ -58,6 +58,9 @@ class CholeskySolve {
   // the factor is read once instead of k times. False, with the reason on `log`, when the
   // factorisation or the solve failed.
   bool solve_block(PetscInt n, PetscInt k, double* rhs, double* x, dealii::ConditionalOStream& log);
+  // MUMPS's blocking of many right-hand sides in one solve (ICNTL(27); its default, 32, is set
+  // for a few): after factorise().
+  void set_right_hand_side_blocking(PetscInt k);
 
  private:
   KSP ksp_ = nullptr;
