@@ -98,21 +98,33 @@ void CondensedContact::compute_h(std::size_t n) {
   }
 }
 
+std::vector<int> CondensedContact::column_nodes(const std::vector<bool>& active) const {
+  std::vector<int> nodes;
+  for (std::size_t n = 0; n < active.size(); ++n) {
+    if (!active[n]) continue;
+    for (const Term& term : constraints_[n].terms) nodes.push_back(term.node);
+  }
+  return nodes;
+}
+
 CondensedOutcome CondensedContact::solve(const std::vector<bool>& active,
                                          std::vector<dealii::Tensor<1, 3>>& translations,
                                          std::vector<double>& force, std::vector<double>& gap,
                                          dealii::ConditionalOStream& log) {
   const std::size_t n_rigid = translations.size();
   std::vector<std::size_t> set;
-  std::vector<int> needed;
   for (std::size_t n = 0; n < active.size(); ++n) {
     if (!active[n]) continue;
     set.push_back(n);
-    for (const Term& term : constraints_[n].terms) needed.push_back(term.node);
+    for (const Term& term : constraints_[n].terms) {
+      if (!bodies_->columns(term.node)) {
+        log << "fem: a compliance column the active set needs was not computed" << std::endl;
+        return CondensedOutcome::kFailed;
+      }
+    }
   }
   const std::size_t m = set.size(), d = directions_.size();
   if (d > 0 && m == 0) return CondensedOutcome::kNoContact;  // nothing carries the load
-  if (!bodies_->ensure_columns(needed, log)) return CondensedOutcome::kFailed;
 
   // h of the nodes new to the set (kept for the run), then W = B_A K^-1 B_A^T (lower triangle),
   // the active gaps at the current translations and their sensitivity to the free directions.

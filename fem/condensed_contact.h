@@ -49,6 +49,10 @@ class CondensedContact {
                  const std::vector<SlaveNode>& nodes,
                  const std::vector<dealii::Tensor<1, 3>>& translations, std::size_t n_threads);
 
+  // The nodes whose compliance columns the active set needs (BodyCompliance::ensure_columns
+  // must have them before solve).
+  std::vector<int> column_nodes(const std::vector<bool>& active) const;
+
   // Solves the active set: on kSolved, `translations` move to the balance (load-controlled
   // bones along their free directions), `force` and `gap` hold every node's normal force
   // (compressive > 0, as the monolithic path reads it: the force at the node's constrained dof

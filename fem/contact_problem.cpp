@@ -204,8 +204,13 @@ void ContactProblem::Impl::solve_contact_condensed(std::vector<dealii::Tensor<1,
   for (unsigned int iteration = 1;
        !compliance_failed && iteration <= options.max_active_set_iterations; ++iteration) {
     result.statistics.active_set_iterations = iteration;
-    CondensedOutcome outcome;
+    CondensedOutcome outcome = CondensedOutcome::kFailed;
+    bool columns = false;
     {
+      dealii::TimerOutput::Scope scope(timer, "compliance columns");
+      columns = compliance.ensure_columns(condensed.column_nodes(active), pcout);
+    }
+    if (columns) {
       dealii::TimerOutput::Scope scope(timer, "active set (condensed)");
       outcome = condensed.solve(active, translations, force, gap, pcout);
     }

@@ -1,4 +1,4 @@
-// hipfai — the finite-element model of a hip (issue 5 "Model"; thesis §4.3.2.3 and §4.5.3.3).
+// hipfai — the finite-element model of a hip (thesis §4.3.2.3 and §4.5.3.3).
 //
 // Deformable (Q2, linear elastic, core/literature.h): femoral cartilage and acetabular cartilage
 // (E = 12 MPa, nu = 0.45), labrum (E = 20 MPa, nu = 0.4), meshed with hexahedra by

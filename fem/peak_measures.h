@@ -1,5 +1,5 @@
 // hipfai — a mesh-objective peak of a sampled field: the largest average over a ball of fixed
-// radius (issue 5, mesh convergence of the hip FE model's peak values).
+// radius (for the mesh convergence of the hip FE model's peak values, docs/fem-levels.md).
 //
 // Why: the hip model's largest von Mises stresses sit at bonded re-entrant edges (the
 // chondrolabral junction, the labrum's base on the rim), where the linear elastic field is

@@ -2,7 +2,7 @@
 //
 // The hip FE model (fem/hip_fe_model.h) lets the labrum and the acetabular cartilage touch the
 // rigid femoral head-neck, whose shape is only known as a triangulated surface. The contact gap
-// is measured along the normal at the closest point (issue 5: closest-point projection, not
+// is measured along the normal at the closest point (closest-point projection, not
 // radial rays), so this surface answers exact closest-point queries on the triangle mesh:
 //   - a bounding-volume hierarchy over the triangles (median splits along the longest axis of
 //     the centroid box) prunes the search; the answer is the exact nearest point of the mesh,
