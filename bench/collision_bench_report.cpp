@@ -200,7 +200,7 @@ void write_report_md(const CollisionBenchResults& results, const std::vector<Tar
         "spatial hashing on tetrahedra the vertex set is compared (FCL: vertices of the mobile triangles it reports), "
         "depth error only where the method returns depths; FN, FP and depth error are empty in rows not compared with a "
         "reference (the oracle's own row).\n\n";
-  md << "## Targets of issue 4\n\n| target | met | measured |\n|---|---|---|\n";
+  md << "## Targets\n\n| target | met | measured |\n|---|---|---|\n";
   for (const auto& t : targets) md << "| " << t.target << " | " << (t.informational ? "(measure)" : t.met ? "**met**" : "not met") << " | " << t.measured << " |\n";
   md << "\n## Results\n\n";
   std::string current;

@@ -95,7 +95,9 @@ void ContactProblem::Impl::setup_system() {
     compliance_failed = false;
     factorisations_before_run = compliance.factorisations();
     if (compliance.needs_factorisation()) {
-      system.compute_cell_matrices();
+      // Every rank factorises the whole bodies (the substructured path is replicated, not
+      // distributed, on several ranks), so it needs every cell's matrix.
+      system.compute_cell_matrices(true);
       compliance_failed = !compliance.factorise(system, constraints, model, timer, pcout);
     }
     return;

@@ -125,7 +125,7 @@ void ElasticSystem::cell_stiffness(const dealii::DoFHandler<3>::active_cell_iter
   }
 }
 
-void ElasticSystem::compute_cell_matrices() {
+void ElasticSystem::compute_cell_matrices(bool every_cell) {
   const std::size_t n_cells = triangulation_.n_active_cells();
   if (cell_matrices_.size() != n_cells) {
     cell_matrices_.assign(n_cells, dealii::FullMatrix<double>());
@@ -134,7 +134,7 @@ void ElasticSystem::compute_cell_matrices() {
   }
   std::vector<dealii::DoFHandler<3>::active_cell_iterator> cells;
   for (const auto& cell : dof_handler_.active_cell_iterators()) {
-    if (!cell->is_locally_owned()) continue;
+    if (!every_cell && !cell->is_locally_owned()) continue;
     const std::size_t index = cell->active_cell_index();
     std::array<dealii::Point<3>, 8> vertices;
     for (unsigned int v = 0; v < 8; ++v) vertices[v] = cell->vertex(v);

@@ -55,8 +55,9 @@ class ElasticSystem {
   // Lame constants per material, dofs and their support points. Throws hipfai::Error for a cell
   // whose material id belongs to no body.
   void setup(const ContactModel& model);
-  // Stiffness of every locally owned cell that moved (or changed material) since the last call.
-  void compute_cell_matrices();
+  // Stiffness of every locally owned cell (every cell with every_cell: a rank that factorises
+  // whole bodies) that moved (or changed material) since the last call.
+  void compute_cell_matrices(bool every_cell = false);
 
   // Internal forces K u of each displacement, in one pass over the cells.
   std::vector<std::vector<double>> internal_forces(

@@ -370,7 +370,7 @@ HjcCohortResult run_hjc_cohort(const HjcCohortOptions& options) {
     ResultsFile h5(options.out_dir / "cohort.h5");
     h5.set_attribute("/", "units", "mm");
     h5.set_attribute("/", "git_sha", kGitSha);
-    h5.set_attribute("/", "study", "hjc cohort (issue 17): HJC estimators against a known centre");
+    h5.set_attribute("/", "study", "hjc cohort: HJC estimators against a known centre");
     std::vector<std::string> hip, surface, perturbation, method;
     std::vector<double> values;
     for (const auto& r : result.rows) {

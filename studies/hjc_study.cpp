@@ -546,7 +546,7 @@ HjcStudyResult run_hjc_study(const HjcStudyOptions& options) {
     ResultsFile h5(options.out_dir / "results.h5");
     h5.set_attribute("/", "units", "mm, deg");
     h5.set_attribute("/", "git_sha", kGitSha);
-    h5.set_attribute("/", "study", "hjc sensitivity (thesis 4.4, issue 17)");
+    h5.set_attribute("/", "study", "hjc sensitivity (thesis 4.4)");
     for (const auto& s : result.subjects) {
       for (const auto& [label, rotations] : s.depths) {
         std::string group = "/" + s.id + "/" + label;
