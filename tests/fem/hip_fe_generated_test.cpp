@@ -219,7 +219,7 @@ TEST(HipFeLowRank, BorderedUpdateGivesTheRefactorisedResult) {
 // through large increments of standing-to-sitting (steps 1, 10, 20, 25, 28, 30: the contact zone
 // jumps between steps). Every step the same active set, pressures, gaps, translation and
 // stresses.
-TEST(HipFeSubstructured, EqualsTheMonolithicSolveOnTheHardHips) {
+TEST(HipFeSubstructuredGenerated, EqualsTheMonolithicSolveOnTheHardHips) {
   const std::vector<MotionStep> all = sitting_down_steps();
   std::vector<MotionStep> steps;
   for (const int k : {1, 10, 20, 25, 28, 30}) steps.push_back(all[k - 1]);
