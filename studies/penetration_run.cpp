@@ -69,6 +69,14 @@ void record(const contact::PenetrationResult& result, const PairFilter& filter, 
   }
 }
 
+// The file `name` in the cache folder, the folder made when it does not exist yet (a run from an
+// empty working directory); a folder that cannot be made is reported by the write that follows.
+std::filesystem::path cache_file(const std::filesystem::path& cache_dir, const std::string& name) {
+  std::error_code error;
+  std::filesystem::create_directories(cache_dir, error);
+  return cache_dir / name;
+}
+
 contact::RadialTable radial_table_for(const geometry::TriMesh& fixed, const std::string& fixed_hash,
                                       const geometry::Vec3& centre, const PenetrationOptions& options,
                                       StageLog& log) {
@@ -80,7 +88,7 @@ contact::RadialTable radial_table_for(const geometry::TriMesh& fixed, const std:
     Hasher key;
     key.add(fixed_hash).add(centre.x()).add(centre.y()).add(centre.z());
     key.add(static_cast<std::int64_t>(options.mapping)).add(options.table_size);
-    file = options.cache_dir / ("radial-table-" + key.hex() + ".bin");
+    file = cache_file(options.cache_dir, "radial-table-" + key.hex() + ".bin");
     if (auto cached = load_radial_table(file);
         cached && cached->num_triangles == fixed.num_triangles()) {
       log.hit(StageKind::kRadialTable);
@@ -105,7 +113,7 @@ contact::CylindricalPoseCache pose_cache_for(const geometry::TriMesh& fixed, con
     Hasher key;
     key.add(fixed_hash).add(mobile_hash).add(centre.x()).add(centre.y()).add(centre.z());
     key.add(axis.x()).add(axis.y()).add(axis.z());
-    file = options.cache_dir / ("cylindrical-pose-cache-" + key.hex() + ".bin");
+    file = cache_file(options.cache_dir, "cylindrical-pose-cache-" + key.hex() + ".bin");
     if (auto cached = contact::load_pose_cache(file)) {
       log.hit(StageKind::kCylindricalTable);
       return std::move(*cached);

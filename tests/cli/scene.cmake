@@ -39,3 +39,15 @@ head -1 \"$2/out/steps.csv\" | grep -q 'fe_status,von_mises_max_femoral_cartilag
                    sh $<TARGET_FILE:hipfai> ${scene_tmp})
   set_tests_properties(cli.run_fe_scene PROPERTIES LABELS "cli;fem;slow" TIMEOUT 300)
 endif()
+
+# A scene on a hip model folder, run from an empty working directory: the cache folder
+# (penetration tables and pose caches) is made where it is needed.
+set(scene_empty_tmp ${CMAKE_BINARY_DIR}/cli-tmp/scene_empty_dir)
+add_test(NAME cli.run_model_dir_scene_from_an_empty_folder
+         COMMAND sh -c "rm -rf \"$2\" && mkdir -p \"$2/work\" && \
+\"$1\" generate --ce-deg 30 --alpha-deg 70 --edge-mm 3 --out \"$2/hip\" >/dev/null && \
+printf 'schema_version: 1\\nunits: {length: mm, angle: deg}\\nname: from-empty\\nhip:\\n  model_dir: %s\\nmotion: {builtin: standing_to_sitting, sub_motions: 3}\\noutputs: [curvilinear_depth, radial_depth]\\n' \"$2/hip\" > \"$2/scene.yaml\" && \
+cd \"$2/work\" && \"$1\" run \"$2/scene.yaml\" && test -d \"$2/work/cache\" && ls \"$2/work/cache\" | grep -q 'cylindrical-pose-cache-' \
+|| { echo 'no pose cache in the new cache folder' >&2; exit 1; }"
+                 sh $<TARGET_FILE:hipfai> ${scene_empty_tmp})
+set_tests_properties(cli.run_model_dir_scene_from_an_empty_folder PROPERTIES LABELS "cli;fast" TIMEOUT 120)
