@@ -121,9 +121,7 @@ TEST(StartPose, InvalidInputIsAStatus) {
 }
 
 std::filesystem::path lhdl_folder() {
-  const std::filesystem::path own = std::filesystem::path(HIPFAI_SOURCE_DIR) / "meshes/real-hips/LHDL_CT";
-  if (std::filesystem::exists(own / "femur_r.ply")) return own;
-  return std::filesystem::path(HIPFAI_SHARED_DIR) / "data/real-hips/LHDL_CT";
+  return std::filesystem::path(HIPFAI_SOURCE_DIR) / "meshes/real-hips/LHDL_CT";
 }
 
 // The LHDL CT femur and pelvis (35k + 48k vertices) in their scanned pose, about the hip joint
