@@ -35,23 +35,6 @@ double max_abs_difference(const dealii::Tensor<2, 3>& a, const dealii::Tensor<2,
   return d;
 }
 
-std::size_t layout_key(const ElasticSystem& system) {
-  // FNV-1a over the dof indices and material of every cell, in cell order.
-  std::size_t key = 1469598103934665603ull;
-  const auto mix = [&key](std::size_t value) {
-    key ^= value;
-    key *= 1099511628211ull;
-  };
-  mix(system.dof_handler().n_dofs());
-  std::vector<global_dof_index> dofs(system.fe().n_dofs_per_cell());
-  for (const auto& cell : system.dof_handler().active_cell_iterators()) {
-    cell->get_dof_indices(dofs);
-    mix(cell->material_id());
-    for (const global_dof_index dof : dofs) mix(dof);
-  }
-  return key;
-}
-
 }  // namespace
 
 BodyCompliance::~BodyCompliance() {
@@ -78,7 +61,7 @@ void BodyCompliance::begin_run(const ElasticSystem& system, const ContactConstra
   }
   const dealii::DoFHandler<3>& dof_handler = system.dof_handler();
   const global_dof_index n_dofs = dof_handler.n_dofs();
-  const std::size_t key = layout_key(system);
+  const std::size_t key = system.dof_layout_key();
   if (key != layout_key_ || bodies_.size() != model.bodies.size()) {
     for (Body& body : bodies_) release(body);
     bodies_.clear();
@@ -259,30 +242,37 @@ bool BodyCompliance::factorise_body(std::size_t b, const ElasticSystem& system,
                       model.bodies[b].material.shear_modulus_mpa()};
 
   // Liftings: data on the bonded dofs; 3 per rigid body the body is bonded to, then the extra.
+  // The body's bonded dofs once: index into its dofs, its rigid body's place in lifted_bodies
+  // (-1: bonded to none), component and extra displacement.
+  struct Held {
+    int i;
+    int k;
+    unsigned int component;
+    double extra;
+  };
+  std::vector<Held> held;
   body.lifted_bodies.clear();
   body.factor_extra.assign(n, 0.0);
   bool has_extra = false;
   for (const BondedDof& bonded : constraints.bonded_dofs()) {
+    if (body_of_node_[node_of_dof_[bonded.dof]] != static_cast<int>(b)) continue;
+    int k = -1;
+    if (bonded.rigid_body >= 0) {
+      const auto it =
+          std::find(body.lifted_bodies.begin(), body.lifted_bodies.end(), bonded.rigid_body);
+      k = static_cast<int>(it - body.lifted_bodies.begin());
+      if (it == body.lifted_bodies.end()) body.lifted_bodies.push_back(bonded.rigid_body);
+    }
     const int i = body_index_of_dof_[bonded.dof];
-    if (i < 0 || body_of_node_[node_of_dof_[bonded.dof]] != static_cast<int>(b)) continue;
-    if (bonded.rigid_body >= 0 &&
-        std::find(body.lifted_bodies.begin(), body.lifted_bodies.end(), bonded.rigid_body) ==
-            body.lifted_bodies.end())
-      body.lifted_bodies.push_back(bonded.rigid_body);
+    held.push_back({i, k, bonded.component, bonded.extra});
     body.factor_extra[i] = bonded.extra;
     has_extra = has_extra || bonded.extra != 0.0;
   }
   const std::size_t n_lift = 3 * body.lifted_bodies.size() + (has_extra ? 1 : 0);
   std::vector<std::vector<double>> data(n_lift, std::vector<double>(n, 0.0));
-  for (const BondedDof& bonded : constraints.bonded_dofs()) {
-    const int i = body_index_of_dof_[bonded.dof];
-    if (i < 0 || body_of_node_[node_of_dof_[bonded.dof]] != static_cast<int>(b)) continue;
-    if (bonded.rigid_body >= 0) {
-      const std::size_t k = std::find(body.lifted_bodies.begin(), body.lifted_bodies.end(),
-                                      bonded.rigid_body) - body.lifted_bodies.begin();
-      data[3 * k + bonded.component][i] = 1.0;
-    }
-    if (has_extra) data.back()[i] = bonded.extra;
+  for (const Held& h : held) {
+    if (h.k >= 0) data[3 * h.k + h.component][h.i] = 1.0;
+    if (has_extra) data.back()[h.i] = h.extra;
   }
 
   // K restricted to the free dofs (upper triangle), and -K_fd d for each lifting.
@@ -382,18 +372,13 @@ bool BodyCompliance::factorise_body(std::size_t b, const ElasticSystem& system,
   const std::size_t m = body.lifted_bodies.size();
   body.a.assign(m, std::vector<dealii::Tensor<2, 3>>(m));
   body.r0.assign(m, dealii::Tensor<1, 3>());
-  for (const BondedDof& bonded : constraints.bonded_dofs()) {
-    const int i = body_index_of_dof_[bonded.dof];
-    if (i < 0 || bonded.rigid_body < 0 ||
-        body_of_node_[node_of_dof_[bonded.dof]] != static_cast<int>(b))
-      continue;
-    const std::size_t row = std::find(body.lifted_bodies.begin(), body.lifted_bodies.end(),
-                                      bonded.rigid_body) - body.lifted_bodies.begin();
+  for (const Held& h : held) {
+    if (h.k < 0) continue;
     for (std::size_t col = 0; col < m; ++col) {
       for (unsigned int c = 0; c < 3; ++c)
-        body.a[row][col][bonded.component][c] += reaction[3 * col + c][i];
+        body.a[h.k][col][h.component][c] += reaction[3 * col + c][h.i];
     }
-    if (has_extra) body.r0[row][bonded.component] += reaction.back()[i];
+    if (has_extra) body.r0[h.k][h.component] += reaction.back()[h.i];
   }
   body.node_columns.assign(body.surface_nodes.size(), {});
   body.stale = false;
@@ -412,13 +397,13 @@ bool BodyCompliance::solve_block(Body& body, std::vector<double>& rhs, std::size
 bool BodyCompliance::ensure_columns(const std::vector<int>& nodes, dealii::ConditionalOStream& log) {
   std::vector<std::vector<int>> missing(bodies_.size());
   for (const int node : nodes) {
-    const int s = surface_index_[node];
-    if (s < 0) throw_error("fem: a contact constraint names a node off every contact surface");
-    Body& body = bodies_[body_of_node_[node]];
-    if (body.node_columns[s].empty()) {
-      body.node_columns[s].resize(1);  // marks it as queued
-      missing[body_of_node_[node]].push_back(node);
-    }
+    if (surface_index_[node] < 0)
+      throw_error("fem: a contact constraint names a node off every contact surface");
+    if (!columns(node)) missing[body_of_node_[node]].push_back(node);
+  }
+  for (std::vector<int>& list : missing) {
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
   }
   for (std::size_t b = 0; b < bodies_.size(); ++b) {
     Body& body = bodies_[b];
@@ -457,7 +442,7 @@ bool BodyCompliance::ensure_columns(const std::vector<int>& nodes, dealii::Condi
 
 const double* BodyCompliance::columns(int node) const {
   const std::vector<double>& out = bodies_[body_of_node_[node]].node_columns[surface_index_[node]];
-  return out.size() > 1 ? out.data() : nullptr;
+  return out.empty() ? nullptr : out.data();
 }
 
 dealii::Tensor<1, 3> BodyCompliance::translation_lifting(std::size_t b, std::size_t k,

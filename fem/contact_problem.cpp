@@ -19,6 +19,7 @@
 
 #include <cmath>
 #include <iostream>
+#include <string>
 
 namespace hipfai::fem {
 
@@ -57,6 +58,12 @@ class ContactProblem::Impl {
   void find_contact_nodes();
   std::vector<Linearization> solve_active_set(
       const std::vector<std::vector<dealii::Tensor<1, 3>>>& translation_sets);
+  // The active-set loop's shared steps: the starting set (and the log line naming the path),
+  // and the next set from the solved forces and gaps (true: converged, the set is final).
+  void start_active_sets(const std::vector<dealii::Tensor<1, 3>>& translations,
+                         const ContactResult& result, const std::string& path);
+  bool next_active_set(unsigned int iteration, bool load_controlled, ContactResult& result,
+                       const std::string& detail);
   void solve_contact(std::vector<dealii::Tensor<1, 3>>& translations, ContactResult& result);
   void solve_contact_condensed(std::vector<dealii::Tensor<1, 3>>& translations,
                                ContactResult& result);
@@ -136,16 +143,39 @@ std::vector<Linearization> ContactProblem::Impl::solve_active_set(
   return states;
 }
 
-void ContactProblem::Impl::solve_contact(std::vector<dealii::Tensor<1, 3>>& translations,
-                                         ContactResult& result) {
-  const LoadControl load_control(model);
+void ContactProblem::Impl::start_active_sets(const std::vector<dealii::Tensor<1, 3>>& translations,
+                                             const ContactResult& result, const std::string& path) {
   // Gaps well below the solver's resolution of the displacement count as closed.
   const double gap_tolerance = 1e-10 * dealii::GridTools::diameter(system.triangulation());
   strategy.begin_run({options.holder_switch_mm, options.warm_start_active_set}, gap_tolerance);
   active = strategy.initial(nodes, translations, system.dof_handler().n_dofs());
   pcout << "fem: " << result.statistics.n_cells << " cells, " << result.statistics.n_dofs
         << " dofs, " << nodes.size() << " contact nodes, " << result.statistics.n_ranks
-        << " rank(s)" << std::endl;
+        << " rank(s), " << path << std::endl;
+}
+
+bool ContactProblem::Impl::next_active_set(unsigned int iteration, bool load_controlled,
+                                           ContactResult& result, const std::string& detail) {
+  std::vector<bool> next = strategy.next(iteration, load_controlled, nodes, active, force, gap, pcout);
+  std::size_t n_active = 0, changes = 0;
+  for (std::size_t n = 0; n < nodes.size(); ++n) {
+    n_active += next[n];
+    changes += next[n] != active[n];
+  }
+  pcout << "fem: active-set iteration " << iteration << ": " << n_active << " active, " << changes
+        << " changed" << detail << std::endl;
+  if (changes == 0) {
+    result.status = ContactStatus::kConverged;
+    return true;
+  }
+  active = std::move(next);
+  return false;
+}
+
+void ContactProblem::Impl::solve_contact(std::vector<dealii::Tensor<1, 3>>& translations,
+                                         ContactResult& result) {
+  const LoadControl load_control(model);
+  start_active_sets(translations, result, to_string(options.linear_solver));
   result.status = ContactStatus::kActiveSetNotConverged;
   for (unsigned int iteration = 1; iteration <= options.max_active_set_iterations; ++iteration) {
     result.statistics.active_set_iterations = iteration;
@@ -166,21 +196,10 @@ void ContactProblem::Impl::solve_contact(std::vector<dealii::Tensor<1, 3>>& tran
       break;
     }
     evaluate_nodes(nodes, state, translations, force, gap);
-    std::vector<bool> next =
-        strategy.next(iteration, !load_control.empty(), nodes, active, force, gap, pcout);
-    std::size_t n_active = 0, changes = 0;
-    for (std::size_t n = 0; n < nodes.size(); ++n) {
-      n_active += next[n];
-      changes += next[n] != active[n];
-    }
-    pcout << "fem: active-set iteration " << iteration << ": " << n_active << " active, " << changes
-          << " changed, " << solver->statistics().linear_iterations - iterations_before
-          << " CG iterations" << std::endl;
-    if (changes == 0) {
-      result.status = ContactStatus::kConverged;
-      break;
-    }
-    active = std::move(next);
+    const std::string detail =
+        ", " + std::to_string(solver->statistics().linear_iterations - iterations_before) +
+        " CG iterations";
+    if (next_active_set(iteration, !load_control.empty(), result, detail)) break;
   }
 }
 
@@ -190,11 +209,7 @@ void ContactProblem::Impl::solve_contact_condensed(std::vector<dealii::Tensor<1,
   // (fem/condensed_contact.h) and the whole displacement recovered once, after the last set.
   const unsigned int columns_before = compliance.solved_columns();
   const bool load_controlled = !LoadControl(model).empty();
-  const double gap_tolerance = 1e-10 * dealii::GridTools::diameter(system.triangulation());
-  strategy.begin_run({options.holder_switch_mm, options.warm_start_active_set}, gap_tolerance);
-  active = strategy.initial(nodes, translations, system.dof_handler().n_dofs());
-  pcout << "fem: " << result.statistics.n_cells << " cells, " << result.statistics.n_dofs
-        << " dofs, " << nodes.size() << " contact nodes, substructured" << std::endl;
+  start_active_sets(translations, result, to_string(options.linear_solver));
   {
     dealii::TimerOutput::Scope scope(timer, "condensation");
     condensed.begin_run(compliance, model, nodes, translations,
@@ -225,19 +240,7 @@ void ContactProblem::Impl::solve_contact_condensed(std::vector<dealii::Tensor<1,
       break;
     }
     solved = true;
-    std::vector<bool> next = strategy.next(iteration, load_controlled, nodes, active, force, gap, pcout);
-    std::size_t n_active = 0, changes = 0;
-    for (std::size_t n = 0; n < nodes.size(); ++n) {
-      n_active += next[n];
-      changes += next[n] != active[n];
-    }
-    pcout << "fem: active-set iteration " << iteration << ": " << n_active << " active, " << changes
-          << " changed" << std::endl;
-    if (changes == 0) {
-      result.status = ContactStatus::kConverged;
-      break;
-    }
-    active = std::move(next);
+    if (next_active_set(iteration, load_controlled, result, "")) break;
   }
   {
     dealii::TimerOutput::Scope scope(timer, "recovery");

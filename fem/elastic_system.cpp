@@ -159,6 +159,22 @@ void ElasticSystem::compute_cell_matrices(bool every_cell) {
   run_in_chunks(cells.size(), threads_per_rank(comm_), compute);
 }
 
+std::size_t ElasticSystem::dof_layout_key() const {
+  std::size_t key = 1469598103934665603ull;
+  const auto mix = [&key](std::size_t value) {
+    key ^= value;
+    key *= 1099511628211ull;
+  };
+  mix(dof_handler_.n_dofs());
+  std::vector<global_dof_index> dofs(fe_.n_dofs_per_cell());
+  for (const auto& cell : dof_handler_.active_cell_iterators()) {
+    cell->get_dof_indices(dofs);
+    mix(cell->material_id());
+    for (const global_dof_index dof : dofs) mix(dof);
+  }
+  return key;
+}
+
 std::vector<std::vector<double>> ElasticSystem::internal_forces(
     const std::vector<const dealii::Vector<double>*>& displacements) const {
   // One pass over the cells for all states: each cell matrix is applied to every state's local

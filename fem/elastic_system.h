@@ -59,6 +59,10 @@ class ElasticSystem {
   // whole bodies) that moved (or changed material) since the last call.
   void compute_cell_matrices(bool every_cell = false);
 
+  // A fingerprint of the dof layout: the dof indices and material of every cell, in cell order
+  // (FNV-1a). Equal keys: the same dofs on the same cells, so per-layout data can be kept.
+  std::size_t dof_layout_key() const;
+
   // Internal forces K u of each displacement, in one pass over the cells.
   std::vector<std::vector<double>> internal_forces(
       const std::vector<const dealii::Vector<double>*>& displacements) const;

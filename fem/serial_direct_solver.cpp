@@ -25,27 +25,10 @@ void SerialDirectSolver::begin_run(const LinearSolverSettings& settings) {
 
 void SerialDirectSolver::end_run() { base_.reset(); }  // K changes with the next run's pose
 
-std::size_t SerialDirectSolver::dof_layout_key() const {
-  // FNV-1a over the dof indices of every cell, in cell order.
-  std::size_t key = 1469598103934665603ull;
-  const auto mix = [&key](std::size_t value) {
-    key ^= value;
-    key *= 1099511628211ull;
-  };
-  const dealii::DoFHandler<3>& dof_handler = system_.dof_handler();
-  mix(dof_handler.n_dofs());
-  std::vector<global_dof_index> dofs(system_.fe().n_dofs_per_cell());
-  for (const auto& cell : dof_handler.active_cell_iterators()) {
-    cell->get_dof_indices(dofs);
-    for (const global_dof_index dof : dofs) mix(dof);
-  }
-  return key;
-}
-
 void SerialDirectSolver::assemble_stiffness() {
   const dealii::DoFHandler<3>& dof_handler = system_.dof_handler();
   const global_dof_index n_dofs = dof_handler.n_dofs();
-  const std::size_t key = dof_layout_key();
+  const std::size_t key = system_.dof_layout_key();
   if (key != pattern_key_ || pattern_.n_rows() != n_dofs) {
     stiffness_.clear();
     dealii::DynamicSparsityPattern pattern(n_dofs);

@@ -40,7 +40,6 @@ class SerialDirectSolver final : public ContactLinearSolver {
 
  private:
   void assemble_stiffness();
-  std::size_t dof_layout_key() const;
   std::vector<dealii::Vector<double>> solve_with_base(
       const std::vector<dealii::AffineConstraints<double>>& constraints);
   bool solve_low_rank(const ActiveSetSystems& systems,
@@ -51,7 +50,7 @@ class SerialDirectSolver final : public ContactLinearSolver {
   dealii::TimerOutput& timer_;
   dealii::ConditionalOStream& log_;
   // K as a serial matrix, its pattern kept across runs while the dof layout (the dof indices of
-  // every cell, fingerprinted by dof_layout_key) stays the same; and a plain CSR copy of it.
+  // every cell, fingerprinted by ElasticSystem::dof_layout_key) stays the same; and a plain CSR copy of it.
   dealii::SparsityPattern pattern_;
   dealii::SparseMatrix<double> stiffness_;
   std::size_t pattern_key_ = 0;
