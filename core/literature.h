@@ -164,4 +164,81 @@ inline constexpr double kThesisHjcSphereRadialDiffPercent = 19.0;
 inline constexpr double kThesisHjcSphereCurvilinearDiffMm = 0.42;
 inline constexpr double kThesisHjcDconstRadialDiffPercent = 55.0;
 inline constexpr double kThesisHjcDconstCurvilinearDiffMm = 1.87;
+// --- Patient-specific assessment: pelvis frame, acetabulum, clinical measures ------------------
+// Anterior pelvic plane: through both anterior superior iliac spines and the pubic tubercles
+// (Lewinnek et al. 1978, J Bone Joint Surg Am 60:217). Found automatically as Kai et al. 2014
+// (J Biomech 47:1229) do: the plane laid on the front of the pelvis, refined until its contacts settle.
+// A whole pelvis mirrored through its plane of symmetry lies within a few mm of itself (measured on
+// the LHDL pelvis: see tests/anatomy/pelvis_landmarks_test.cpp); a hemipelvis mirrored lies a large
+// part of the pelvis' width away. The bound between them, as a fraction of the width:
+inline constexpr double kPelvisMaxSymmetryResidualFraction = 0.05;
+// The midline slab where the pubic symphysis is looked for, as a fraction of the pelvis' width (the
+// symphysis is ~ 40 mm wide across; the pelvis ~ 250-300 mm).
+inline constexpr double kPelvisMidlineSlabFraction = 0.05;
+// Acetabular orientation (Murray 1993, J Bone Joint Surg Br 75:228): the acetabular axis is the
+// normal of the plane of the acetabular rim, pointing out of the socket. Radiographic inclination:
+// the angle between the longitudinal axis and the acetabular axis projected on the coronal plane;
+// radiographic anteversion: the angle between the acetabular axis and the coronal plane. Anatomic
+// inclination: the angle between the acetabular and longitudinal axes; anatomic anteversion: the
+// angle between the transverse axis and the acetabular axis projected on the transverse plane.
+// Lateral centre-edge angle (Wiberg 1939, Acta Chir Scand 83 Suppl 58): in the coronal plane through
+// the femoral head centre, between the longitudinal axis and the line to the lateral edge of the
+// acetabular roof. Classification thresholds (Tannast, Siebenrock & Anderson 2007, AJR 188:1540):
+// LCE < 20 deg: dysplasia; LCE > 39 deg: over-coverage (pincer). Cam: alpha above 50.5 deg (Nötzli et
+// al. 2002, J Bone Joint Surg Br 84:556, the value separating their normal and FAI hips; Tannast et
+// al. 2007 use > 50 deg).
+inline constexpr double kDysplasiaMaxLateralCeDeg = 20.0;
+inline constexpr double kPincerMinLateralCeDeg = 39.0;
+inline constexpr double kCamMinAlphaDeg = 50.5;
+// Anterior head-neck offset (Eijer et al. 2001, J Orthop Trauma 15:475): the anterior head radius
+// minus the anterior neck radius, measured perpendicular to the neck axis in the plane through it
+// towards anterior; offset ratio = offset / head diameter. Beaulé et al. 2005 (J Orthop Res 23:1286)
+// report ratios below 0.15 in cam hips (normals ~ 0.2).
+inline constexpr double kCamMaxHeadNeckOffsetRatio = 0.15;
+// (end of the pelvis and measures section)
+
+// --- Patient-specific assessment: femur landmarks and frame -------------------------------------
+// Diaphysis of a long bone: the cross-sections at 20 % to 80 % of bone length from the distal end
+// (Ruff & Hayes 1983, Am J Phys Anthropol 60:359, sections at 20, 35, 50, 65 and 80 %); the
+// femur's shaft axis is fitted to section centroids over that span (anatomy/femur_landmarks.h).
+inline constexpr double kDiaphysisBeginFraction = 0.20;
+inline constexpr double kDiaphysisEndFraction = 0.80;
+// Femoral neck-shaft (CCD) angle and femoral torsion (version) measured automatically on 1070 CT
+// femurs of skeletally mature subjects (Hartel et al. 2016, PLoS One 11:e0149480): neck angle
+// median 122.2 deg, range 100.1-146.2; torsion median 14.2 deg, range -23.6 to 48.7 (anteversion +).
+inline constexpr double kAdultNeckShaftAngleMinDeg = 100.1;
+inline constexpr double kAdultNeckShaftAngleMaxDeg = 146.2;
+inline constexpr double kAdultFemoralVersionMinDeg = -23.6;
+inline constexpr double kAdultFemoralVersionMaxDeg = 48.7;
+// (end of the femur section)
+
+// --- Patient-specific assessment: clinical motions to impingement -------------------------------
+// Clinical examination positions simulated on the bones (anatomy/clinical_motions.h).
+// Internal rotation in 90 deg of flexion, and the anterior impingement test (FADIR): 90 deg of
+// flexion, then adduction, then maximal internal rotation, as simulated with bony collision
+// detection by Kubiak-Langer, Tannast, Murphy, Siebenrock & Langlotz 2007 (Clin Orthop Relat Res
+// 458:117-124) and Tannast, Kubiak-Langer, Langlotz, Puls, Murphy & Siebenrock 2007 (J Orthop Res
+// 25:122-131, HipMotion), who use 15 deg of adduction for the impingement test. (Value from those
+// papers' methods as recalled; the search corpus had no copy of either to confirm it.)
+inline constexpr double kImpingementTestFlexionDeg = 90.0;
+inline constexpr double kFadirAdductionDeg = 15.0;
+// FABER (Patrick's figure-of-four: flexion, abduction, external rotation), simulated as the
+// external-rotation range about the femur's long axis from a flexed and abducted start pose, as
+// in the examination manoeuvres simulated on CT bones by Bedi, Thompson, Uliana, Magennis & Kelly
+// 2013 (Hip Int 23 Suppl 9:S27-34). The start pose angles are ASSUMED (a figure-of-four puts the
+// hip in roughly half of full flexion, moderately abducted), not taken from that paper.
+inline constexpr double kFaberAssumedFlexionDeg = 45.0;
+inline constexpr double kFaberAssumedAbductionDeg = 30.0;
+// (end of the clinical motions section)
+
+// --- Patient-specific assessment: virtual resections ---------------------------------------------
+// Target alpha angle of a virtual cam resection (anatomy/resection.h): 50 deg, the upper limit of
+// normal that Nötzli et al. 2002 (J Bone Joint Surg Br 84:556-560) proposed from their
+// asymptomatic hips (mean 42 deg). Later thresholds for classifying a cam are higher, about 60 deg
+// (systematic review: van Klij et al. 2020, Orthop J Sports Med 8(8), PMC7418265); resecting to
+// the stricter 50 deg leaves a hip normal by either. (Nötzli's value as recalled; the review's
+// abstract was read.)
+inline constexpr double kCamResectionTargetAlphaDeg = 50.0;
+// (end of the resections section)
+
 }  // namespace hipfai::literature

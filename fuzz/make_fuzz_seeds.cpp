@@ -2,7 +2,8 @@
 // tetrahedron with a vertex field in every variant the project's writers make (STL/PLY ascii and
 // binary, OBJ, VTP ascii and binary, MSH); for the other readers files made by the project's own
 // writers (model.json, motion CSV, estimator model, results file) and its example data (the
-// scenes of meshes/scenes/, meshes/real-hips/LHDL_CT/hip.json).
+// scenes of meshes/scenes/, meshes/real-hips/LHDL_CT/hip.json); for the readers of `hipfai assess`
+// (OpenSim motions, user frame files) small files in each layout they accept, and the model.json.
 #include "fuzz_tetrahedron.h"
 #include "geometry/hip_model.h"
 #include "geometry/mesh_io_msh.h"
@@ -68,6 +69,39 @@ void write_motion_seeds(const fs::path& out) {
   studies::write_motion_csv(loaded, out / "motion" / "sitting_with_force.csv");
   studies::write_motion_csv(studies::medical_rotation("flexion", 90.0, 3),
                             out / "motion" / "flexion.csv");
+}
+
+// OpenSim motion files in the layouts the reader accepts: a version-1 .mot in degrees, a states
+// file in radians with OpenSim 4 state paths (left hip), a SIMM-style header without a version.
+void write_opensim_motion_seeds(const fs::path& out) {
+  put(out / "opensim_motion" / "degrees.mot",
+      "walk_ik\nversion=1\nnRows=2\nnColumns=5\ninDegrees=yes\nendheader\n"
+      "time\thip_flexion_r\thip_adduction_r\thip_rotation_r\tknee_angle_r\n"
+      "0.00\t10.5\t-2.25\t4.0\t-20\n0.01\t12\t-3\t5.5\t-22\n");
+  put(out / "opensim_motion" / "states.mot",
+      "states\nversion=1\nnRows=2\nnColumns=4\ninDegrees=no\nendheader\n"
+      "time\t/jointset/hip_l/hip_flexion_l/value\t/jointset/hip_l/hip_adduction_l/value\t"
+      "/jointset/hip_l/hip_rotation_l/value\n0.5\t1.05\t0.2\t-0.1\n0.75\t+0.5\t-0.25\t0\n");
+  put(out / "opensim_motion" / "simm.mot",
+      "First trial\t\t\nnRows=2\t\t\nnColumns=4\t\t\n\t\t\n# SIMM Motion File Header:\t\t\n"
+      "name first trial\ndatacolumns 4\ndatarows 2\nrange 0.400000 0.417000\nendheader\r\n"
+      "time\thip_flexion_r\thip_adduction_r\thip_rotation_r\r\n"
+      "0.4\t19.67986891\t-2.81547267\t-6.54743948\r\n0.417\t20.1704694\t-3.0099434\t-7.02786216\r\n");
+}
+
+// User frame files: axes (both frames), landmarks (both bones), and the model.json of the
+// model_json seed (the hip-model shape).
+void write_frame_file_seeds(const fs::path& out) {
+  put(out / "frame_file" / "axes.json",
+      R"({"side": "right", "hjc_mm": [1, 2, 3], "frames": {)"
+      R"("pelvis": {"origin_mm": [1, 2, 3], "right": [1, 0, 0], "anterior": [0, 1, 0], "superior": [0, 0, 1]},)"
+      R"("femur": {"origin_mm": [1, 2, 3], "right": [0, 1, 0], "anterior": [-1, 0, 0], "superior": [0, 0, 2]}}})");
+  put(out / "frame_file" / "landmarks.json",
+      R"({"side": "right", "pelvis_landmarks": {"asis_right_mm": [115, 0, 0], "asis_left_mm": [-115, 0, 0],)"
+      R"("pubic_tubercle_right_mm": [25, 0, -90], "pubic_tubercle_left_mm": [-25, 0, -90]},)"
+      R"("femur_landmarks": {"head_centre_mm": [90, 0, -60], "medial_epicondyle_mm": [50, 0, -495],)"
+      R"("lateral_epicondyle_mm": [130, 0, -485]}})");
+  copy_into(out / "model_json" / "model.json", out / "frame_file");
 }
 
 // A model trained on four hips with a 1 x 2 grid of one tissue (2 features) and 3 steps.
@@ -181,6 +215,8 @@ int main(int argc, char** argv) {
     write_model_json_seed(out, out / "work");
     fs::remove_all(out / "work");
     write_motion_seeds(out);
+    write_opensim_motion_seeds(out);
+    write_frame_file_seeds(out);
     write_estimator_seed(out);
     write_results_seed(out);
     write_validation_seeds(out, source);

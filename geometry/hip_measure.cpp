@@ -70,7 +70,8 @@ CeMeasurement measure_ce_angle(const std::vector<const TriMesh*>& acetabulum, co
 }
 
 double alpha_in_plane(const std::vector<const TriMesh*>& femur, const Vec3& centre, double radius_mm,
-                      const Vec3& neck_axis, const Vec3& u, double tolerance_mm, Vec3* departure_point) {
+                      const Vec3& neck_axis, const Vec3& u, double tolerance_mm, Vec3* departure_point,
+                      double articular_gap_deg) {
   const Vec3 normal = neck_axis.cross(u).normalized();
   // Bins of 0.1 deg of the polar angle from the neck axis; each keeps the outermost deviation
   // from the sphere (bone and cartilage together: the union's outer contour).
@@ -99,10 +100,35 @@ double alpha_in_plane(const std::vector<const TriMesh*>& femur, const Vec3& cent
       }
     }
   }
-  // Walk from the pole (180 deg) towards the neck; start only once the contour has been seen on
-  // the sphere, then stop at the first bin that is off it (or empty: the contour left the band).
+  // Where the walk towards the neck starts. By default at the pole (180 deg): the first bin seen
+  // on the sphere. With articular_gap_deg > 0 (real bones): inside the longest run of bins on the
+  // sphere, runs bridged over gaps of up to articular_gap_deg (the fovea, segmentation noise), so
+  // the walk leaves the articular surface at its neck-side end, not at a pit near the pole.
+  int start = kBins - 1;
+  if (articular_gap_deg > 0.0) {
+    const int gap = static_cast<int>(std::lround(articular_gap_deg / kBinDeg));
+    int best_low = -1, best_high = -1, low = -1, high = -1, off_run = 0;
+    for (int bin = kBins - 1; bin >= 0; --bin) {
+      const bool on = std::abs(outermost[static_cast<std::size_t>(bin)]) <= tolerance_mm;
+      if (on) {
+        if (high < 0 || off_run > gap) high = bin;
+        low = bin;
+        off_run = 0;
+        if (high - low > best_high - best_low) {
+          best_low = low;
+          best_high = high;
+        }
+      } else if (high >= 0) {
+        ++off_run;
+      }
+    }
+    if (best_low < 0) return std::numeric_limits<double>::quiet_NaN();
+    start = best_low;
+  }
+  // Walk towards the neck; start only once the contour has been seen on the sphere, then stop at
+  // the first bin that is off it (or empty: the contour left the band).
   bool on_sphere = false;
-  for (int bin = kBins - 1; bin >= 0; --bin) {
+  for (int bin = start; bin >= 0; --bin) {
     const double deviation = outermost[static_cast<std::size_t>(bin)];
     const bool off = !(std::abs(deviation) <= tolerance_mm);
     if (!on_sphere) {
@@ -168,8 +194,9 @@ AlphaMeasurement measure_alpha_angle(const std::vector<const TriMesh*>& femur, c
     b(static_cast<Eigen::Index>(i)) = p.squaredNorm();
   }
   const Eigen::Vector4d x = a.colPivHouseholderQr().solve(b);
-  const Vec3 centre = hjc_mm + x.head<3>();
-  const double radius = std::sqrt(x(3) + x.head<3>().squaredNorm());
+  const bool given = options.head_radius_mm > 0.0;
+  const Vec3 centre = given ? options.head_centre_mm : Vec3(hjc_mm + x.head<3>());
+  const double radius = given ? options.head_radius_mm : std::sqrt(x(3) + x.head<3>().squaredNorm());
   result.head_centre_mm = centre;
   result.head_radius_mm = radius;
   // Longest chord of the tessellated sphere: an edge with both ends on the fitted sphere.
@@ -198,7 +225,8 @@ AlphaMeasurement measure_alpha_angle(const std::vector<const TriMesh*>& femur, c
     return (std::cos(angle_deg * kDegToRad) * anterior + std::sin(angle_deg * kDegToRad) * superior).normalized();
   };
   auto alpha_at = [&](double angle_deg) {
-    return alpha_in_plane(femur, centre, radius, n, plane_direction(angle_deg), result.tolerance_mm);
+    return alpha_in_plane(femur, centre, radius, n, plane_direction(angle_deg), result.tolerance_mm, nullptr,
+                          options.articular_gap_deg);
   };
   double best_alpha = -1.0;
   double best_plane = 0.0;
@@ -227,7 +255,7 @@ AlphaMeasurement measure_alpha_angle(const std::vector<const TriMesh*>& femur, c
   result.plane_deg = options.notzli_clock_deg;
   result.plane_direction = plane_direction(result.plane_deg);
   result.alpha_deg = alpha_in_plane(femur, centre, radius, n, result.plane_direction, result.tolerance_mm,
-                                    &result.departure_point_mm);
+                                    &result.departure_point_mm, options.articular_gap_deg);
   if (!std::isfinite(result.alpha_deg)) return result;
   result.status = MeasureStatus::kOk;
   return result;

@@ -60,6 +60,13 @@ struct AlphaOptions {
   double sector_end_deg = 90.0;   // ... to superior
   double notzli_clock_deg = 0.0;  // Nötzli's plane: anterior (3 o'clock)
   double profile_step_deg = 15.0; // clock profile step (0: no profile)
+  // The head sphere, when known (e.g. fitted to the head region of a real bone); radius 0: fitted
+  // here to the outermost vertices near the pole.
+  Vec3 head_centre_mm = Vec3::Zero();
+  double head_radius_mm = 0.0;
+  // 0: walk from the pole (generated hips). > 0 (real bones): walk from the neck-side end of the
+  // longest run of the contour on the sphere, bridging gaps up to this (see alpha_in_plane).
+  double articular_gap_deg = 0.0;
 };
 
 // "3:00" for 0 deg, "1:30" for 45, "12:00" for 90, "4:30" for -45.
@@ -86,8 +93,9 @@ AlphaMeasurement measure_alpha_angle(const std::vector<const TriMesh*>& femur, c
                                      const Vec3& anterior, const AlphaOptions& options = {});
 
 // Alpha of one plane (direction `u` perpendicular to the neck axis); NaN when no contour.
+// articular_gap_deg as AlphaOptions::articular_gap_deg.
 double alpha_in_plane(const std::vector<const TriMesh*>& femur, const Vec3& centre, double radius_mm,
                       const Vec3& neck_axis, const Vec3& u, double tolerance_mm,
-                      Vec3* departure_point = nullptr);
+                      Vec3* departure_point = nullptr, double articular_gap_deg = 0.0);
 
 }  // namespace hipfai::geometry
