@@ -15,6 +15,7 @@ const char* stage_kind_name(StageKind kind) {
     case StageKind::kRadialQuery: return "radial-query";
     case StageKind::kRangeOfMotion: return "range-of-motion";
     case StageKind::kFiniteElement: return "finite-element";
+    case StageKind::kAssessment: return "assessment";
     case StageKind::kWriteResults: return "write-results";
   }
   return "?";
@@ -104,6 +105,10 @@ Plan plan_scene(const Scene& scene, const Motion& motion) {
     for (std::size_t a = 0; a < axes.size(); ++a) {
       add(StageKind::kRangeOfMotion, "femur_bone vs acetabular_bone, axis " + std::to_string(a + 1));
     }
+  }
+  if (scene.outputs.count(Output::kAssessment)) {
+    add(StageKind::kAssessment, "femur_bone and acetabular_bone, frame from model.json: measures, clinical "
+                                "motions, the motion's bone-to-bone depths (assessment/)");
   }
   if (needs_fe(scene)) {
     std::ostringstream label;

@@ -23,6 +23,7 @@ enum class StageKind {
   kRadialQuery,        // per step: radial depth
   kRangeOfMotion,      // exact ROM about one motion axis
   kFiniteElement,      // FE contact solve over the motion
+  kAssessment,         // patient-specific assessment of the bones (studies/assessment.h)
   kWriteResults,       // results.h5 + CSV
 };
 

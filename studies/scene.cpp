@@ -73,13 +73,14 @@ const char* output_name(Output output) {
     case Output::kRom: return "rom";
     case Output::kVonMises: return "von_mises";
     case Output::kContactPressure: return "contact_pressure";
+    case Output::kAssessment: return "assessment";
   }
   return "?";
 }
 
 std::optional<Output> parse_output(const std::string& name) {
   for (Output o : {Output::kCurvilinearDepth, Output::kRadialDepth, Output::kRom,
-                   Output::kVonMises, Output::kContactPressure}) {
+                   Output::kVonMises, Output::kContactPressure, Output::kAssessment}) {
     if (name == output_name(o)) return o;
   }
   return std::nullopt;
@@ -96,6 +97,7 @@ std::set<std::string> tissues_for(Output output) {
     case Output::kCurvilinearDepth: return {"femur_bone", "labrum"};
     case Output::kRadialDepth: return {"femur_bone", "femoral_cartilage", "acetabular_cartilage", "labrum"};
     case Output::kRom: return {"femur_bone", "acetabular_bone"};
+    case Output::kAssessment: return {"femur_bone", "acetabular_bone"};
     case Output::kVonMises:
     case Output::kContactPressure:
       // The hip FE model (studies/hip_fe_run.cpp): deformable cartilage and labrum, the femoral

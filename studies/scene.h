@@ -11,7 +11,8 @@
 //   tissues: [femur_bone, labrum, femoral_cartilage, acetabular_cartilage]
 //   motion: {builtin: standing_to_sitting, sub_motions: 30}  # or {medical: flexion, max_deg: 90,
 //                                                            #      steps: 18}  or  {csv: file.csv}
-//   outputs: [curvilinear_depth, radial_depth]
+//   outputs: [curvilinear_depth, radial_depth]       # also rom, von_mises, contact_pressure,
+//                                                    # assessment (hipfai assess on the bones)
 //   options: {mapping: cube, table_size: 20000, swap_roles: true}
 //
 // FE outputs (von_mises, contact_pressure) run the contact FE of fem/ over the motion
@@ -47,6 +48,7 @@ enum class Output {
   kRom,               // exact range of motion about each motion axis, femur vs acetabular bone
   kVonMises,          // FE ground truth (fem/)
   kContactPressure,   // FE ground truth (fem/)
+  kAssessment,        // patient-specific assessment of the bones (studies/assessment.h), in assessment/
 };
 
 const char* output_name(Output output);

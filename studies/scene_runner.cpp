@@ -1,5 +1,9 @@
 #include "studies/scene_runner.h"
 
+#include "anatomy/frame_file.h"
+#include "studies/assessment.h"
+#include "studies/assessment_report.h"
+
 #include "contact/radial_mapping.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
@@ -206,6 +210,26 @@ SceneRunSummary run_scene(const Scene& scene, const Motion& motion, const SceneR
 #endif
   }
   const SceneFeResult& fe = summary.fe;
+  std::optional<AssessmentResult> assessment;
+  if (scene.outputs.count(Output::kAssessment)) {
+    // The bones with the hip's own frame (model.json: the hip frame, HJC and neck axis), the
+    // scene's motion as the user motion.
+    AssessmentRequest request;
+    request.femur = &hip.tissues.at("femur_bone");
+    request.pelvis = &hip.tissues.at("acetabular_bone");
+    request.femur_name = "femur_bone";
+    request.pelvis_name = "acetabular_bone";
+    request.frame = anatomy::read_frame_file(hip.dir / "model.json");
+    request.motion = motion;
+    request.threads = options.threads;
+    assessment = assess_hip(request);
+    summary.log.ran(StageKind::kAssessment);
+    if (options.write_files) {
+      write_assessment(*assessment, {(hip.dir / "femur_bone").string(), (hip.dir / "acetabular_bone").string(),
+                                     (hip.dir / "model.json").string(), motion.name},
+                       options.out_dir / "assessment");
+    }
+  }
 
   if (options.write_files) {
     ResultsFile file(options.out_dir / "results.h5");
@@ -290,6 +314,19 @@ SceneRunSummary run_scene(const Scene& scene, const Motion& motion, const SceneR
   for (std::size_t a = 0; a < summary.run.rom.size(); ++a) {
     text << "  ROM about axis " << (a + 1) << ": anticlockwise " << summary.run.rom[a].anticlockwise_deg
          << " deg, clockwise " << summary.run.rom[a].clockwise_deg << " deg\n";
+  }
+  if (assessment) {
+    const auto& m = assessment->before.measures;
+    text << "  assessment: " << anatomy::morphology_name(m.morphology) << ", lateral CE " << m.lateral_ce.ce_deg
+         << " deg, alpha " << m.alpha.alpha_deg << " deg";
+    if (assessment->before.rom.fadir_internal_rotation.limit) {
+      text << ", FADIR internal rotation " << assessment->before.rom.fadir_internal_rotation.limit->angle_deg << " deg";
+    }
+    if (assessment->motion_depths) {
+      text << ", bone-to-bone over the motion: curvilinear " << assessment->motion_depths->max_curvilinear_mm()
+           << " mm, radial " << assessment->motion_depths->max_radial_mm() << " mm";
+    }
+    text << (options.write_files ? " (assessment/)" : "") << '\n';
   }
   if (fe.ran) {
     text << "  FE level " << fe.level << " (" << fe.load << "): " << fe.not_converged << " of "

@@ -26,3 +26,10 @@ hipfai_cli_test(NAME assess_motion_without_hip_columns EXIT nonzero STDERR "asse
   COMMAND assess --femur ${ASSESS_LHDL}/femur_r.ply --pelvis ${ASSESS_LHDL}/pelvis_no_sacrum.ply
           --motion ${assess_bad_mot} --out @TMP@/out)
 hipfai_cli_test(NAME study_assess_truth_quick EXIT 0 COMMAND study assess-truth --quick --out @TMP@/out)
+# A scene can ask for the same (outputs: [assessment]): the plan has the stage, the run writes assessment/.
+hipfai_cli_test(NAME run_assessment_scene EXIT 0
+  COMMAND run @SOURCE@/meshes/scenes/assess_cam_hip.yaml --out @TMP@/out --cache @TMP@/cache)
+add_test(NAME cli.run_plan_assessment_stage
+         COMMAND sh -c "\"$1\" run \"$2\" --plan | grep -q '^[0-9]*[.] assessment: femur_bone and acetabular_bone'"
+                 sh $<TARGET_FILE:hipfai> ${CMAKE_SOURCE_DIR}/meshes/scenes/assess_cam_hip.yaml)
+set_tests_properties(cli.run_plan_assessment_stage PROPERTIES LABELS "cli;fast" TIMEOUT 60)
