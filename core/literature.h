@@ -229,6 +229,15 @@ inline constexpr double kFadirAdductionDeg = 15.0;
 // hip in roughly half of full flexion, moderately abducted), not taken from that paper.
 inline constexpr double kFaberAssumedFlexionDeg = 45.0;
 inline constexpr double kFaberAssumedAbductionDeg = 30.0;
+// Passive hip range of motion of asymptomatic hips, 430 college freshman athletes (Czuppon et al.
+// 2017, PM R 9:660-667), mean degrees, male / female: flexion 115.8 / 122.0; internal rotation at 0 deg
+// flexion 29.0 / 38.9 and at 90 deg flexion 26.9 / 34.7; external rotation at 0 deg 39.8 / 37.6 and at
+// 90 deg 44.7 / 49.7. Clinical (soft-tissue limited) values, beside which bony limits are larger.
+inline constexpr double kCzupponFlexionMaleDeg = 115.8, kCzupponFlexionFemaleDeg = 122.0;
+inline constexpr double kCzupponInternalRotationMaleDeg = 29.0, kCzupponInternalRotationFemaleDeg = 38.9;
+inline constexpr double kCzupponInternalRotation90MaleDeg = 26.9, kCzupponInternalRotation90FemaleDeg = 34.7;
+inline constexpr double kCzupponExternalRotationMaleDeg = 39.8, kCzupponExternalRotationFemaleDeg = 37.6;
+inline constexpr double kCzupponExternalRotation90MaleDeg = 44.7, kCzupponExternalRotation90FemaleDeg = 49.7;
 // (end of the clinical motions section)
 
 // --- Patient-specific assessment: virtual resections ---------------------------------------------

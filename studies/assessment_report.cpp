@@ -277,17 +277,29 @@ std::string assessment_markdown(const AssessmentResult& r, const AssessmentInput
         "FADIR: flexion 90° and adduction " << fixed(r.before.rom.fadir_adduction_deg) << "°, then internal rotation; "
         "FABER: flexion " << fixed(r.before.rom.faber_flexion_deg) << "° and abduction "
      << fixed(r.before.rom.faber_abduction_deg) << "°, then external rotation.\n\n"
-     << "Bony limits, no soft tissue: they exceed the clinical normal ranges (AAOS 1965, limited by capsule and "
-        "muscles), given beside them for the six basic motions.\n\n"
+     << "Bony limits, no soft tissue: they exceed the clinical normal ranges, which capsule and muscles limit, "
+        "given beside them: (A) AAOS 1965; (C) Czuppon et al. 2017, passive range of 430 asymptomatic hips, "
+        "male / female means.\n\n"
      << "| motion | range (deg) | rim clock | head-neck clock | clinical normal (deg) |"
      << (r.after ? " after (deg) | gain (deg) |" : "") << "\n|---|---|---|---|---|" << (r.after ? "---|---|" : "") << "\n";
   const auto before = r.before.rom.motions();
   static const char* kNames[] = {"flexion", "extension", "abduction", "adduction", "internal rotation",
                                  "external rotation", "internal rotation at 90° flexion",
                                  "external rotation at 90° flexion", "FADIR internal rotation", "FABER"};
-  const double kNormal[] = {literature::kAaosFlexionDeg, literature::kAaosExtensionDeg, literature::kAaosAbductionDeg,
-                            literature::kAaosAdductionDeg, literature::kAaosInternalRotationDeg,
-                            literature::kAaosExternalRotationDeg};
+  namespace lit = literature;
+  auto pair = [](double male, double female) { return fixed(male, 0) + " m / " + fixed(female, 0) + " f (C)"; };
+  const std::string normal[] = {
+      fixed(lit::kAaosFlexionDeg, 0) + " (A); " + pair(lit::kCzupponFlexionMaleDeg, lit::kCzupponFlexionFemaleDeg),
+      fixed(lit::kAaosExtensionDeg, 0) + " (A)",
+      fixed(lit::kAaosAbductionDeg, 0) + " (A)",
+      fixed(lit::kAaosAdductionDeg, 0) + " (A)",
+      fixed(lit::kAaosInternalRotationDeg, 0) + " (A); " +
+          pair(lit::kCzupponInternalRotationMaleDeg, lit::kCzupponInternalRotationFemaleDeg),
+      fixed(lit::kAaosExternalRotationDeg, 0) + " (A); " +
+          pair(lit::kCzupponExternalRotationMaleDeg, lit::kCzupponExternalRotationFemaleDeg),
+      pair(lit::kCzupponInternalRotation90MaleDeg, lit::kCzupponInternalRotation90FemaleDeg),
+      pair(lit::kCzupponExternalRotation90MaleDeg, lit::kCzupponExternalRotation90FemaleDeg),
+      "", ""};
   for (std::size_t i = 0; i < before.size(); ++i) {
     const auto& o = *before[i];
     md << "| " << kNames[i] << " | ";
@@ -298,7 +310,7 @@ std::string assessment_markdown(const AssessmentResult& r, const AssessmentInput
     } else {
       md << fixed(o.limit->angle_deg) << " | " << o.limit->acetabular_clock.label << " | " << o.limit->femoral_clock.label << " |";
     }
-    md << " " << (i < 6 ? fixed(kNormal[i], 0) : std::string("")) << " |";
+    md << " " << normal[i] << " |";
     if (r.after) {
       const auto& a = *r.after->rom.motions()[i];
       if (a.limit && o.limit && !a.limit->unlimited) {
