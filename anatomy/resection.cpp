@@ -214,6 +214,8 @@ SphericalFrame checked_cam_frame(const CamResectionRequest& r) {
 
 }  // namespace
 
+constexpr double kBlendStartBelowDeg = 1.0;
+
 TriMesh make_cam_tool(const CamResectionRequest& request) {
   const SphericalFrame frame = checked_cam_frame(request);
   const double R = request.head_radius_mm, t = request.tolerance_mm;
@@ -223,12 +225,23 @@ TriMesh make_cam_tool(const CamResectionRequest& request) {
   const double span_deg = sector_span_deg(request.sector, "cam resection");
   const double span = span_deg * kDegToRad;
   const bool periodic = span >= 2.0 * std::numbers::pi;
-  const double polar0 = request.target_alpha_deg * kDegToRad;
+  // With a blend, the sphere part reaches kBlendStartBelowDeg past A: the alpha measurement finds
+  // where the contour leaves the sphere by extrapolating the rising ramp back to it, which lands
+  // about 1 deg above the ramp's start on these meshes, so starting it 1 deg below A keeps alpha <= A.
+  const double polar_a = (request.target_alpha_deg - (request.transition_deg > 0.0 ? kBlendStartBelowDeg : 0.0)) * kDegToRad;
+  const double blend = std::clamp(request.transition_deg, 0.0, request.target_alpha_deg - 2.0) * kDegToRad;
+  const double polar0 = polar_a - blend;
+  // Inner radius: the sphere (+ 3t/4) from A to the pole, the tangent ramp below A.
+  const auto inner = [&](double polar) {
+    if (polar >= polar_a || blend <= 0.0) return r_in;
+    const double f = (polar_a - polar) / blend;
+    return r_in + 0.9 * (r_out - r_in) * f * f;
+  };
   const int nu = std::max(periodic ? 3 : 1, steps_for(span, h));
   const int nv = steps_for(std::numbers::pi - polar0, h);
   return curved_box(nu, nv, periodic, true, [&](int iu, int iv, int iw) {
     const double polar = iv == nv ? std::numbers::pi : polar0 + (std::numbers::pi - polar0) * iv / nv;
-    return frame.point(iw == 0 ? r_in : r_out, polar, clock_at(request.sector, span_deg, iu, nu));
+    return frame.point(iw == 0 ? inner(polar) : r_out, polar, clock_at(request.sector, span_deg, iu, nu));
   });
 }
 

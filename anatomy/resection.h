@@ -69,6 +69,14 @@ struct CamResectionRequest {
   // R_out / R. 1.5: a cam stands a few mm (2-5) proud of the head sphere, well inside 1.5 R
   // (~35 mm for R = 23), while the trochanters are 45 mm and more from the head centre.
   double outer_radius_factor = 1.5;
+  // The blend into the neck, deg (0: none, a step where the cut meets bone at A). Below A the cut
+  // surface rises from the sphere tangentially, r = R + 3t/4 + 0.9 (R_out - R - 3t/4) ((A - polar) / w)^2
+  // for A - w <= polar < A (the ramp starts 1 deg below A: the alpha measurement extrapolates the
+  // ramp back to the sphere, ~1 deg above its start), so cam bone proud just below A is shaved along a smooth ramp
+  // instead of leaving a ledge (the concave head-neck contour an osteochondroplasty recreates); the
+  // ramp passes the tolerance t within ~1-2 deg of A, so alpha ends at or just below A. 15 deg: an
+  // assumption (a few mm of neck at the head-neck junction), not a published value.
+  double transition_deg = 15.0;
   ClockSector sector;              // where to resect; all around by default
   double clock_bin_deg = 15.0;     // width of the removed-volume bins (deg, > 0)
 };
@@ -84,7 +92,8 @@ struct CamResection {
   double seconds = 0.0;             // wall-clock time of resect_cam
 };
 
-// The cam tool alone: {R + 3t/4 (faceted, see above) <= r <= R_out, polar >= A, clock in sector}.
+// The cam tool alone: {R + 3t/4 (faceted, see above) <= r <= R_out, polar >= A, clock in sector},
+// extended below A by the blend (transition_deg).
 geometry::TriMesh make_cam_tool(const CamResectionRequest& request);
 
 // Removes the bone outside the sphere (c, R + t) at polar angles >= A from the neck axis, within

@@ -64,7 +64,8 @@ CamResectionRequest cam_request(const TriMesh* femur) {
 // so every facet is within the relative sag s = (t / 4) / (R + 3t/4) of its sphere, and a volume
 // bounded by such facets is within 3 s of the exact one (0.6 % here).
 TEST(CamTool, ClosedShellCapBetweenToleranceBounds) {
-  const CamResectionRequest r = cam_request(nullptr);
+  CamResectionRequest r = cam_request(nullptr);
+  r.transition_deg = 0.0;  // the cap alone: its volume has a closed form
   const TriMesh tool = make_cam_tool(r);
   expect_solid(tool);
   const double R = r.head_radius_mm, t = r.tolerance_mm, rout = 1.5 * R;
@@ -90,6 +91,7 @@ TEST(CamTool, ClosedShellCapBetweenToleranceBounds) {
 // A restricted clock sector gives a closed wedge of the same cap, of proportional volume.
 TEST(CamTool, ClockSectorIsAClosedWedge) {
   CamResectionRequest r = cam_request(nullptr);
+  r.transition_deg = 0.0;
   const double full = volume(make_cam_tool(r));
   r.sector = {-30.0, 60.0};
   const TriMesh wedge = make_cam_tool(r);
