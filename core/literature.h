@@ -238,6 +238,12 @@ inline constexpr double kCzupponInternalRotationMaleDeg = 29.0, kCzupponInternal
 inline constexpr double kCzupponInternalRotation90MaleDeg = 26.9, kCzupponInternalRotation90FemaleDeg = 34.7;
 inline constexpr double kCzupponExternalRotationMaleDeg = 39.8, kCzupponExternalRotationFemaleDeg = 37.6;
 inline constexpr double kCzupponExternalRotation90MaleDeg = 44.7, kCzupponExternalRotation90FemaleDeg = 49.7;
+// Internal rotation on impingement testing (flexion, adduction, internal rotation to bony contact),
+// computed on 3D hip models (Audenaert et al. 2012, Am J Sports Med 40:1329-1336), mean degrees:
+// healthy controls 27.9, asymptomatic hips with radiographic FAI features 21.1, FAI patients 12.3.
+inline constexpr double kAudenaertImpingementIrHealthyDeg = 27.9;
+inline constexpr double kAudenaertImpingementIrAsymptomaticDeg = 21.1;
+inline constexpr double kAudenaertImpingementIrFaiDeg = 12.3;
 // (end of the clinical motions section)
 
 // --- Patient-specific assessment: virtual resections ---------------------------------------------

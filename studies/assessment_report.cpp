@@ -279,7 +279,8 @@ std::string assessment_markdown(const AssessmentResult& r, const AssessmentInput
      << fixed(r.before.rom.faber_abduction_deg) << "°, then external rotation.\n\n"
      << "Bony limits, no soft tissue: they exceed the clinical normal ranges, which capsule and muscles limit, "
         "given beside them: (A) AAOS 1965; (C) Czuppon et al. 2017, passive range of 430 asymptomatic hips, "
-        "male / female means.\n\n"
+        "male / female means; (Au) Audenaert et al. 2012, internal rotation on impingement testing computed on 3D "
+        "models of healthy and FAI hips.\n\n"
      << "| motion | range (deg) | rim clock | head-neck clock | clinical normal (deg) |"
      << (r.after ? " after (deg) | gain (deg) |" : "") << "\n|---|---|---|---|---|" << (r.after ? "---|---|" : "") << "\n";
   const auto before = r.before.rom.motions();
@@ -299,7 +300,9 @@ std::string assessment_markdown(const AssessmentResult& r, const AssessmentInput
           pair(lit::kCzupponExternalRotationMaleDeg, lit::kCzupponExternalRotationFemaleDeg),
       pair(lit::kCzupponInternalRotation90MaleDeg, lit::kCzupponInternalRotation90FemaleDeg),
       pair(lit::kCzupponExternalRotation90MaleDeg, lit::kCzupponExternalRotation90FemaleDeg),
-      "", ""};
+      fixed(lit::kAudenaertImpingementIrHealthyDeg, 0) + " healthy / " + fixed(lit::kAudenaertImpingementIrFaiDeg, 0) +
+          " FAI (Au)",
+      ""};
   for (std::size_t i = 0; i < before.size(); ++i) {
     const auto& o = *before[i];
     md << "| " << kNames[i] << " | ";
