@@ -1,9 +1,12 @@
-// hipfai study assess-truth: the patient-specific assessment against known truth — the 25
-// generated hips assessed from their bones, moved and mirrored (studies/assessment_truth.h).
+// hipfai study assess-truth / soft-tissue-truth: the patient-specific assessment and the soft tissue
+// synthesised on bones against known truth — the 25 generated hips from their bones, moved and
+// mirrored (studies/assessment_truth.h), and stripped and re-dressed (studies/soft_tissue_truth.h).
 // Registered as "study.assess", which sorts after "study": the parent sub-command exists by then.
 #include "app/command_registry.h"
 #include "studies/assessment_truth.h"
 #include "studies/assessment_truth_report.h"
+#include "studies/soft_tissue_truth.h"
+#include "studies/soft_tissue_truth_report.h"
 
 #include <iomanip>
 #include <iostream>
@@ -26,6 +29,25 @@ const CommandRegistrar registrar("study.assess", [](CLI::App& parent) {
   truth->callback([options] {
     const auto result = studies::run_assessment_truth(*options);
     const auto report = studies::write_assessment_truth(result);
+    std::cout << "report: " << report.string() << " (" << std::fixed << std::setprecision(1) << result.seconds
+              << " s)\n";
+  });
+
+  auto* tissue = study->add_subcommand(
+      "soft-tissue-truth", "Synthesised cartilage and labrum against known truth: the 25 generated hips stripped to "
+                           "their bones, tissues synthesised, penetration depths over standing-to-sitting compared "
+                           "(soft_tissue_truth.md, .csv)");
+  auto tissue_options = std::make_shared<studies::SoftTissueTruthOptions>();
+  tissue->add_option("--out", tissue_options->out_dir, "Output folder")->capture_default_str();
+  tissue->add_option("--edge-mm", tissue_options->edge_mm, "Surface edge length of the generated hips")
+      ->capture_default_str()->check(CLI::Range(0.5, 10.0));
+  tissue->add_option("--sub-motions", tissue_options->sub_motions, "Standing-to-sitting steps")
+      ->capture_default_str()->check(CLI::Range(1, 200));
+  tissue->add_option("--threads", tissue_options->threads, "Threads of the penetration queries")->capture_default_str();
+  tissue->add_flag("--quick", tissue_options->quick, "Test-sized: two hips at 3 mm, 10 sub-motions");
+  tissue->callback([tissue_options] {
+    const auto result = studies::run_soft_tissue_truth(*tissue_options);
+    const auto report = studies::write_soft_tissue_truth(result);
     std::cout << "report: " << report.string() << " (" << std::fixed << std::setprecision(1) << result.seconds
               << " s)\n";
   });

@@ -64,17 +64,8 @@ AssessmentTruthResult run_assessment_truth(const AssessmentTruthOptions& options
   const auto start = SteadyClock::now();
   AssessmentTruthResult result;
   result.options = options;
-  std::vector<std::pair<double, double>> grid;
-  if (options.quick) {
-    grid = {{20.0, 80.0}, {40.0, 40.0}};
-  } else {
-    for (double ce = literature::kStudyCeMinDeg; ce <= literature::kStudyCeMaxDeg + 1e-9; ce += literature::kStudyStepDeg) {
-      for (double alpha = literature::kStudyAlphaMinDeg; alpha <= literature::kStudyAlphaMaxDeg + 1e-9;
-           alpha += literature::kStudyStepDeg) {
-        grid.emplace_back(ce, alpha);
-      }
-    }
-  }
+  const std::vector<std::pair<double, double>> grid =
+      options.quick ? std::vector<std::pair<double, double>>{{20.0, 80.0}, {40.0, 40.0}} : study_grid_angles();
   const double edge = options.quick ? 3.0 : options.edge_mm;
   std::mt19937 rng(options.seed);
   ProgressBar progress("assessment known truth", grid.size());

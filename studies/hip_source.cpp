@@ -27,6 +27,17 @@ geometry::HipParameters parameters_of(const ParametricHip& hip) {
 
 }  // namespace
 
+std::vector<std::pair<double, double>> study_grid_angles() {
+  std::vector<std::pair<double, double>> grid;
+  for (double ce = literature::kStudyCeMinDeg; ce <= literature::kStudyCeMaxDeg + 1e-9; ce += literature::kStudyStepDeg) {
+    for (double alpha = literature::kStudyAlphaMinDeg; alpha <= literature::kStudyAlphaMaxDeg + 1e-9;
+         alpha += literature::kStudyStepDeg) {
+      grid.emplace_back(ce, alpha);
+    }
+  }
+  return grid;
+}
+
 std::string parametric_hip_id(double ce_deg, double alpha_deg) {
   std::ostringstream id;
   id << "ce" << ce_deg << "_alpha" << alpha_deg;

@@ -13,6 +13,8 @@
 #include <map>
 #include <set>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace hipfai::studies {
 
@@ -52,6 +54,10 @@ LoadedHip loaded_hip_from_model(const geometry::HipModel& model, const std::stri
 // The name of a parametric hip in outputs and figures: "ce20_alpha40" (angles in degrees, printed
 // as the shortest decimal, so 22.5 stays "22.5").
 std::string parametric_hip_id(double ce_deg, double alpha_deg);
+
+// The thesis' study grid (§4.3.2.2, core/literature.h): the 25 (CE, alpha) pairs, CE 0-40 and alpha
+// 40-80 deg in 10 deg steps, CE-major.
+std::vector<std::pair<double, double>> study_grid_angles();
 
 // Folder of the cached generated hip for these parameters under `cache_dir` (key: parameters and
 // a content hash of core/ and geometry/, kHipSourceHash).

@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 
@@ -211,8 +213,10 @@ geometry::HipModel placed_model() {
 }
 
 std::string written_model_json(const geometry::HipModel& model) {
+  // One folder per test and process: CTest runs the tests of this file in parallel processes.
   const auto dir = std::filesystem::temp_directory_path() /
-                   ("hipfai_frame_file_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
+                   ("hipfai_frame_file_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) +
+                    "_" + std::to_string(::getpid()));
   geometry::write_hip_model(model, dir);
   std::ifstream in(dir / "model.json");
   std::stringstream text;
@@ -255,7 +259,7 @@ TEST(FrameFile, HipModelErrors) {
 
 TEST(FrameFile, ReadsAFile) {
   const auto path = std::filesystem::temp_directory_path() /
-                    ("hipfai_frame_file_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + ".json");
+                    ("hipfai_frame_file_read_" + std::to_string(::getpid()) + ".json");
   std::ofstream(path) << axes_file().dump(2);
   const UserFrame user = read_frame_file(path);
   std::filesystem::remove(path);

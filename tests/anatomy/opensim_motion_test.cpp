@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -156,7 +158,7 @@ TEST(OpenSimMotion, AcceptsWindowsLineEnds) {
 
 TEST(OpenSimMotion, ReadsAFile) {
   const auto path = std::filesystem::temp_directory_path() /
-                    ("hipfai_opensim_motion_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
+                    ("hipfai_opensim_motion_" + std::to_string(::getpid()) +
                      ".mot");
   std::ofstream(path) << kDegreesMot;
   const JointAngleSeries series = read_opensim_motion(path, Side::kRight);

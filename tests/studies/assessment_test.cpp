@@ -12,6 +12,7 @@
 #include "studies/assessment_report.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
@@ -45,12 +46,15 @@ const GeneratedHip& generated(double ce, double alpha) {
   p.alpha_deg = alpha;
   p.edge_mm = 3.0;
   const geometry::HipModel model = geometry::generate_hip(p).model;
-  const fs::path dir = kScratch / ("hip-" + std::to_string(static_cast<int>(ce)) + "-" + std::to_string(static_cast<int>(alpha)));
+  // One folder per process: CTest runs this file's tests in parallel processes.
+  const fs::path dir = kScratch / ("hip-" + std::to_string(static_cast<int>(ce)) + "-" + std::to_string(static_cast<int>(alpha)) +
+                                   "-" + std::to_string(::getpid()));
   geometry::write_hip_model(model, dir);
   GeneratedHip hip;
   hip.femur = model.tissue("femur_bone");
   hip.pelvis = model.tissue("acetabular_bone");
   hip.frame = anatomy::read_frame_file(dir / "model.json");
+  fs::remove_all(dir);
   hip.ce_deg = model.measured_ce_deg;
   hip.alpha_deg = model.measured_alpha_notzli_deg;
   return cache.emplace(std::make_pair(ce, alpha), hip).first->second;
@@ -152,7 +156,7 @@ TEST(Assessment, TheRealBonesFromTheFrameFoundOnThem) {
   for (std::size_t i = 0; i < a.size(); ++i) EXPECT_NEAR(a[i], b[i], 0.01) << i;
 
   // The output folder, whole.
-  const fs::path out = kScratch / "lhdl";
+  const fs::path out = kScratch / ("lhdl-" + std::to_string(::getpid()));
   write_assessment(r, {"femur_r.ply", "pelvis_no_sacrum.ply", "", ""}, out);
   std::ifstream file(out / "assessment.json");
   const nlohmann::json j = nlohmann::json::parse(file);
@@ -170,6 +174,7 @@ TEST(Assessment, TheRealBonesFromTheFrameFoundOnThem) {
                            "impingement_clock.svg", "rom.svg", "alpha_profile.svg"}) {
     EXPECT_TRUE(fs::exists(out / name)) << name;
   }
+  fs::remove_all(out);
 }
 
 TEST(Assessment, ACamResectionBringsAlphaDownAndFreesInternalRotation) {

@@ -1,0 +1,666 @@
+// hipfai — cartilage and labrum synthesised on segmented bones (see soft_tissue.h for the method).
+#include "anatomy/soft_tissue.h"
+
+#include "core/error.h"
+#include "core/stopwatch.h"
+#include "geometry/hip_frame.h"
+#include "geometry/hjc_regions.h"
+
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
+#include <CGAL/Simple_cartesian.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <numeric>
+#include <array>
+#include <map>
+#include <optional>
+#include <unordered_map>
+
+namespace hipfai::anatomy {
+namespace {
+
+using geometry::Triangle;
+using geometry::TriMesh;
+using geometry::Vec3;
+
+using Kernel = CGAL::Simple_cartesian<double>;
+using CgalTriangle = Kernel::Triangle_3;
+using TriangleIterator = std::vector<CgalTriangle>::const_iterator;
+using Primitive = CGAL::AABB_triangle_primitive<Kernel, TriangleIterator>;
+using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+
+Kernel::Point_3 to_point(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
+
+// Where a ray meets a mesh: distance from its origin, the triangle, and the barycentric weights
+// of the triangle's corners at the hit.
+struct RayHit {
+  double distance = 0.0;
+  std::size_t triangle = 0;
+  Vec3 weights = Vec3::Zero();
+};
+
+// Ray casts and inside tests against one closed mesh (CGAL AABB tree of its triangles).
+class MeshQueries {
+ public:
+  explicit MeshQueries(const TriMesh& mesh) : mesh_(mesh) {
+    triangles_.reserve(mesh.triangles.size());
+    for (const Triangle& t : mesh.triangles) {
+      triangles_.emplace_back(to_point(vertex(t[0])), to_point(vertex(t[1])), to_point(vertex(t[2])));
+    }
+    tree_.insert(triangles_.begin(), triangles_.end());
+    tree_.build();
+  }
+
+  std::optional<RayHit> first_hit(const Vec3& origin, const Vec3& direction) const {
+    const Kernel::Ray_3 ray(to_point(origin), to_point(origin + direction));
+    const auto hit = tree_.first_intersection(ray);
+    if (!hit) return std::nullopt;
+    const Kernel::Point_3* point = boost::get<Kernel::Point_3>(&hit->first);
+    if (point == nullptr) return std::nullopt;  // the ray runs along a triangle: treat as a miss
+    RayHit out;
+    out.triangle = static_cast<std::size_t>(hit->second - triangles_.begin());
+    const Vec3 p(point->x(), point->y(), point->z());
+    out.distance = (p - origin).norm();
+    const Triangle& t = mesh_.triangles[out.triangle];
+    const Vec3 a = vertex(t[0]), b = vertex(t[1]), c = vertex(t[2]);
+    const Vec3 n = (b - a).cross(c - a);
+    const double area2 = n.squaredNorm();
+    if (area2 > 0.0) {
+      out.weights.x() = (b - p).cross(c - p).dot(n) / area2;
+      out.weights.y() = (c - p).cross(a - p).dot(n) / area2;
+      out.weights.z() = 1.0 - out.weights.x() - out.weights.y();
+    } else {
+      out.weights = Vec3::Constant(1.0 / 3.0);
+    }
+    return out;
+  }
+
+  // Ray parity along three fixed, unrelated directions, majority vote (a ray grazing an edge
+  // miscounts at most one of them).
+  bool inside(const Vec3& p) const {
+    static const Vec3 kDirections[3] = {Vec3(0.5773, 0.5801, 0.5746).normalized(),
+                                        Vec3(-0.3131, 0.8712, -0.3781).normalized(),
+                                        Vec3(0.7071, -0.1234, -0.6963).normalized()};
+    int votes = 0;
+    for (const Vec3& d : kDirections) {
+      const Kernel::Ray_3 ray(to_point(p), to_point(p + d));
+      if (tree_.number_of_intersected_primitives(ray) % 2 == 1) ++votes;
+    }
+    return votes >= 2;
+  }
+
+ private:
+  const Vec3& vertex(std::int32_t i) const { return mesh_.vertices[static_cast<std::size_t>(i)]; }
+  const TriMesh& mesh_;
+  std::vector<CgalTriangle> triangles_;
+  Tree tree_;
+};
+
+std::uint64_t edge_key(std::int32_t a, std::int32_t b) {
+  const auto lo = static_cast<std::uint64_t>(std::min(a, b)), hi = static_cast<std::uint64_t>(std::max(a, b));
+  return (hi << 32) | lo;
+}
+
+// The triangles across each edge of a mesh.
+class EdgeAdjacency {
+ public:
+  explicit EdgeAdjacency(const TriMesh& mesh) {
+    edges_.reserve(mesh.triangles.size() * 2);
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+      const Triangle& tri = mesh.triangles[t];
+      for (int k = 0; k < 3; ++k) edges_[edge_key(tri[k], tri[(k + 1) % 3])].push_back(static_cast<std::int32_t>(t));
+    }
+  }
+  const std::vector<std::int32_t>& across(std::int32_t a, std::int32_t b) const {
+    static const std::vector<std::int32_t> kNone;
+    const auto it = edges_.find(edge_key(a, b));
+    return it == edges_.end() ? kNone : it->second;
+  }
+
+ private:
+  std::unordered_map<std::uint64_t, std::vector<std::int32_t>> edges_;
+};
+
+// Connected groups (through shared edges) of the triangles with in[t]; labels -1 elsewhere.
+std::vector<std::int32_t> components(const TriMesh& mesh, const EdgeAdjacency& adjacency, const std::vector<char>& in,
+                                     int* count) {
+  std::vector<std::int32_t> label(mesh.triangles.size(), -1);
+  int next = 0;
+  std::vector<std::int32_t> stack;
+  for (std::size_t seed = 0; seed < mesh.triangles.size(); ++seed) {
+    if (!in[seed] || label[seed] >= 0) continue;
+    label[seed] = next;
+    stack.assign(1, static_cast<std::int32_t>(seed));
+    while (!stack.empty()) {
+      const std::int32_t t = stack.back();
+      stack.pop_back();
+      const Triangle& tri = mesh.triangles[static_cast<std::size_t>(t)];
+      for (int k = 0; k < 3; ++k) {
+        for (std::int32_t u : adjacency.across(tri[k], tri[(k + 1) % 3])) {
+          if (in[static_cast<std::size_t>(u)] && label[static_cast<std::size_t>(u)] < 0) {
+            label[static_cast<std::size_t>(u)] = next;
+            stack.push_back(u);
+          }
+        }
+      }
+    }
+    ++next;
+  }
+  *count = next;
+  return label;
+}
+
+// Keeps only the largest (by area) group of the triangles in `in`.
+void keep_largest(const TriMesh& mesh, const EdgeAdjacency& adjacency, std::vector<char>& in) {
+  int count = 0;
+  const auto label = components(mesh, adjacency, in, &count);
+  if (count <= 1) return;
+  std::vector<double> area(static_cast<std::size_t>(count), 0.0);
+  for (std::size_t t = 0; t < label.size(); ++t) {
+    if (label[t] >= 0) area[static_cast<std::size_t>(label[t])] += geometry::triangle_area(mesh, t);
+  }
+  const auto best = static_cast<std::int32_t>(std::max_element(area.begin(), area.end()) - area.begin());
+  for (std::size_t t = 0; t < label.size(); ++t) in[t] = label[t] == best;
+}
+
+// A patch of a closed mesh made a manifold surface with boundary (see the header: largest part,
+// small holes filled, pinched vertices removed). Returns the triangle mask.
+std::vector<char> clean_patch(const TriMesh& mesh, const EdgeAdjacency& adjacency, std::vector<char> in,
+                              LayerReport& report) {
+  // Holes are noise of the region's band when smaller than a 3 mm disc (see the header).
+  constexpr double kHoleAreaMm2 = std::numbers::pi * 3.0 * 3.0;
+  keep_largest(mesh, adjacency, in);
+  {
+    std::vector<char> out(in.size());
+    for (std::size_t t = 0; t < in.size(); ++t) out[t] = !in[t];
+    int count = 0;
+    const auto label = components(mesh, adjacency, out, &count);
+    std::vector<double> area(static_cast<std::size_t>(count), 0.0);
+    for (std::size_t t = 0; t < label.size(); ++t) {
+      if (label[t] >= 0) area[static_cast<std::size_t>(label[t])] += geometry::triangle_area(mesh, t);
+    }
+    for (int g = 0; g < count; ++g) {
+      if (area[static_cast<std::size_t>(g)] >= kHoleAreaMm2) continue;
+      ++report.holes_filled;
+      for (std::size_t t = 0; t < label.size(); ++t) {
+        if (label[t] == g) in[t] = 1;
+      }
+    }
+  }
+  // Pinched vertices: the patch triangles around a vertex in more than one fan.
+  for (int round = 0; round < 50; ++round) {
+    std::unordered_map<std::int32_t, std::vector<std::int32_t>> around;
+    for (std::size_t t = 0; t < in.size(); ++t) {
+      if (!in[t]) continue;
+      for (std::int32_t v : mesh.triangles[t]) around[v].push_back(static_cast<std::int32_t>(t));
+    }
+    std::size_t dropped = 0;
+    for (const auto& [v, tris] : around) {
+      // Union-find of the triangles at v through their edges from v.
+      std::vector<int> parent(tris.size());
+      std::iota(parent.begin(), parent.end(), 0);
+      const auto find = [&](int i) {
+        while (parent[static_cast<std::size_t>(i)] != i) i = parent[static_cast<std::size_t>(i)];
+        return i;
+      };
+      for (std::size_t i = 0; i < tris.size(); ++i) {
+        for (std::size_t j = i + 1; j < tris.size(); ++j) {
+          const Triangle& a = mesh.triangles[static_cast<std::size_t>(tris[i])];
+          const Triangle& b = mesh.triangles[static_cast<std::size_t>(tris[j])];
+          int shared = 0;
+          for (auto x : a) {
+            if (x != v && std::find(b.begin(), b.end(), x) != b.end()) ++shared;
+          }
+          if (shared > 0) parent[static_cast<std::size_t>(find(static_cast<int>(i)))] = find(static_cast<int>(j));
+        }
+      }
+      std::map<int, int> fan_size;
+      for (std::size_t i = 0; i < tris.size(); ++i) ++fan_size[find(static_cast<int>(i))];
+      if (fan_size.size() <= 1) continue;
+      int keep = fan_size.begin()->first;
+      for (const auto& [root, size] : fan_size) {
+        if (size > fan_size[keep]) keep = root;
+      }
+      for (std::size_t i = 0; i < tris.size(); ++i) {
+        if (find(static_cast<int>(i)) != keep && in[static_cast<std::size_t>(tris[i])]) {
+          in[static_cast<std::size_t>(tris[i])] = 0;
+          ++dropped;
+        }
+      }
+    }
+    if (dropped == 0) break;
+    report.pinches_removed += dropped;
+    keep_largest(mesh, adjacency, in);
+  }
+  return in;
+}
+
+// The patch's vertices (mesh indices, in first-use order) and each mesh vertex's patch index.
+struct PatchVertices {
+  std::vector<std::int32_t> mesh_index;
+  std::unordered_map<std::int32_t, std::int32_t> local;
+};
+
+PatchVertices patch_vertices(const TriMesh& mesh, const std::vector<char>& in) {
+  PatchVertices out;
+  for (std::size_t t = 0; t < in.size(); ++t) {
+    if (!in[t]) continue;
+    for (std::int32_t v : mesh.triangles[t]) {
+      if (out.local.emplace(v, static_cast<std::int32_t>(out.mesh_index.size())).second) out.mesh_index.push_back(v);
+    }
+  }
+  return out;
+}
+
+// Directed boundary edges (a -> b as in their triangle) of the patch.
+std::vector<std::pair<std::int32_t, std::int32_t>> boundary_edges(const TriMesh& mesh, const EdgeAdjacency& adjacency,
+                                                                  const std::vector<char>& in) {
+  std::vector<std::pair<std::int32_t, std::int32_t>> out;
+  for (std::size_t t = 0; t < in.size(); ++t) {
+    if (!in[t]) continue;
+    const Triangle& tri = mesh.triangles[t];
+    for (int k = 0; k < 3; ++k) {
+      int inside = 0;
+      for (std::int32_t u : adjacency.across(tri[k], tri[(k + 1) % 3])) inside += in[static_cast<std::size_t>(u)] ? 1 : 0;
+      if (inside == 1) out.emplace_back(tri[k], tri[(k + 1) % 3]);
+    }
+  }
+  return out;
+}
+
+// The layer solid of a patch extruded radially about `centre` (see the header), outward.
+TriMesh layer_solid(const TriMesh& mesh, const std::vector<char>& in, const PatchVertices& pv,
+                    const std::vector<std::pair<std::int32_t, std::int32_t>>& boundary, const Vec3& centre,
+                    const std::vector<double>& r_in, const std::vector<double>& r_out,
+                    const std::vector<double>& thickness) {
+  const std::size_t n = pv.mesh_index.size();
+  TriMesh solid;
+  solid.vertices.resize(2 * n);
+  std::vector<double> field(2 * n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3 d = (mesh.vertices[static_cast<std::size_t>(pv.mesh_index[i])] - centre).normalized();
+    solid.vertices[i] = centre + r_in[i] * d;
+    solid.vertices[n + i] = centre + r_out[i] * d;
+    field[i] = field[n + i] = thickness[i];
+  }
+  const auto inner = [&](std::int32_t v) { return pv.local.at(v); };
+  const auto outer = [&](std::int32_t v) { return static_cast<std::int32_t>(n) + pv.local.at(v); };
+  for (std::size_t t = 0; t < in.size(); ++t) {
+    if (!in[t]) continue;
+    const Triangle& tri = mesh.triangles[t];
+    solid.triangles.push_back({outer(tri[0]), outer(tri[1]), outer(tri[2])});
+    solid.triangles.push_back({inner(tri[0]), inner(tri[2]), inner(tri[1])});
+  }
+  for (const auto& [a, b] : boundary) {
+    solid.triangles.push_back({outer(b), outer(a), inner(a)});
+    solid.triangles.push_back({outer(b), inner(a), inner(b)});
+  }
+  if (geometry::signed_volume(solid) < 0.0) {
+    for (Triangle& t : solid.triangles) std::swap(t[1], t[2]);
+  }
+  solid.vertex_fields["thickness_mm"] = std::move(field);
+  return solid;
+}
+
+// Area of the patch around each of its vertices (a third of each triangle's).
+std::vector<double> vertex_areas(const TriMesh& mesh, const std::vector<char>& in, const PatchVertices& pv) {
+  std::vector<double> area(pv.mesh_index.size(), 0.0);
+  for (std::size_t t = 0; t < in.size(); ++t) {
+    if (!in[t]) continue;
+    const double a = geometry::triangle_area(mesh, t) / 3.0;
+    for (std::int32_t v : mesh.triangles[t]) area[static_cast<std::size_t>(pv.local.at(v))] += a;
+  }
+  return area;
+}
+
+void fill_layer_numbers(LayerReport& report, const std::vector<double>& area, const std::vector<double>& thickness,
+                        const TriMesh& solid) {
+  report.patch_vertices = area.size();
+  report.covered_area_mm2 = std::accumulate(area.begin(), area.end(), 0.0);
+  double weighted = 0.0;
+  report.min_thickness_mm = thickness.empty() ? 0.0 : thickness[0];
+  report.max_thickness_mm = report.min_thickness_mm;
+  for (std::size_t i = 0; i < area.size(); ++i) {
+    weighted += area[i] * thickness[i];
+    report.min_thickness_mm = std::min(report.min_thickness_mm, thickness[i]);
+    report.max_thickness_mm = std::max(report.max_thickness_mm, thickness[i]);
+  }
+  report.mean_thickness_mm = report.covered_area_mm2 > 0.0 ? weighted / report.covered_area_mm2 : 0.0;
+  report.volume_mm3 = geometry::signed_volume(solid);
+}
+
+double interpolate(const TriMesh& mesh, const RayHit& hit, const PatchVertices& pv, const std::vector<double>& value) {
+  const Triangle& t = mesh.triangles[hit.triangle];
+  double out = 0.0;
+  for (int k = 0; k < 3; ++k) out += hit.weights[k] * value[static_cast<std::size_t>(pv.local.at(t[k]))];
+  return out;
+}
+
+// A triangle mask of the mesh's triangles whose three corners are in `vertices`.
+std::vector<char> triangles_of(const TriMesh& mesh, const std::vector<std::int32_t>& vertices) {
+  std::vector<char> vertex_in(mesh.vertices.size(), 0);
+  for (std::int32_t v : vertices) {
+    if (v >= 0 && static_cast<std::size_t>(v) < vertex_in.size()) vertex_in[static_cast<std::size_t>(v)] = 1;
+  }
+  std::vector<char> in(mesh.triangles.size(), 0);
+  for (std::size_t t = 0; t < in.size(); ++t) {
+    const Triangle& tri = mesh.triangles[t];
+    in[t] = vertex_in[static_cast<std::size_t>(tri[0])] && vertex_in[static_cast<std::size_t>(tri[1])] &&
+            vertex_in[static_cast<std::size_t>(tri[2])];
+  }
+  return in;
+}
+
+// --- labrum ---------------------------------------------------------------------------------
+
+constexpr int kSectionPoints = 6;  // A (base, inner), B (base, outer), T (tip), three on the inner face
+using Section = std::array<Vec3, kSectionPoints>;
+
+// Runs of kept sections swept into closed solids (see the header), one shell per run.
+TriMesh sweep_sections(const std::vector<std::optional<Section>>& sections, SoftTissueReport& report) {
+  const int count = static_cast<int>(sections.size());
+  TriMesh labrum;
+  const bool ring = std::all_of(sections.begin(), sections.end(), [](const auto& s) { return s.has_value(); });
+  report.labrum_closed_ring = ring;
+  std::vector<std::vector<int>> runs;
+  if (ring) {
+    runs.emplace_back(static_cast<std::size_t>(count));
+    std::iota(runs.back().begin(), runs.back().end(), 0);
+  } else {
+    int start = 0;
+    while (sections[static_cast<std::size_t>(start)]) ++start;  // a missing one exists
+    std::vector<int> run;
+    for (int k = 1; k <= count; ++k) {
+      const int i = (start + k) % count;
+      if (sections[static_cast<std::size_t>(i)]) {
+        run.push_back(i);
+      } else if (!run.empty()) {
+        runs.push_back(run);
+        run.clear();
+      }
+    }
+    if (!run.empty()) runs.push_back(run);
+  }
+  for (const auto& run : runs) {
+    if (run.size() < 3) continue;  // too short to be a solid worth meshing
+    TriMesh piece;
+    for (int i : run) {
+      for (const Vec3& p : *sections[static_cast<std::size_t>(i)]) piece.vertices.push_back(p);
+    }
+    const int m = static_cast<int>(run.size());
+    const auto at = [](int section, int j) { return static_cast<std::int32_t>(section * kSectionPoints + j % kSectionPoints); };
+    const int spans = ring ? m : m - 1;
+    for (int k = 0; k < spans; ++k) {
+      const int k1 = (k + 1) % m;
+      for (int j = 0; j < kSectionPoints; ++j) {
+        piece.triangles.push_back({at(k, j), at(k, j + 1), at(k1, j + 1)});
+        piece.triangles.push_back({at(k, j), at(k1, j + 1), at(k1, j)});
+      }
+    }
+    if (!ring) {
+      // Fans from B (index 1): reversed at the start, in polygon order at the end.
+      for (int j = 2; j < kSectionPoints; ++j) {
+        piece.triangles.push_back({at(0, 1), at(0, j + 1), at(0, j)});
+        piece.triangles.push_back({at(m - 1, 1), at(m - 1, j), at(m - 1, j + 1)});
+      }
+    }
+    if (geometry::signed_volume(piece) < 0.0) {
+      for (Triangle& t : piece.triangles) std::swap(t[1], t[2]);
+    }
+    labrum = geometry::merge_meshes({&labrum, &piece});
+    ++report.labrum_pieces;
+  }
+  return labrum;
+}
+
+}  // namespace
+
+SoftTissues synthesise_soft_tissues(const SoftTissueRequest& request) {
+  const auto start = SteadyClock::now();
+  if (request.femur == nullptr || request.pelvis == nullptr || request.acetabulum == nullptr) {
+    throw_error("soft tissue: a femur, a pelvis and an acetabulum are required");
+  }
+  const TriMesh& femur = *request.femur;
+  const TriMesh& pelvis = *request.pelvis;
+  geometry::validate_mesh(femur, request.femur_name);
+  geometry::validate_mesh(pelvis, request.pelvis_name);
+  if (femur.empty()) throw_error(request.femur_name, ": empty mesh");
+  if (pelvis.empty()) throw_error(request.pelvis_name, ": empty mesh");
+  const SoftTissueOptions& o = request.options;
+  if (!(request.head_radius_mm > 0.0)) throw_error(request.femur_name, ": no femoral head sphere given");
+  const Vec3 c = request.head_centre_mm;
+  const Acetabulum& acetabulum = *request.acetabulum;
+  SoftTissues out;
+  SoftTissueReport& report = out.report;
+
+  // --- patches -------------------------------------------------------------------------------
+  std::vector<std::int32_t> head_vertices = request.head_vertices;
+  if (head_vertices.empty()) {
+    const double band = std::max(0.5, 2.5 * request.head_fit_rms_mm);
+    const double cos_facing = std::cos(40.0 * geometry::kDegToRad);
+    const std::vector<Vec3> normals = geometry::vertex_normals(femur);
+    for (std::size_t v = 0; v < femur.vertices.size(); ++v) {
+      const Vec3 d = femur.vertices[v] - c;
+      const double r = d.norm();
+      if (std::abs(r - request.head_radius_mm) <= band && r > 0.0 && normals[v].dot(d / r) >= cos_facing) {
+        head_vertices.push_back(static_cast<std::int32_t>(v));
+      }
+    }
+  }
+  const EdgeAdjacency femur_edges(femur), pelvis_edges(pelvis);
+  std::vector<char> head_in = triangles_of(femur, head_vertices);
+  if (std::count(head_in.begin(), head_in.end(), 1) < 20) {
+    throw_error(request.femur_name, ": no femoral head region on the sphere (centre [", c.x(), ", ", c.y(), ", ", c.z(),
+                "] mm, radius ", request.head_radius_mm, " mm)");
+  }
+  head_in = clean_patch(femur, femur_edges, head_in, report.femoral);
+  const geometry::SurfaceRegion lunate =
+      geometry::find_lunate_surface(pelvis, c, request.head_radius_mm, {}, request.pelvis_name);
+  std::vector<char> lunate_in = triangles_of(pelvis, lunate.mesh_vertices);
+  if (std::count(lunate_in.begin(), lunate_in.end(), 1) < 20) {
+    throw_error(request.pelvis_name, ": no lunate surface around the femoral head");
+  }
+  lunate_in = clean_patch(pelvis, pelvis_edges, lunate_in, report.acetabular);
+  const PatchVertices head = patch_vertices(femur, head_in), socket = patch_vertices(pelvis, lunate_in);
+  const auto head_boundary = boundary_edges(femur, femur_edges, head_in);
+  const auto socket_boundary = boundary_edges(pelvis, pelvis_edges, lunate_in);
+
+  // --- nominal thicknesses -------------------------------------------------------------------
+  const auto direction = [&](const Vec3& p) { return Vec3((p - c).normalized()); };
+  std::vector<Vec3> edge_directions;
+  for (const auto& e : head_boundary) edge_directions.push_back(direction(femur.vertices[static_cast<std::size_t>(e.first)]));
+  std::vector<double> to_edge(head.mesh_index.size(), std::numbers::pi);
+  for (std::size_t i = 0; i < head.mesh_index.size(); ++i) {
+    const Vec3 d = direction(femur.vertices[static_cast<std::size_t>(head.mesh_index[i])]);
+    double best = -1.0;
+    for (const Vec3& e : edge_directions) best = std::max(best, d.dot(e));
+    to_edge[i] = std::acos(std::clamp(best, -1.0, 1.0));
+  }
+  const double b_max = edge_directions.empty() ? std::numbers::pi : *std::max_element(to_edge.begin(), to_edge.end());
+  std::vector<double> t_f_nominal(head.mesh_index.size(), o.femoral_max_thickness_mm);
+  if (b_max > 0.0 && !edge_directions.empty()) {
+    for (std::size_t i = 0; i < to_edge.size(); ++i) {
+      t_f_nominal[i] = o.femoral_max_thickness_mm * (std::cos(b_max - to_edge[i]) - std::cos(b_max)) /
+                       (1.0 - std::cos(b_max));
+    }
+  }
+
+  // --- joint space ----------------------------------------------------------------------------
+  const MeshQueries femur_queries(femur), pelvis_queries(pelvis);
+  const std::vector<double> head_area = vertex_areas(femur, head_in, head);
+  const std::vector<double> socket_area = vertex_areas(pelvis, lunate_in, socket);
+  // Scale of both layers along one ray: gap / (t_f + t_a) when the gap is narrower, else 1.
+  const auto share = [&](double gap, double t_f, double t_a, LayerReport& layer, double area) {
+    const double sum = t_f + t_a;
+    if (gap >= sum || sum <= 0.0) return 1.0;
+    layer.narrowed_area_mm2 += area;
+    if (gap < 2.0 * o.min_thickness_mm) layer.overlap_area_mm2 += area;
+    return std::max(0.0, gap) / sum;
+  };
+  std::vector<double> t_f(head.mesh_index.size()), head_r_in(t_f.size()), head_r_out(t_f.size());
+  for (std::size_t i = 0; i < t_f.size(); ++i) {
+    const Vec3& x = femur.vertices[static_cast<std::size_t>(head.mesh_index[i])];
+    const double r = (x - c).norm();
+    double scale = 1.0;
+    if (const auto hit = pelvis_queries.first_hit(c, direction(x))) {
+      const double t_a = lunate_in[hit->triangle] ? o.acetabular_thickness_mm : 0.0;
+      scale = share(hit->distance - r, t_f_nominal[i], t_a, report.femoral, head_area[i]);
+    }
+    t_f[i] = std::max(o.min_thickness_mm, t_f_nominal[i] * scale);
+    head_r_in[i] = r;
+    head_r_out[i] = r + t_f[i];
+  }
+  std::vector<double> t_a(socket.mesh_index.size()), socket_r_in(t_a.size()), socket_r_out(t_a.size());
+  for (std::size_t i = 0; i < t_a.size(); ++i) {
+    const Vec3& y = pelvis.vertices[static_cast<std::size_t>(socket.mesh_index[i])];
+    const double r = (y - c).norm();
+    double scale = 1.0;
+    if (const auto hit = femur_queries.first_hit(c, direction(y))) {
+      const double f = head_in[hit->triangle] ? interpolate(femur, *hit, head, t_f_nominal) : 0.0;
+      scale = share(r - hit->distance, f, o.acetabular_thickness_mm, report.acetabular, socket_area[i]);
+    }
+    t_a[i] = std::max(o.min_thickness_mm, o.acetabular_thickness_mm * scale);
+    socket_r_out[i] = r;
+    socket_r_in[i] = r - t_a[i];
+  }
+  out.femoral_cartilage = layer_solid(femur, head_in, head, head_boundary, c, head_r_in, head_r_out, t_f);
+  // The two layers' surfaces are piecewise linear over different meshes (and t_a jumps to zero
+  // off the lunate surface along the femoral rays), so the acetabular joint side is also kept at
+  // or above the femoral layer's outer surface along its own ray (looking back from the bone),
+  // down to the minimum thickness.
+  {
+    const MeshQueries femoral_layer(out.femoral_cartilage);
+    for (std::size_t i = 0; i < t_a.size(); ++i) {
+      const Vec3& y = pelvis.vertices[static_cast<std::size_t>(socket.mesh_index[i])];
+      const auto hit = femoral_layer.first_hit(y, -direction(y));
+      if (!hit || hit->distance >= socket_r_out[i]) continue;
+      const double femoral_outer = socket_r_out[i] - hit->distance;
+      if (femoral_outer <= socket_r_in[i]) continue;
+      socket_r_in[i] = std::min(femoral_outer, socket_r_out[i] - o.min_thickness_mm);
+      t_a[i] = socket_r_out[i] - socket_r_in[i];
+    }
+  }
+  out.acetabular_cartilage = layer_solid(pelvis, lunate_in, socket, socket_boundary, c, socket_r_in, socket_r_out, t_a);
+  fill_layer_numbers(report.femoral, head_area, t_f, out.femoral_cartilage);
+  fill_layer_numbers(report.acetabular, socket_area, t_a, out.acetabular_cartilage);
+
+  // --- labrum ---------------------------------------------------------------------------------
+  std::vector<std::pair<double, double>> rim;  // (clock, polar) of the plane-fit rim points
+  for (const RimPoint& p : acetabulum.rim) {
+    if (p.in_plane_fit) rim.emplace_back(p.clock_deg, p.polar_deg);
+  }
+  if (rim.size() < 3) throw_error(request.pelvis_name, ": too little acetabular rim to carry a labrum");
+  const MeshQueries cartilage_queries(out.acetabular_cartilage);
+  const Vec3 ca = acetabulum.centre_mm, axis = acetabulum.axis;
+  const double r_art = acetabulum.radius_mm - o.acetabular_thickness_mm;
+  // Outer radius of the femur with its cartilage along a ray from the acetabular centre.
+  const auto femoral_outer = [&](const Vec3& u) {
+    const auto hit = femur_queries.first_hit(ca, u);
+    if (!hit) return 0.0;
+    return hit->distance + (head_in[hit->triangle] ? interpolate(femur, *hit, head, t_f) : 0.0);
+  };
+  // The horseshoe's opening (the acetabular notch): clock angles with no lunate surface within
+  // kNotchPolarDeg below the rim. The rim finder may keep the notch's rim (it dips only ~10 deg
+  // deeper there), the articular surface does not reach it.
+  std::vector<std::pair<double, double>> lunate_clock_polar;  // (clock, polar) of lunate vertices
+  for (std::int32_t v : socket.mesh_index) {
+    const Vec3 d = pelvis.vertices[static_cast<std::size_t>(v)] - ca;
+    lunate_clock_polar.emplace_back(acetabulum.clock_of(pelvis.vertices[static_cast<std::size_t>(v)]),
+                                    std::atan2(d.cross(axis).norm(), d.dot(axis)) * geometry::kRadToDeg);
+  }
+  constexpr double kNotchPolarDeg = 30.0, kNotchClockDeg = 5.0;
+  const int count = static_cast<int>(std::lround(360.0 / o.labrum_step_deg));
+  report.labrum_sections_total = count;
+  std::vector<std::optional<Section>> sections(static_cast<std::size_t>(count));
+  constexpr double kReachDeg = 10.0;       // rim smoothing half-width and largest one-sided gap
+  constexpr double kTiltStepDeg = 0.5, kMaxTiltDeg = 10.0;
+  for (int k = 0; k < count; ++k) {
+    const double clock = -180.0 + k * o.labrum_step_deg;
+    double weight = 0.0, polar = 0.0;
+    bool before = false, after = false;
+    for (const auto& [rim_clock, rim_polar] : rim) {
+      const double delta = std::remainder(rim_clock - clock, 360.0);
+      if (std::abs(delta) > kReachDeg) continue;
+      const double w = 1.0 - std::abs(delta) / kReachDeg + 1e-9;
+      weight += w;
+      polar += w * rim_polar;
+      if (delta <= 0.5 * o.labrum_step_deg) before = true;
+      if (delta >= -0.5 * o.labrum_step_deg) after = true;
+    }
+    if (!(before && after)) {
+      ++report.labrum_missing_rim;
+      continue;
+    }
+    polar /= weight;
+    const bool over_lunate = std::any_of(lunate_clock_polar.begin(), lunate_clock_polar.end(), [&](const auto& cp) {
+      return std::abs(std::remainder(cp.first - clock, 360.0)) <= kNotchClockDeg && cp.second <= polar + kNotchPolarDeg;
+    });
+    if (!over_lunate) {
+      ++report.labrum_missing_rim;
+      continue;
+    }
+    const double phi = clock * geometry::kDegToRad;
+    const Vec3 meridian = std::cos(phi) * acetabulum.clock_anterior + std::sin(phi) * acetabulum.clock_superior;
+    const auto ray = [&](double polar_rad) { return Vec3(std::cos(polar_rad) * axis + std::sin(polar_rad) * meridian); };
+    bool femur_hit = false, clear = false;
+    Section section;
+    for (double tilt = 0.0; tilt <= kMaxTiltDeg + 1e-9 && !femur_hit; tilt += kTiltStepDeg) {
+      const double base_polar = (polar - tilt) * geometry::kDegToRad;
+      const Vec3 ub = ray(base_polar);
+      const double rho_a = std::max(r_art, femoral_outer(ub) + o.min_thickness_mm);
+      const double tip_polar = base_polar - std::asin(std::min(1.0, o.labrum_height_mm / rho_a));
+      section[0] = ca + rho_a * ub;
+      section[1] = ca + (rho_a + o.labrum_base_mm) * ub;
+      // Tip and inner face, from the tip back towards A.
+      for (int j = 0; j < 4; ++j) {
+        const double f = static_cast<double>(j) / 4.0;
+        const Vec3 u = ray(tip_polar + f * (base_polar - tip_polar));
+        const double rho = std::max(r_art, femoral_outer(u) + o.min_thickness_mm);
+        if (rho > r_art + o.labrum_height_mm) femur_hit = true;  // the neck stands under the rim
+        section[static_cast<std::size_t>(2 + j)] = ca + rho * u;
+      }
+      if (femur_hit) break;
+      std::vector<Vec3> probes(section.begin(), section.end());
+      for (int j = 0; j < kSectionPoints; ++j) {
+        probes.push_back(0.5 * (section[static_cast<std::size_t>(j)] + section[static_cast<std::size_t>((j + 1) % kSectionPoints)]));
+      }
+      probes.push_back((section[0] + section[1] + section[2]) / 3.0);
+      bool in_femur = false, in_pelvis = false;
+      for (const Vec3& p : probes) {
+        in_femur = in_femur || femur_queries.inside(p);
+        in_pelvis = in_pelvis || pelvis_queries.inside(p) || cartilage_queries.inside(p);
+      }
+      if (in_femur) {
+        femur_hit = true;
+        break;
+      }
+      if (!in_pelvis) {
+        clear = true;
+        break;
+      }
+    }
+    if (femur_hit) {
+      ++report.labrum_dropped_femur;
+    } else if (!clear) {
+      ++report.labrum_dropped_pelvis;
+    } else {
+      sections[static_cast<std::size_t>(k)] = section;
+      ++report.labrum_sections;
+    }
+  }
+  out.labrum = sweep_sections(sections, report);
+  if (out.labrum.empty()) {
+    throw_error(request.pelvis_name, ": no labrum could be placed on the acetabular rim (", report.labrum_dropped_pelvis,
+                " sections inside the pelvis, ", report.labrum_dropped_femur, " on the femur, ",
+                report.labrum_missing_rim, " without rim)");
+  }
+  report.labrum_volume_mm3 = geometry::signed_volume(out.labrum);
+  report.seconds = seconds_since(start);
+  return out;
+}
+
+}  // namespace hipfai::anatomy

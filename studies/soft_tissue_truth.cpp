@@ -1,0 +1,85 @@
+// hipfai — synthesised soft tissue against known truth (see soft_tissue_truth.h).
+#include "studies/soft_tissue_truth.h"
+
+#include "anatomy/frame_file.h"
+#include "core/literature.h"
+#include "core/progress.h"
+#include "core/stopwatch.h"
+#include "geometry/hip_generator.h"
+#include "geometry/hip_model.h"
+#include "studies/hip_source.h"
+#include "studies/motion.h"
+#include "studies/penetration_run.h"
+#include "studies/soft_tissue_model.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace hipfai::studies {
+namespace {
+
+PenetrationRun depths(const geometry::HipModel& model, const std::string& id, const Motion& motion, int threads) {
+  const LoadedHip hip =
+      loaded_hip_from_model(model, id, {"femur_bone", "femoral_cartilage", "acetabular_cartilage", "labrum"});
+  PenetrationOptions options;
+  options.threads = threads;
+  StageLog log;
+  return compute_penetration(hip, motion, options, log);
+}
+
+}  // namespace
+
+SoftTissueTruthResult run_soft_tissue_truth(const SoftTissueTruthOptions& options) {
+  const auto start = SteadyClock::now();
+  SoftTissueTruthResult result;
+  result.options = options;
+  const std::vector<std::pair<double, double>> grid =
+      options.quick ? std::vector<std::pair<double, double>>{{20.0, 80.0}, {40.0, 40.0}} : study_grid_angles();
+  const Motion motion = standing_to_sitting(options.quick ? 10 : options.sub_motions);
+  ProgressBar progress("soft tissue known truth", grid.size());
+  for (const auto& [ce, alpha] : grid) {
+    geometry::HipParameters p;
+    p.ce_deg = ce;
+    p.alpha_deg = alpha;
+    p.edge_mm = options.quick ? 3.0 : options.edge_mm;
+    const geometry::HipModel generated = geometry::generate_hip(p).model;
+    SoftTissueTruthRow row;
+    row.hip = parametric_hip_id(ce, alpha);
+    const std::filesystem::path dir = options.out_dir / "hips" / row.hip;
+    geometry::write_hip_model(generated, dir / "generated");
+
+    SoftTissueModelRequest request;
+    request.assessment.femur = &generated.tissue("femur_bone");
+    request.assessment.pelvis = &generated.tissue("acetabular_bone");
+    request.assessment.femur_name = "femur_bone";
+    request.assessment.pelvis_name = "acetabular_bone";
+    request.assessment.frame = anatomy::read_frame_file(dir / "generated" / "model.json");
+    const auto t0 = SteadyClock::now();
+    const SoftTissueModel synthesised = build_soft_tissue_model(request);
+    row.synthesis_seconds = seconds_since(t0);
+    write_soft_tissue_model(synthesised, "femur_bone (generated)", "acetabular_bone (generated)", dir / "synthesised");
+
+    row.generated_femoral_cartilage_mm3 = geometry::signed_volume(generated.tissue("femoral_cartilage"));
+    row.synthesised_femoral_cartilage_mm3 = geometry::signed_volume(synthesised.model.tissue("femoral_cartilage"));
+    row.generated_acetabular_cartilage_mm3 = geometry::signed_volume(generated.tissue("acetabular_cartilage"));
+    row.synthesised_acetabular_cartilage_mm3 = geometry::signed_volume(synthesised.model.tissue("acetabular_cartilage"));
+    row.generated_labrum_mm3 = geometry::signed_volume(generated.tissue("labrum"));
+    row.synthesised_labrum_mm3 = geometry::signed_volume(synthesised.model.tissue("labrum"));
+    row.synthesised_femoral_mean_thickness_mm = synthesised.report.femoral.mean_thickness_mm;
+    row.synthesised_acetabular_mean_thickness_mm = synthesised.report.acetabular.mean_thickness_mm;
+
+    const PenetrationRun a = depths(generated, row.hip, motion, options.threads);
+    const PenetrationRun b = depths(synthesised.model, row.hip + "-synthesised", motion, options.threads);
+    row.generated_curvilinear_mm = a.max_curvilinear_mm();
+    row.synthesised_curvilinear_mm = b.max_curvilinear_mm();
+    row.generated_radial_mm = a.max_radial_mm();
+    row.synthesised_radial_mm = b.max_radial_mm();
+    result.contact_tolerance_mm = std::max({result.contact_tolerance_mm, a.contact_tolerance_mm, b.contact_tolerance_mm});
+    result.rows.push_back(row);
+    progress.advance();
+  }
+  result.seconds = seconds_since(start);
+  return result;
+}
+
+}  // namespace hipfai::studies

@@ -1,0 +1,44 @@
+// hipfai — synthesised soft tissue against known truth: each of the 25 generated hips of the study
+// grid (thesis §4.3.2.2) is stripped to its two bones, its cartilage and labrum are synthesised
+// from them (studies/soft_tissue_model.h, the hip's model.json as the frame), and the thesis'
+// penetration depths over standing-to-sitting (30 sub-motions; curvilinear: femur bone vs labrum,
+// radial: femur bone and cartilage vs acetabular cartilage and labrum, both roles) are computed on
+// the generated and on the synthesised tissues (studies/penetration_run.h). Per hip: the tissues'
+// volumes and both maxima, generated vs synthesised, and whether each penetrates.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace hipfai::studies {
+
+struct SoftTissueTruthOptions {
+  double edge_mm = 2.0;           // surface edge length of the generated hips
+  int sub_motions = 30;           // standing to sitting
+  std::filesystem::path out_dir = "out/soft-tissue-truth";
+  bool quick = false;             // two hips (CE 20 alpha 80, CE 40 alpha 40) at 3 mm, 10 sub-motions
+  int threads = 2;
+};
+
+struct SoftTissueTruthRow {
+  std::string hip;  // "ce20_alpha80"
+  double generated_femoral_cartilage_mm3 = 0.0, synthesised_femoral_cartilage_mm3 = 0.0;
+  double generated_acetabular_cartilage_mm3 = 0.0, synthesised_acetabular_cartilage_mm3 = 0.0;
+  double generated_labrum_mm3 = 0.0, synthesised_labrum_mm3 = 0.0;
+  double synthesised_femoral_mean_thickness_mm = 0.0, synthesised_acetabular_mean_thickness_mm = 0.0;
+  double generated_curvilinear_mm = 0.0, synthesised_curvilinear_mm = 0.0;  // max over the motion
+  double generated_radial_mm = 0.0, synthesised_radial_mm = 0.0;
+  double synthesis_seconds = 0.0;
+};
+
+struct SoftTissueTruthResult {
+  SoftTissueTruthOptions options;
+  std::vector<SoftTissueTruthRow> rows;
+  double contact_tolerance_mm = 0.0;  // as the penetration runs applied it (largest over the hips)
+  double seconds = 0.0;
+};
+
+SoftTissueTruthResult run_soft_tissue_truth(const SoftTissueTruthOptions& options);
+
+}  // namespace hipfai::studies

@@ -1,0 +1,178 @@
+// A hip model folder made from the real LHDL CT bones with synthesised cartilage and labrum: valid,
+// separate solids in the hip frame, read back by load_hip_model with what `hipfai run` needs.
+#include "studies/soft_tissue_model.h"
+
+#include "anatomy/mesh_boolean.h"
+#include "anatomy/side.h"
+#include "core/error.h"
+#include "geometry/mesh_check.h"
+#include "geometry/mesh_io.h"
+#include "../geometry/mesh_inside.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <set>
+#include <tuple>
+
+namespace hipfai::studies {
+namespace {
+
+namespace fs = std::filesystem;
+using geometry::TriMesh;
+using geometry::Vec3;
+
+const fs::path kScratch = fs::path(HIPFAI_BINARY_DIR) / "test-scratch" / "soft_tissue_model";
+const std::string kLhdl = std::string(HIPFAI_SOURCE_DIR) + "/meshes/real-hips/LHDL_CT/";
+
+// Vertices of `tissue` inside `solid` farther than `tolerance_mm` from its surface, skipping the
+// vertices `shared` with a bone (the bone/cartilage interface is the bone's own surface).
+std::size_t vertices_inside(const TriMesh& tissue, const TriMesh& solid, const std::set<std::tuple<double, double, double>>& shared,
+                            double tolerance_mm) {
+  const geometry::test_support::InsideTester tester(solid);
+  std::size_t count = 0;
+  for (const Vec3& v : tissue.vertices) {
+    if (shared.count({v.x(), v.y(), v.z()}) || !tester.inside(v)) continue;
+    if (geometry::test_support::distance_to_surface(solid, v) > tolerance_mm) ++count;
+  }
+  return count;
+}
+
+TEST(SoftTissueModel, TheRealBonesGiveAValidModelFolder) {
+  const TriMesh femur = geometry::read_mesh(kLhdl + "femur_r.ply");
+  const TriMesh pelvis = geometry::read_mesh(kLhdl + "pelvis_no_sacrum.ply");
+  SoftTissueModelRequest request;
+  request.assessment.femur = &femur;
+  request.assessment.pelvis = &pelvis;
+  const SoftTissueModel result = build_soft_tissue_model(request);
+  const auto& r = result.report;
+  std::printf("LHDL: femoral %.0f mm2 mean %.2f (%.2f-%.2f) narrowed %.0f overlap %.0f; acetabular %.0f mm2 mean %.2f "
+              "(%.2f-%.2f) narrowed %.0f overlap %.0f; labrum %.0f mm3 %d/%d sections %d pieces (femur %d pelvis %d "
+              "rim %d); head %.2f lunate %.2f; %.2f s (assessment %.2f, tissues %.2f)\n",
+              r.femoral.covered_area_mm2, r.femoral.mean_thickness_mm, r.femoral.min_thickness_mm,
+              r.femoral.max_thickness_mm, r.femoral.narrowed_area_mm2, r.femoral.overlap_area_mm2,
+              r.acetabular.covered_area_mm2, r.acetabular.mean_thickness_mm, r.acetabular.min_thickness_mm,
+              r.acetabular.max_thickness_mm, r.acetabular.narrowed_area_mm2, r.acetabular.overlap_area_mm2,
+              r.labrum_volume_mm3, r.labrum_sections, r.labrum_sections_total, r.labrum_pieces, r.labrum_dropped_femur,
+              r.labrum_dropped_pelvis, r.labrum_missing_rim, result.head_radius_mm, result.lunate_radius_mm,
+              result.total_seconds, result.assessment_seconds, r.seconds);
+  EXPECT_EQ(result.side, anatomy::Side::kRight);
+  // hip.json: HJC [143.80, 243.46, -432.58] mm (its own sphere fit); the assessment's head fit
+  // agrees to within a millimetre (assessment tests).
+  EXPECT_LT((result.hjc_input_mm - Vec3(143.80, 243.46, -432.58)).norm(), 1.0);
+
+  const geometry::HipModel& m = result.model;
+  const TriMesh& bone_f = m.tissue("femur_bone");
+  const TriMesh& bone_p = m.tissue("acetabular_bone");
+  for (const char* name : {"femoral_cartilage", "acetabular_cartilage", "labrum"}) {
+    const TriMesh& tissue = m.tissue(name);
+    const geometry::MeshReport check = geometry::check_mesh(tissue);
+    EXPECT_TRUE(check.watertight_manifold) << name << ": boundary " << check.boundary_edges << ", non-manifold "
+                                           << check.non_manifold_edges << "/" << check.non_manifold_vertices
+                                           << ", degenerate " << check.degenerate_triangles;
+    EXPECT_TRUE(check.outward) << name;
+    EXPECT_FALSE(anatomy::does_self_intersect(tissue)) << name;
+  }
+  // In the hip frame: the head centred on the origin, so the cartilage surrounds it at about the
+  // head radius (within the head fit's RMS plus the 2 mm layer).
+  const auto& fc = m.tissue("femoral_cartilage");
+  double mean_r = 0.0;
+  for (const Vec3& v : fc.vertices) mean_r += v.norm() / static_cast<double>(fc.vertices.size());
+  EXPECT_NEAR(mean_r, result.head_radius_mm, 2.0);
+  // Cartilage layers on their bones, as thick as the literature's (thinned only in the joint space).
+  EXPECT_GT(r.femoral.covered_area_mm2, 1000.0);
+  EXPECT_GT(r.acetabular.covered_area_mm2, 1000.0);
+  EXPECT_LE(r.femoral.max_thickness_mm, request.options.femoral_max_thickness_mm + 1e-9);
+  EXPECT_LE(r.acetabular.max_thickness_mm, request.options.acetabular_thickness_mm + 1e-9);
+  EXPECT_GE(r.femoral.min_thickness_mm, request.options.min_thickness_mm - 1e-9);
+
+  // Apart from each other and the bones (the shared bone interfaces aside); tolerance as on the
+  // generated hips: 0.1 mm minimum layer plus the chord sagitta of the meshes (~1.5 mm edges on a
+  // 23 mm sphere: 0.01 mm), 0.2 mm.
+  std::set<std::tuple<double, double, double>> shared;
+  for (const TriMesh* bone : {&bone_f, &bone_p}) {
+    for (const Vec3& v : bone->vertices) shared.insert({v.x(), v.y(), v.z()});
+  }
+  const auto& ac = m.tissue("acetabular_cartilage");
+  const auto& lab = m.tissue("labrum");
+  EXPECT_EQ(vertices_inside(fc, bone_p, shared, 0.2), 0u);
+  EXPECT_EQ(vertices_inside(fc, ac, shared, 0.2), 0u);
+  EXPECT_EQ(vertices_inside(ac, bone_f, shared, 0.2), 0u);
+  EXPECT_EQ(vertices_inside(ac, fc, shared, 0.2), 0u);
+  EXPECT_EQ(vertices_inside(lab, bone_f, shared, 0.0), 0u);
+  EXPECT_EQ(vertices_inside(lab, bone_p, shared, 0.0), 0u);
+  EXPECT_EQ(vertices_inside(lab, fc, shared, 0.2), 0u);
+  EXPECT_EQ(vertices_inside(lab, ac, shared, 0.2), 0u);
+
+  // The folder, read back.
+  const fs::path dir = kScratch / "lhdl";
+  fs::create_directories(kScratch);
+  write_soft_tissue_model(result, kLhdl + "femur_r.ply", kLhdl + "pelvis_no_sacrum.ply", dir);
+  EXPECT_TRUE(fs::exists(dir / "soft_tissue.md"));
+  const geometry::HipModel back = geometry::load_hip_model(dir);
+  for (const char* name : geometry::kHipTissueNames) {
+    EXPECT_EQ(back.tissue(name).num_vertices(), m.tissue(name).num_vertices()) << name;
+    EXPECT_EQ(back.tissue(name).num_triangles(), m.tissue(name).num_triangles()) << name;
+  }
+  EXPECT_NEAR(back.hjc_mm.norm(), 0.0, 1e-12);
+  EXPECT_NEAR(back.neck_axis.dot(m.neck_axis), 1.0, 1e-9);
+  // model.json: a right hip (a left one is mirrored), the measured angles recorded.
+  std::ifstream in(dir / "model.json");
+  const std::string json((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(json.find("\"handedness\": \"right\""), std::string::npos);
+  EXPECT_NE(json.find("\"measured\""), std::string::npos);
+}
+
+TEST(SoftTissueModel, AMirroredHipGivesTheSameModel) {
+  // The LHDL bones mirrored through a sagittal plane are a left hip; it is mirrored back into a
+  // right one for the work, so its tissues match the right hip's.
+  const TriMesh femur = geometry::read_mesh(kLhdl + "femur_r.ply");
+  const TriMesh pelvis = geometry::read_mesh(kLhdl + "pelvis_no_sacrum.ply");
+  const Eigen::Affine3d mirror = anatomy::reflection(Vec3::Zero(), Vec3::UnitX());
+  const TriMesh femur_l = anatomy::reflected(femur, mirror), pelvis_l = anatomy::reflected(pelvis, mirror);
+  SoftTissueModelRequest right, left;
+  right.assessment.femur = &femur;
+  right.assessment.pelvis = &pelvis;
+  left.assessment.femur = &femur_l;
+  left.assessment.pelvis = &pelvis_l;
+  const SoftTissueModel a = build_soft_tissue_model(right), b = build_soft_tissue_model(left);
+  EXPECT_EQ(b.side, anatomy::Side::kLeft);
+  std::printf("right/left: femoral %.1f/%.1f mm2, acetabular %.1f/%.1f mm2, labrum %.1f/%.1f mm3\n",
+              a.report.femoral.covered_area_mm2, b.report.femoral.covered_area_mm2, a.report.acetabular.covered_area_mm2,
+              b.report.acetabular.covered_area_mm2, a.report.labrum_volume_mm3, b.report.labrum_volume_mm3);
+  // The HJC maps back to the mirror of the right hip's; the frames are found on the mirrored bones
+  // the same way, up to where the head's Hough vote starts on its fixed grid (femur_landmarks.h):
+  // 1 % of area and volume, 0.1 mm of the HJC.
+  EXPECT_LT((b.hjc_input_mm - mirror * a.hjc_input_mm).norm(), 0.1);
+  EXPECT_NEAR(b.report.femoral.covered_area_mm2, a.report.femoral.covered_area_mm2, 0.01 * a.report.femoral.covered_area_mm2);
+  EXPECT_NEAR(b.report.acetabular.covered_area_mm2, a.report.acetabular.covered_area_mm2,
+              0.01 * a.report.acetabular.covered_area_mm2);
+  EXPECT_NEAR(b.report.labrum_volume_mm3, a.report.labrum_volume_mm3, 0.01 * a.report.labrum_volume_mm3);
+  EXPECT_NEAR(b.model.neck_axis.dot(a.model.neck_axis), 1.0, 1e-3);
+}
+
+TEST(SoftTissueModel, BonesWithoutAHeadAreAOneLineError) {
+  fs::create_directories(kScratch);
+  const TriMesh pelvis = geometry::read_mesh(kLhdl + "pelvis_no_sacrum.ply");
+  TriMesh square;
+  square.vertices = {Vec3(0, 0, 0), Vec3(40, 0, 0), Vec3(40, 40, 0), Vec3(0, 40, 0)};
+  square.triangles = {{0, 1, 2}, {0, 2, 3}};
+  SoftTissueModelRequest request;
+  request.assessment.femur = &square;
+  request.assessment.femur_name = "square.obj";
+  request.assessment.pelvis = &pelvis;
+  try {
+    build_soft_tissue_model(request);
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("no femoral head"), std::string::npos) << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+  }
+}
+
+}  // namespace
+}  // namespace hipfai::studies
