@@ -563,6 +563,14 @@ SoftTissues synthesise_soft_tissues(const SoftTissueRequest& request) {
     if (!hit) return 0.0;
     return hit->distance + (head_in[hit->triangle] ? interpolate(femur, *hit, head, t_f) : 0.0);
   };
+  // The labrum's inner face: on the articular sphere, as the generator's (the labrum extends the
+  // socket), lifted only over the femoral cartilage where it stands proud of that sphere; bone
+  // outside the cartilage (a cam, the neck) does not shape it: that is what it meets in motion.
+  const auto labrum_inner = [&](const Vec3& u) {
+    const auto hit = femur_queries.first_hit(ca, u);
+    if (!hit || !head_in[hit->triangle]) return r_art;
+    return std::max(r_art, hit->distance + interpolate(femur, *hit, head, t_f) + o.min_thickness_mm);
+  };
   // The horseshoe's opening (the acetabular notch): clock angles with no lunate surface within
   // kNotchPolarDeg below the rim. The rim finder may keep the notch's rim (it dips only ~10 deg
   // deeper there), the articular surface does not reach it.
@@ -611,7 +619,7 @@ SoftTissues synthesise_soft_tissues(const SoftTissueRequest& request) {
     for (double tilt = 0.0; tilt <= kMaxTiltDeg + 1e-9 && !femur_hit; tilt += kTiltStepDeg) {
       const double base_polar = (polar - tilt) * geometry::kDegToRad;
       const Vec3 ub = ray(base_polar);
-      const double rho_a = std::max(r_art, femoral_outer(ub) + o.min_thickness_mm);
+      const double rho_a = labrum_inner(ub);
       const double tip_polar = base_polar - std::asin(std::min(1.0, o.labrum_height_mm / rho_a));
       section[0] = ca + rho_a * ub;
       section[1] = ca + (rho_a + o.labrum_base_mm) * ub;
@@ -619,9 +627,8 @@ SoftTissues synthesise_soft_tissues(const SoftTissueRequest& request) {
       for (int j = 0; j < 4; ++j) {
         const double f = static_cast<double>(j) / 4.0;
         const Vec3 u = ray(tip_polar + f * (base_polar - tip_polar));
-        const double rho = std::max(r_art, femoral_outer(u) + o.min_thickness_mm);
-        if (rho > r_art + o.labrum_height_mm) femur_hit = true;  // the neck stands under the rim
-        section[static_cast<std::size_t>(2 + j)] = ca + rho * u;
+        if (femoral_outer(u) > r_art + o.labrum_height_mm) femur_hit = true;  // the neck stands under the rim
+        section[static_cast<std::size_t>(2 + j)] = ca + labrum_inner(u) * u;
       }
       if (femur_hit) break;
       std::vector<Vec3> probes(section.begin(), section.end());
