@@ -35,12 +35,18 @@ struct DepthRecorder {
   const MotionDepthsRequest* request = nullptr;
   Eigen::Matrix3d femur_rotation = Eigen::Matrix3d::Identity();  // the step's R
 
+  // `reach` > 0: only vertices within it of the HJC count (distances to the HJC do not change
+  // with the rotation about it).
   void record(const contact::PenetrationResult& result, DepthBody body, double& max_depth,
-              DeepestVertex& deepest, int& count) const {
+              DeepestVertex& deepest, int& count, double reach = 0.0) const {
     if (result.status == contact::QueryStatus::kInvalidInput) throw_error("motion depths: ", result.message);
     const Vec3& c = request->hjc_mm;
     for (const auto& pair : result.pairs) {
       if (!(pair.depth_mm > request->contact_tolerance_mm)) continue;
+      if (reach > 0.0) {
+        const TriMesh& mesh = body == DepthBody::kFemur ? *request->femur : *request->pelvis;
+        if ((mesh.vertices[static_cast<std::size_t>(pair.mobile_vertex)] - c).norm() > reach) continue;
+      }
       ++count;
       if (pair.depth_mm <= max_depth) continue;
       max_depth = pair.depth_mm;
@@ -65,6 +71,22 @@ struct DepthRecorder {
   }
 };
 
+// Generalised winding number of a closed surface about `p` (1 inside, 0 outside): the solid
+// angles of its triangles (Van Oosterom & Strackee's formula) over 4 pi.
+double winding_number(const TriMesh& mesh, const Vec3& p) {
+  double total = 0.0;
+  for (const auto& t : mesh.triangles) {
+    const Vec3 a = mesh.vertices[static_cast<std::size_t>(t[0])] - p;
+    const Vec3 b = mesh.vertices[static_cast<std::size_t>(t[1])] - p;
+    const Vec3 c = mesh.vertices[static_cast<std::size_t>(t[2])] - p;
+    const double la = a.norm(), lb = b.norm(), lc = c.norm();
+    const double numerator = a.dot(b.cross(c));
+    const double denominator = la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
+    total += 2.0 * std::atan2(numerator, denominator);
+  }
+  return total / (4.0 * std::numbers::pi);
+}
+
 void check_request(const MotionDepthsRequest& request) {
   if (!request.pelvis || !request.femur) throw_error("motion depths: the pelvis and the femur are required");
   geometry::validate_mesh(*request.pelvis, "motion depths: pelvis");
@@ -74,6 +96,7 @@ void check_request(const MotionDepthsRequest& request) {
   check_clock_face(request.acetabulum, "motion depths: acetabular clock");
   check_clock_face(request.femoral_head, "motion depths: femoral clock");
   if (!(request.contact_tolerance_mm >= 0.0)) throw_error("motion depths: contact_tolerance_mm must be >= 0");
+  if (!(request.radial_reach_mm >= 0.0)) throw_error("motion depths: radial_reach_mm must be >= 0");
   for (std::size_t k = 0; k < request.poses.size(); ++k) {
     const auto& p = request.poses[k];
     if (!std::isfinite(p.flexion_deg) || !std::isfinite(p.adduction_deg) || !std::isfinite(p.internal_rotation_deg)) {
@@ -128,7 +151,12 @@ MotionDepths bone_depths_over_motion(const MotionDepthsRequest& request) {
   }
   std::optional<contact::RadialTable> femur_table;
   std::optional<contact::RadialPoseQuery> pelvis_in_femur;
-  if (request.swap_roles) {
+  // The radial depth runs along the ray towards the HJC; a femur that holds the HJC (a whole
+  // femoral head rather than its cartilage shell) has no boundary that way, and a pelvis vertex
+  // inside it would be measured to the femur's far side (the length of bone along the ray). So the
+  // pelvis-in-femur role is left out then; the curvilinear depth keeps both roles.
+  out.radial_swap_skipped = request.swap_roles && winding_number(femur, c) > 0.5;
+  if (request.swap_roles && !out.radial_swap_skipped) {
     femur_table.emplace(radial_table(femur, c));
     pelvis_in_femur.emplace(*femur_table, femur, pelvis, outside);
     if (pelvis_in_femur->status() == contact::QueryStatus::kInvalidInput) {
@@ -175,10 +203,10 @@ MotionDepths bone_depths_over_motion(const MotionDepthsRequest& request) {
 
     // Radial, about the HJC.
     recorder.record(femur_in_pelvis.query_rotation(R), DepthBody::kFemur, s.max_radial_mm, s.radial_deepest,
-                    s.radial_vertices);
-    if (request.swap_roles) {
+                    s.radial_vertices, request.radial_reach_mm);
+    if (pelvis_in_femur) {
       recorder.record(pelvis_in_femur->query_rotation(R.transpose()), DepthBody::kPelvis, s.max_radial_mm,
-                      s.radial_deepest, s.radial_vertices);
+                      s.radial_deepest, s.radial_vertices, request.radial_reach_mm);
     }
   }
   out.milliseconds = 1e3 * seconds_since(start_time);

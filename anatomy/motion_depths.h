@@ -47,6 +47,13 @@ struct MotionDepthsRequest {
   ClockFace femoral_head;  // as in ClinicalRomRequest
   bool swap_roles = true;  // also pelvis vertices penetrating the femur
   double contact_tolerance_mm = 0.0;  // depths at or below this do not count (>= 0)
+  // Radial depths count only for vertices within this distance of the HJC (0: every vertex). The
+  // radial depth is taken along the ray from the HJC: on whole bones, past a limit, vertices far
+  // from the joint (neck base, shaft) enter the other bone and are crossed obliquely by that ray, so
+  // their radial depth reads many times the overlap. The thesis' radial depth describes the
+  // articular region; the assessment passes 2 head radii (the head, the head-neck junction, the
+  // rim and the labrum's reach, ~1.3 R, with margin).
+  double radial_reach_mm = 0.0;
   int num_threads = 1;                // query threads (radial: 1 or 2)
 };
 
@@ -78,6 +85,9 @@ struct StepDepths {
 struct MotionDepths {
   std::vector<StepDepths> steps;  // one per requested pose, in order
   double milliseconds = 0.0;      // wall time, tables included
+  // True when the femur holds the HJC (a whole bone): the radial pelvis-in-femur role is then
+  // left out (its depth towards the HJC is undefined; see bone_depths_over_motion).
+  bool radial_swap_skipped = false;
 
   double max_curvilinear_mm() const;
   double max_radial_mm() const;

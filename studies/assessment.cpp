@@ -17,6 +17,10 @@ using geometry::Vec3;
 using anatomy::AnatomicalFrame;
 using anatomy::Side;
 
+// Radial depths of a user motion count within this many head radii of the HJC
+// (anatomy::MotionDepthsRequest::radial_reach_mm says why).
+constexpr double kRadialReachHeadRadii = 2.0;
+
 // One line per stage on stdout (errors alone go to stderr, one line), and the stage's time kept for the report.
 class Stages {
  public:
@@ -291,6 +295,7 @@ AssessmentResult assess_hip(const AssessmentRequest& request) {
                                              r.neutral_rotation * r.neck_axis, femur_at_neutral);
     for (const auto& step : request.motion->steps) depths.poses.push_back(step.pose);
     depths.num_threads = request.threads;
+    depths.radial_reach_mm = kRadialReachHeadRadii * femur.head_radius_mm;
     r.motion_name = request.motion->name;
     r.motion_depths = stages.run("motion depths", [&] { return anatomy::bone_depths_over_motion(depths); });
   }

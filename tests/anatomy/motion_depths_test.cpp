@@ -73,8 +73,12 @@ TEST(MotionDepths, StepsEqualTheExhaustiveOracles) {
     // The queries and the oracles share the primitives: equal up to the rounding of posing.
     EXPECT_NEAR(s.max_curvilinear_mm, std::max(curvilinear.first, curvilinear_swap.first), 1e-9);
     EXPECT_EQ(s.curvilinear_vertices, curvilinear.second + curvilinear_swap.second);
-    EXPECT_NEAR(s.max_radial_mm, std::max(radial.first, radial_swap.first), 1e-9);
-    EXPECT_EQ(s.radial_vertices, radial.second + radial_swap.second);
+    // The femur bone holds the HJC, so the radial pelvis-in-femur role is left out (its depth
+    // towards the HJC is undefined): only the femur-in-pelvis role counts.
+    ASSERT_TRUE(depths.radial_swap_skipped);
+    (void)radial_swap;
+    EXPECT_NEAR(s.max_radial_mm, radial.first, 1e-9);
+    EXPECT_EQ(s.radial_vertices, radial.second);
     if (s.max_curvilinear_mm > 0.0) {
       ++penetrating_steps;
       const DeepestVertex& d = s.curvilinear_deepest;
@@ -131,6 +135,19 @@ TEST(MotionDepths, DepthsStartAtTheRangeOfMotion) {
   EXPECT_GT(depths.steps[1].max_curvilinear_mm, 0.0) << "flexion " << limit + overshoot_deg;
   // Flexion is one rotation about lateral: the step's axis.
   EXPECT_LT((depths.steps[1].axis - Vec3::UnitX()).norm(), 1e-12);
+  // A radial reach keeps the vertices within it of the HJC: at the joint's own contact (radius r)
+  // a reach beyond r changes nothing, one inside the head (half r) leaves nothing.
+  ASSERT_GT(depths.steps[1].radial_vertices, 0);
+  {
+    request.radial_reach_mm = 2.0 * r;
+    const MotionDepths wide = bone_depths_over_motion(request);
+    EXPECT_EQ(wide.steps[1].max_radial_mm, depths.steps[1].max_radial_mm);
+    request.radial_reach_mm = 0.5 * r;
+    const MotionDepths narrow = bone_depths_over_motion(request);
+    EXPECT_EQ(narrow.steps[1].radial_vertices, 0);
+    EXPECT_EQ(narrow.steps[1].max_radial_mm, 0.0);
+    EXPECT_EQ(narrow.steps[1].max_curvilinear_mm, depths.steps[1].max_curvilinear_mm);  // curvilinear untouched
+  }
 }
 
 TEST(MotionDepths, BadInputThrows) {
