@@ -296,6 +296,10 @@ const CommandRegistrar registrar{"fem", [](CLI::App& parent) {
                      "Ball radius (mm) of the ball-averaged peak von Mises and pressure")
       ->capture_default_str()
       ->check(kFiniteLengthMm);
+  levels->add_option("--solver", levels_options->run.solver,
+                     "Solver of every level: substructured (default), direct (the monolithic reference) or cg")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"substructured", "direct", "cg"}));
   levels->add_option("--out", levels_options->out_dir,
                      "Output directory: levels.md, levels.csv, levels_*.svg, <level>.h5/.csv")
       ->required();

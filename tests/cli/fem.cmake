@@ -65,6 +65,8 @@ if(TARGET hipfai_fem)
                   COMMAND fem levels --model @TMP@ --levels coarse --out @TMP@/levels)
   hipfai_cli_test(NAME fem_levels_bad_level EXIT nonzero STDERR "medium"
                   COMMAND fem levels --model @TMP@ --levels coarse,medium --out @TMP@/levels)
+  hipfai_cli_test(NAME fem_levels_bad_solver EXIT nonzero STDERR "--solver"
+                  COMMAND fem levels --model @TMP@ --solver gauss --out @TMP@/levels)
   hipfai_cli_test(NAME fem_levels_model_without_json EXIT nonzero STDERR "model.json"
                   COMMAND fem levels --model @TMP@ --levels coarse,default --steps 1 --out @TMP@/levels)
 endif()
