@@ -18,11 +18,13 @@
 namespace hipfai::studies {
 namespace {
 
-PenetrationRun depths(const geometry::HipModel& model, const std::string& id, const Motion& motion, int threads) {
+PenetrationRun depths(const geometry::HipModel& model, const std::string& id, const Motion& motion, int threads,
+                      double contact_tolerance_mm) {
   const LoadedHip hip =
       loaded_hip_from_model(model, id, {"femur_bone", "femoral_cartilage", "acetabular_cartilage", "labrum"});
   PenetrationOptions options;
   options.threads = threads;
+  options.contact_tolerance_mm = contact_tolerance_mm;
   StageLog log;
   return compute_penetration(hip, motion, options, log);
 }
@@ -68,8 +70,13 @@ SoftTissueTruthResult run_soft_tissue_truth(const SoftTissueTruthOptions& option
     row.synthesised_femoral_mean_thickness_mm = synthesised.report.femoral.mean_thickness_mm;
     row.synthesised_acetabular_mean_thickness_mm = synthesised.report.acetabular.mean_thickness_mm;
 
-    const PenetrationRun a = depths(generated, row.hip, motion, options.threads);
-    const PenetrationRun b = depths(synthesised.model, row.hip + "-synthesised", motion, options.threads);
+    // Both with the generated hip's contact tolerance (its rule: the sagitta of the longest edge of
+    // the tissues): the synthesised tissues have longer edges (the labrum's sweep, the layers' side
+    // walls), and a tolerance computed from them would also move the striking region out past the
+    // cam (R + tolerance), comparing the rule instead of the tissues.
+    const PenetrationRun a = depths(generated, row.hip, motion, options.threads, -1.0);
+    const PenetrationRun b =
+        depths(synthesised.model, row.hip + "-synthesised", motion, options.threads, a.contact_tolerance_mm);
     row.generated_curvilinear_mm = a.max_curvilinear_mm();
     row.synthesised_curvilinear_mm = b.max_curvilinear_mm();
     row.generated_radial_mm = a.max_radial_mm();

@@ -3,8 +3,9 @@
 // from them (studies/soft_tissue_model.h, the hip's model.json as the frame), and the thesis'
 // penetration depths over standing-to-sitting (30 sub-motions; curvilinear: femur bone vs labrum,
 // radial: femur bone and cartilage vs acetabular cartilage and labrum, both roles) are computed on
-// the generated and on the synthesised tissues (studies/penetration_run.h). Per hip: the tissues'
-// volumes and both maxima, generated vs synthesised, and whether each penetrates.
+// the generated and on the synthesised tissues (studies/penetration_run.h), both with the generated
+// hip's contact tolerance. Per hip: the tissues' volumes and both maxima, generated vs synthesised,
+// and whether each penetrates.
 #pragma once
 
 #include <filesystem>
@@ -35,7 +36,7 @@ struct SoftTissueTruthRow {
 struct SoftTissueTruthResult {
   SoftTissueTruthOptions options;
   std::vector<SoftTissueTruthRow> rows;
-  double contact_tolerance_mm = 0.0;  // as the penetration runs applied it (largest over the hips)
+  double contact_tolerance_mm = 0.0;  // the generated hips' (applied to both runs), largest over the hips
   double seconds = 0.0;
 };
 
