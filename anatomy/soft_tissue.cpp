@@ -357,8 +357,24 @@ std::vector<char> triangles_of(const TriMesh& mesh, const std::vector<std::int32
 
 // --- labrum ---------------------------------------------------------------------------------
 
-constexpr int kSectionPoints = 6;  // A (base, inner), B (base, outer), T (tip), three on the inner face
+// The section's corners: A (base, inner), B (base, outer), T (tip), three on the inner face; the
+// base A-B (5 mm) and the outer face B-T (~9 mm) are split so that no edge of the swept labrum is
+// much longer than the bones' (the studies' contact tolerance follows the longest tissue edge).
+constexpr int kCorners = 6;
+constexpr int kBaseSplits = 3;   // A -> B in 3 pieces
+constexpr int kOuterSplits = 5;  // B -> T in 5 pieces
+constexpr int kSectionPoints = kCorners + (kBaseSplits - 1) + (kOuterSplits - 1);
 using Section = std::array<Vec3, kSectionPoints>;
+
+// The section polygon A, (base points), B, (outer-face points), T, inner face, from its corners.
+Section subdivided(const std::array<Vec3, kCorners>& corner) {
+  Section out;
+  int k = 0;
+  for (int i = 0; i < kBaseSplits; ++i) out[k++] = corner[0] + (corner[1] - corner[0]) * (double(i) / kBaseSplits);
+  for (int i = 0; i < kOuterSplits; ++i) out[k++] = corner[1] + (corner[2] - corner[1]) * (double(i) / kOuterSplits);
+  for (int j = 2; j < kCorners; ++j) out[k++] = corner[static_cast<std::size_t>(j)];
+  return out;
+}
 
 // Runs of kept sections swept into closed solids (see the header), one shell per run.
 TriMesh sweep_sections(const std::vector<std::optional<Section>>& sections, SoftTissueReport& report) {
@@ -402,10 +418,18 @@ TriMesh sweep_sections(const std::vector<std::optional<Section>>& sections, Soft
       }
     }
     if (!ring) {
-      // Fans from B (index 1): reversed at the start, in polygon order at the end.
-      for (int j = 2; j < kSectionPoints; ++j) {
-        piece.triangles.push_back({at(0, 1), at(0, j + 1), at(0, j)});
-        piece.triangles.push_back({at(m - 1, 1), at(m - 1, j), at(m - 1, j + 1)});
+      // Caps: fans from each end section's centroid, reversed at the start, in polygon order at the end.
+      const auto centroid = [&](int section) {
+        Vec3 c = Vec3::Zero();
+        for (int j = 0; j < kSectionPoints; ++j) c += piece.vertices[static_cast<std::size_t>(at(section, j))];
+        return Vec3(c / kSectionPoints);
+      };
+      const auto first = static_cast<std::int32_t>(piece.vertices.size());
+      piece.vertices.push_back(centroid(0));
+      piece.vertices.push_back(centroid(m - 1));
+      for (int j = 0; j < kSectionPoints; ++j) {
+        piece.triangles.push_back({first, at(0, j + 1), at(0, j)});
+        piece.triangles.push_back({first + 1, at(m - 1, j), at(m - 1, j + 1)});
       }
     }
     if (geometry::signed_volume(piece) < 0.0) {
@@ -616,26 +640,28 @@ SoftTissues synthesise_soft_tissues(const SoftTissueRequest& request) {
     const auto ray = [&](double polar_rad) { return Vec3(std::cos(polar_rad) * axis + std::sin(polar_rad) * meridian); };
     bool femur_hit = false, clear = false;
     Section section;
+    std::array<Vec3, kCorners> corner;
     for (double tilt = 0.0; tilt <= kMaxTiltDeg + 1e-9 && !femur_hit; tilt += kTiltStepDeg) {
       const double base_polar = (polar - tilt) * geometry::kDegToRad;
       const Vec3 ub = ray(base_polar);
       const double rho_a = labrum_inner(ub);
       const double tip_polar = base_polar - std::asin(std::min(1.0, o.labrum_height_mm / rho_a));
-      section[0] = ca + rho_a * ub;
-      section[1] = ca + (rho_a + o.labrum_base_mm) * ub;
+      corner[0] = ca + rho_a * ub;
+      corner[1] = ca + (rho_a + o.labrum_base_mm) * ub;
       // Tip and inner face, from the tip back towards A.
       for (int j = 0; j < 4; ++j) {
         const double f = static_cast<double>(j) / 4.0;
         const Vec3 u = ray(tip_polar + f * (base_polar - tip_polar));
         if (femoral_outer(u) > r_art + o.labrum_height_mm) femur_hit = true;  // the neck stands under the rim
-        section[static_cast<std::size_t>(2 + j)] = ca + labrum_inner(u) * u;
+        corner[static_cast<std::size_t>(2 + j)] = ca + labrum_inner(u) * u;
       }
       if (femur_hit) break;
+      section = subdivided(corner);
       std::vector<Vec3> probes(section.begin(), section.end());
       for (int j = 0; j < kSectionPoints; ++j) {
         probes.push_back(0.5 * (section[static_cast<std::size_t>(j)] + section[static_cast<std::size_t>((j + 1) % kSectionPoints)]));
       }
-      probes.push_back((section[0] + section[1] + section[2]) / 3.0);
+      probes.push_back((corner[0] + corner[1] + corner[2]) / 3.0);
       bool in_femur = false, in_pelvis = false;
       for (const Vec3& p : probes) {
         in_femur = in_femur || femur_queries.inside(p);
