@@ -124,9 +124,14 @@ ClinicalMeasures measure_clinical(const ClinicalMeasuresRequest& request) {
   alpha.head_radius_mm = femur.head_radius_mm;
   alpha.articular_gap_deg = kArticularGapDeg;
   alpha.tolerance_mm = 0.0;
+  // The automatic tolerance comes from the sphere and the mesh alone: one plane, no profile, is
+  // enough to read it.
+  geometry::AlphaOptions probe = alpha;
+  probe.profile_step_deg = 0.0;
+  probe.sector_end_deg = probe.sector_begin_deg;
   const geometry::AlphaMeasurement automatic =
       geometry::measure_alpha_angle({request.femur}, femur.head_centre_mm, femur.neck_axis, request.femur_frame.superior,
-                                    request.femur_frame.anterior, alpha);
+                                    request.femur_frame.anterior, probe);
   alpha.tolerance_mm = std::max(automatic.tolerance_mm, kScatterRms * femur.head_fit_rms_mm);
   m.alpha = geometry::measure_alpha_angle({request.femur}, femur.head_centre_mm, femur.neck_axis,
                                           request.femur_frame.superior, request.femur_frame.anterior, alpha);

@@ -2,6 +2,7 @@
 // on the bones, radiographic measures in 3D, clinical motions to bony impingement, a user motion's
 // bone-to-bone depths, virtual resections (studies/assessment.h); writes DIR/assessment.json,
 // DIR/report.md with its figures, and VTP files (studies/assessment_report.h).
+#include "app/bone_pair_args.h"
 #include "app/cli_util.h"
 #include "app/command_registry.h"
 #include "anatomy/opensim_motion.h"
@@ -20,7 +21,8 @@ namespace hipfai::app {
 namespace {
 
 struct AssessArgs {
-  std::string femur, pelvis, side, frame, motion, out;
+  BonePairArgs bones;
+  std::string motion, out;
   double resect_alpha_deg = -1.0, trim_rim_deg = -1.0;
   int threads = 1;
   bool quiet = false;
@@ -74,15 +76,8 @@ void print_summary(const studies::AssessmentResult& r, const std::string& out) {
 }
 
 void run(const AssessArgs& args) {
-  studies::AssessmentRequest request;
-  const geometry::TriMesh femur = geometry::read_mesh(args.femur);
-  const geometry::TriMesh pelvis = geometry::read_mesh(args.pelvis);
-  request.femur = &femur;
-  request.pelvis = &pelvis;
-  request.femur_name = args.femur;
-  request.pelvis_name = args.pelvis;
-  if (!args.side.empty()) request.side = anatomy::side_from_name(args.side);
-  if (!args.frame.empty()) request.frame = anatomy::read_frame_file(args.frame);
+  geometry::TriMesh femur, pelvis;
+  studies::AssessmentRequest request = bone_pair_request(args.bones, femur, pelvis);
   if (!args.motion.empty()) {
     std::optional<anatomy::Side> side = request.side;
     if (!side && request.frame) side = request.frame->side;
@@ -93,7 +88,7 @@ void run(const AssessArgs& args) {
   request.threads = args.threads;
   request.progress = !args.quiet;
   const studies::AssessmentResult result = studies::assess_hip(request);
-  studies::write_assessment(result, {args.femur, args.pelvis, args.frame, args.motion}, args.out);
+  studies::write_assessment(result, {args.bones.femur, args.bones.pelvis, args.bones.frame, args.motion}, args.out);
   print_summary(result, args.out);
 }
 
@@ -102,16 +97,7 @@ const CommandRegistrar registrar("assess", [](CLI::App& parent) {
       "assess", "Patient-specific FAI assessment of a femur and pelvis: frames from the bones, CE, alpha and "
                 "the other radiographic measures in 3D, clinical motions to bony impingement, virtual resection");
   auto args = std::make_shared<AssessArgs>();
-  command->add_option("--femur", args->femur, "Femur bone surface (STL, PLY, OBJ, VTP), closed")
-      ->required()->check(CLI::ExistingFile);
-  command->add_option("--pelvis", args->pelvis, "Pelvis bone surface, same frame; whole (both hemipelves) unless --frame")
-      ->required()->check(CLI::ExistingFile);
-  command->add_option("--side", args->side, "right or left (default: found from the bones)")
-      ->check(CLI::IsMember({"right", "left"}));
-  command->add_option("--frame", args->frame,
-                      "JSON: frames (an assessment.json's \"frames\"), landmarks (ASIS, pubic tubercles, "
-                      "epicondyles), or a hipfai hip model.json")
-      ->check(CLI::ExistingFile);
+  add_bone_pair_options(command, args->bones);
   command->add_option("--motion", args->motion,
                       "Motion: CSV (step,flexion_deg,adduction_deg,internal_rotation_deg) or OpenSim .mot/.sto "
                       "(hip_flexion_r, hip_adduction_r, hip_rotation_r or _l)")

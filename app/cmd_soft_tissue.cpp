@@ -1,9 +1,7 @@
 // hipfai soft-tissue: cartilage and labrum synthesised on a segmented femur and pelvis, written as a
 // hip model folder every command reads (studies/soft_tissue_model.h).
+#include "app/bone_pair_args.h"
 #include "app/command_registry.h"
-#include "anatomy/frame_file.h"
-#include "anatomy/side.h"
-#include "geometry/mesh_io.h"
 #include "studies/soft_tissue_model.h"
 
 #include <cstdio>
@@ -14,21 +12,16 @@ namespace hipfai::app {
 namespace {
 
 struct SoftTissueArgs {
-  std::string femur, pelvis, side, frame, out;
+  BonePairArgs bones;
+  std::string out;
 };
 
 void run(const SoftTissueArgs& args) {
-  const geometry::TriMesh femur = geometry::read_mesh(args.femur);
-  const geometry::TriMesh pelvis = geometry::read_mesh(args.pelvis);
+  geometry::TriMesh femur, pelvis;
   studies::SoftTissueModelRequest request;
-  request.assessment.femur = &femur;
-  request.assessment.pelvis = &pelvis;
-  request.assessment.femur_name = args.femur;
-  request.assessment.pelvis_name = args.pelvis;
-  if (!args.side.empty()) request.assessment.side = anatomy::side_from_name(args.side);
-  if (!args.frame.empty()) request.assessment.frame = anatomy::read_frame_file(args.frame);
+  request.assessment = bone_pair_request(args.bones, femur, pelvis);
   const studies::SoftTissueModel result = studies::build_soft_tissue_model(request);
-  studies::write_soft_tissue_model(result, args.femur, args.pelvis, args.out);
+  studies::write_soft_tissue_model(result, args.bones.femur, args.bones.pelvis, args.out);
   const auto& t = result.report;
   std::printf("%s hip: femoral cartilage %.0f mm2, mean %.2f mm (%.2f-%.2f); acetabular cartilage %.0f mm2, mean %.2f mm "
               "(%.2f-%.2f); labrum %.0f mm3 in %d piece(s)\n",
@@ -44,14 +37,7 @@ const CommandRegistrar registrar("soft-tissue", [](CLI::App& parent) {
       "soft-tissue", "Cartilage and labrum synthesised on a segmented femur and pelvis, written as a hip model "
                      "folder (model.json and the five tissues, hip frame) for run, collide and the other commands");
   auto args = std::make_shared<SoftTissueArgs>();
-  command->add_option("--femur", args->femur, "Femur bone surface (STL, PLY, OBJ, VTP), closed")
-      ->required()->check(CLI::ExistingFile);
-  command->add_option("--pelvis", args->pelvis, "Pelvis bone surface, same frame; whole (both hemipelves) unless --frame")
-      ->required()->check(CLI::ExistingFile);
-  command->add_option("--side", args->side, "right or left (default: found from the bones)")
-      ->check(CLI::IsMember({"right", "left"}));
-  command->add_option("--frame", args->frame, "JSON frames or landmarks, as for assess --frame")
-      ->check(CLI::ExistingFile);
+  add_bone_pair_options(command, args->bones);
   command->add_option("--out", args->out, "Output folder (written whole or not at all; replaced if it exists)")
       ->required();
   command->callback([args] { run(*args); });
