@@ -12,6 +12,7 @@
 #include <CGAL/Simple_cartesian.h>
 
 #include <algorithm>
+#include <functional>
 #include <cmath>
 #include <numbers>
 #include <numeric>
@@ -170,8 +171,10 @@ void keep_largest(const TriMesh& mesh, const EdgeAdjacency& adjacency, std::vect
 // A patch of a closed mesh made a manifold surface with boundary (see the header: largest part,
 // small holes filled, pinched vertices removed). Returns the triangle mask.
 std::vector<char> clean_patch(const TriMesh& mesh, const EdgeAdjacency& adjacency, std::vector<char> in,
-                              LayerReport& report) {
-  // Holes are noise of the region's band when smaller than a 3 mm disc (see the header).
+                              LayerReport& report, const std::function<bool(const Vec3&)>& depression = {}) {
+  // Holes are noise of the region's band when smaller than a 3 mm disc (see the header); with
+  // `depression`, also every hole (a part of the rest of the mesh but the largest) whose vertices
+  // all pass it.
   constexpr double kHoleAreaMm2 = std::numbers::pi * 3.0 * 3.0;
   keep_largest(mesh, adjacency, in);
   {
@@ -183,8 +186,19 @@ std::vector<char> clean_patch(const TriMesh& mesh, const EdgeAdjacency& adjacenc
     for (std::size_t t = 0; t < label.size(); ++t) {
       if (label[t] >= 0) area[static_cast<std::size_t>(label[t])] += geometry::triangle_area(mesh, t);
     }
+    const int outside = count == 0 ? -1 : static_cast<int>(std::max_element(area.begin(), area.end()) - area.begin());
+    std::vector<char> sunk(static_cast<std::size_t>(count), depression ? 1 : 0);
+    if (depression) {
+      for (std::size_t t = 0; t < label.size(); ++t) {
+        if (label[t] < 0 || !sunk[static_cast<std::size_t>(label[t])]) continue;
+        for (std::int32_t v : mesh.triangles[t]) {
+          if (!depression(mesh.vertices[static_cast<std::size_t>(v)])) sunk[static_cast<std::size_t>(label[t])] = 0;
+        }
+      }
+    }
     for (int g = 0; g < count; ++g) {
-      if (area[static_cast<std::size_t>(g)] >= kHoleAreaMm2) continue;
+      const bool hole = g != outside && (area[static_cast<std::size_t>(g)] < kHoleAreaMm2 || sunk[static_cast<std::size_t>(g)]);
+      if (!hole) continue;
       ++report.holes_filled;
       for (std::size_t t = 0; t < label.size(); ++t) {
         if (label[t] == g) in[t] = 1;
@@ -456,19 +470,43 @@ SoftTissues synthesise_soft_tissues(const SoftTissueRequest& request) {
   if (pelvis.empty()) throw_error(request.pelvis_name, ": empty mesh");
   const SoftTissueOptions& o = request.options;
   if (!(request.head_radius_mm > 0.0)) throw_error(request.femur_name, ": no femoral head sphere given");
-  const Vec3 c = request.head_centre_mm;
+  // The head sphere's centre selects the head region; the layers are extruded along the rays from
+  // the joint centre (the FE meshes and the depths look from there).
+  const Vec3 head_centre = request.head_centre_mm;
+  const Vec3 c = request.joint_centre_mm.value_or(head_centre);
   const Acetabulum& acetabulum = *request.acetabulum;
   SoftTissues out;
   SoftTissueReport& report = out.report;
 
   // --- patches -------------------------------------------------------------------------------
   std::vector<std::int32_t> head_vertices = request.head_vertices;
+  const double band = std::max(0.5, 2.5 * request.head_fit_rms_mm);
   if (head_vertices.empty()) {
-    const double band = std::max(0.5, 2.5 * request.head_fit_rms_mm);
     const double cos_facing = std::cos(40.0 * geometry::kDegToRad);
     const std::vector<Vec3> normals = geometry::vertex_normals(femur);
+    // Alpha at the clock of a direction from the head centre (linear between the profile's planes).
+    const Vec3 n = request.neck_axis.norm() > 0.0 ? Vec3(request.neck_axis.normalized()) : Vec3::Zero();
+    std::vector<std::pair<double, double>> junction;  // (azimuth about n, alpha), by azimuth
+    const Vec3 e1 = n.norm() > 0.0 ? Vec3(n.unitOrthogonal()) : Vec3::UnitX(), e2 = n.cross(e1);
+    for (const auto& [u, alpha] : request.head_neck_junction) {
+      if (std::isfinite(alpha) && n.norm() > 0.0) junction.emplace_back(std::atan2(u.dot(e2), u.dot(e1)), alpha);
+    }
+    std::sort(junction.begin(), junction.end());
+    const auto beyond_junction = [&](const Vec3& d) {
+      if (junction.empty()) return true;
+      const double azimuth = std::atan2(d.dot(e2), d.dot(e1));
+      auto after = std::upper_bound(junction.begin(), junction.end(), std::make_pair(azimuth, -1e300));
+      const auto& hi = after == junction.end() ? junction.front() : *after;
+      const auto& lo = after == junction.begin() ? junction.back() : *(after - 1);
+      const double span = std::remainder(hi.first - lo.first, 2.0 * std::numbers::pi);
+      const double from_lo = std::remainder(azimuth - lo.first, 2.0 * std::numbers::pi);
+      const double f = span > 0.0 ? std::clamp(from_lo / span, 0.0, 1.0) : 0.0;
+      const double alpha = lo.second + f * (hi.second - lo.second);
+      return std::acos(std::clamp(d.normalized().dot(n), -1.0, 1.0)) * geometry::kRadToDeg >= alpha;
+    };
     for (std::size_t v = 0; v < femur.vertices.size(); ++v) {
-      const Vec3 d = femur.vertices[v] - c;
+      const Vec3 d = femur.vertices[v] - head_centre;
+      if (!beyond_junction(d)) continue;
       const double r = d.norm();
       if (std::abs(r - request.head_radius_mm) <= band && r > 0.0 && normals[v].dot(d / r) >= cos_facing) {
         head_vertices.push_back(static_cast<std::int32_t>(v));
@@ -478,12 +516,15 @@ SoftTissues synthesise_soft_tissues(const SoftTissueRequest& request) {
   const EdgeAdjacency femur_edges(femur), pelvis_edges(pelvis);
   std::vector<char> head_in = triangles_of(femur, head_vertices);
   if (std::count(head_in.begin(), head_in.end(), 1) < 20) {
-    throw_error(request.femur_name, ": no femoral head region on the sphere (centre [", c.x(), ", ", c.y(), ", ", c.z(),
+    throw_error(request.femur_name, ": no femoral head region on the sphere (centre [", head_centre.x(), ", ",
+                head_centre.y(), ", ", head_centre.z(),
                 "] mm, radius ", request.head_radius_mm, " mm)");
   }
-  head_in = clean_patch(femur, femur_edges, head_in, report.femoral);
+  head_in = clean_patch(femur, femur_edges, head_in, report.femoral, [&](const Vec3& x) {
+    return (x - head_centre).norm() <= request.head_radius_mm + band;
+  });
   const geometry::SurfaceRegion lunate =
-      geometry::find_lunate_surface(pelvis, c, request.head_radius_mm, {}, request.pelvis_name);
+      geometry::find_lunate_surface(pelvis, head_centre, request.head_radius_mm, {}, request.pelvis_name);
   std::vector<char> lunate_in = triangles_of(pelvis, lunate.mesh_vertices);
   if (std::count(lunate_in.begin(), lunate_in.end(), 1) < 20) {
     throw_error(request.pelvis_name, ": no lunate surface around the femoral head");
@@ -517,37 +558,50 @@ SoftTissues synthesise_soft_tissues(const SoftTissueRequest& request) {
   const MeshQueries femur_queries(femur), pelvis_queries(pelvis);
   const std::vector<double> head_area = vertex_areas(femur, head_in, head);
   const std::vector<double> socket_area = vertex_areas(pelvis, lunate_in, socket);
-  // Scale of both layers along one ray: gap / (t_f + t_a) when the gap is narrower, else 1.
-  const auto share = [&](double gap, double t_f, double t_a, LayerReport& layer, double area) {
-    const double sum = t_f + t_a;
-    if (gap >= sum || sum <= 0.0) return 1.0;
-    layer.narrowed_area_mm2 += area;
-    if (gap < 2.0 * o.min_thickness_mm) layer.overlap_area_mm2 += area;
-    return std::max(0.0, gap) / sum;
-  };
+  // The common articular sphere about c (see the header): its radius splits the bone-to-bone gap
+  // in the ratio of the two literature thicknesses where the femoral lens is thickest (within 10 %
+  // of its maximum) and the ray meets the lunate surface; where that gap is wider than both
+  // thicknesses the acetabular layer keeps its own and the femoral layer takes the rest.
+  const double t_f_max = o.femoral_max_thickness_mm, t_a_lit = o.acetabular_thickness_mm;
+  std::vector<char> faces_lunate(head.mesh_index.size(), 0);
+  std::vector<double> split, split_all;
+  for (std::size_t i = 0; i < head.mesh_index.size(); ++i) {
+    const Vec3& x = femur.vertices[static_cast<std::size_t>(head.mesh_index[i])];
+    const auto hit = pelvis_queries.first_hit(c, direction(x));
+    if (!hit || !lunate_in[hit->triangle]) continue;
+    faces_lunate[i] = 1;
+    const double r = (x - c).norm(), gap = hit->distance - r;
+    const double meet = gap >= t_f_max + t_a_lit ? hit->distance - t_a_lit : r + std::max(0.0, gap) * t_f_max / (t_f_max + t_a_lit);
+    split_all.push_back(meet);
+    if (t_f_nominal[i] >= 0.9 * t_f_max) split.push_back(meet);
+  }
+  if (split.empty()) split = split_all;
+  if (split.empty()) throw_error(request.femur_name, ": the femoral head region faces no lunate surface");
+  std::nth_element(split.begin(), split.begin() + static_cast<std::ptrdiff_t>(split.size() / 2), split.end());
+  const double r_art = split[split.size() / 2];
+  report.articular_radius_mm = r_art;
+  // Femoral layer: up to the sphere where it faces the lunate surface (congruent), elsewhere the
+  // lens profile under the sphere; never thinner than the minimum.
   std::vector<double> t_f(head.mesh_index.size()), head_r_in(t_f.size()), head_r_out(t_f.size());
   for (std::size_t i = 0; i < t_f.size(); ++i) {
     const Vec3& x = femur.vertices[static_cast<std::size_t>(head.mesh_index[i])];
     const double r = (x - c).norm();
-    double scale = 1.0;
-    if (const auto hit = pelvis_queries.first_hit(c, direction(x))) {
-      const double t_a = lunate_in[hit->triangle] ? o.acetabular_thickness_mm : 0.0;
-      scale = share(hit->distance - r, t_f_nominal[i], t_a, report.femoral, head_area[i]);
-    }
-    t_f[i] = std::max(o.min_thickness_mm, t_f_nominal[i] * scale);
+    const double to_sphere = r_art - r;
+    const double wanted = faces_lunate[i] ? to_sphere : std::min(to_sphere, t_f_nominal[i]);
+    if (wanted >= to_sphere) report.femoral.articular_area_mm2 += head_area[i];
+    if (to_sphere < o.min_thickness_mm) report.femoral.overlap_area_mm2 += head_area[i];
+    t_f[i] = std::max(o.min_thickness_mm, wanted);
     head_r_in[i] = r;
     head_r_out[i] = r + t_f[i];
   }
+  // Acetabular layer: from the lunate bone down to the sphere, never thinner than the minimum.
   std::vector<double> t_a(socket.mesh_index.size()), socket_r_in(t_a.size()), socket_r_out(t_a.size());
   for (std::size_t i = 0; i < t_a.size(); ++i) {
     const Vec3& y = pelvis.vertices[static_cast<std::size_t>(socket.mesh_index[i])];
     const double r = (y - c).norm();
-    double scale = 1.0;
-    if (const auto hit = femur_queries.first_hit(c, direction(y))) {
-      const double f = head_in[hit->triangle] ? interpolate(femur, *hit, head, t_f_nominal) : 0.0;
-      scale = share(r - hit->distance, f, o.acetabular_thickness_mm, report.acetabular, socket_area[i]);
-    }
-    t_a[i] = std::max(o.min_thickness_mm, o.acetabular_thickness_mm * scale);
+    report.acetabular.articular_area_mm2 += socket_area[i];
+    if (r - r_art < o.min_thickness_mm) report.acetabular.overlap_area_mm2 += socket_area[i];
+    t_a[i] = std::max(o.min_thickness_mm, r - r_art);
     socket_r_out[i] = r;
     socket_r_in[i] = r - t_a[i];
   }
@@ -575,12 +629,17 @@ SoftTissues synthesise_soft_tissues(const SoftTissueRequest& request) {
   // --- labrum ---------------------------------------------------------------------------------
   std::vector<std::pair<double, double>> rim;  // (clock, polar) of the plane-fit rim points
   for (const RimPoint& p : acetabulum.rim) {
-    if (p.in_plane_fit) rim.emplace_back(p.clock_deg, p.polar_deg);
+    if (!p.in_plane_fit) continue;
+    const Vec3 d = p.point_mm - c;  // its polar angle seen from the joint centre
+    rim.emplace_back(p.clock_deg, std::atan2(d.cross(acetabulum.axis).norm(), d.dot(acetabulum.axis)) * geometry::kRadToDeg);
   }
   if (rim.size() < 3) throw_error(request.pelvis_name, ": too little acetabular rim to carry a labrum");
   const MeshQueries cartilage_queries(out.acetabular_cartilage);
-  const Vec3 ca = acetabulum.centre_mm, axis = acetabulum.axis;
-  const double r_art = acetabulum.radius_mm - o.acetabular_thickness_mm;
+  // Sections in the meridian planes of the acetabular axis through the joint centre, their bases
+  // along its rays (so the hexahedral mesher, which looks from there, sees the base edge-on); the
+  // inner face on the common articular sphere.
+  const Vec3 ca = c, axis = acetabulum.axis;
+  const auto articular_sphere = [&](const Vec3&) { return r_art; };
   // Outer radius of the femur with its cartilage along a ray from the acetabular centre.
   const auto femoral_outer = [&](const Vec3& u) {
     const auto hit = femur_queries.first_hit(ca, u);
@@ -592,8 +651,8 @@ SoftTissues synthesise_soft_tissues(const SoftTissueRequest& request) {
   // outside the cartilage (a cam, the neck) does not shape it: that is what it meets in motion.
   const auto labrum_inner = [&](const Vec3& u) {
     const auto hit = femur_queries.first_hit(ca, u);
-    if (!hit || !head_in[hit->triangle]) return r_art;
-    return std::max(r_art, hit->distance + interpolate(femur, *hit, head, t_f) + o.min_thickness_mm);
+    if (!hit || !head_in[hit->triangle]) return articular_sphere(u);
+    return std::max(articular_sphere(u), hit->distance + interpolate(femur, *hit, head, t_f));
   };
   // The horseshoe's opening (the acetabular notch): clock angles with no lunate surface within
   // kNotchPolarDeg below the rim. The rim finder may keep the notch's rim (it dips only ~10 deg
@@ -652,7 +711,7 @@ SoftTissues synthesise_soft_tissues(const SoftTissueRequest& request) {
       for (int j = 0; j < 4; ++j) {
         const double f = static_cast<double>(j) / 4.0;
         const Vec3 u = ray(tip_polar + f * (base_polar - tip_polar));
-        if (femoral_outer(u) > r_art + o.labrum_height_mm) femur_hit = true;  // the neck stands under the rim
+        if (femoral_outer(u) > articular_sphere(u) + o.labrum_height_mm) femur_hit = true;  // the neck stands under the rim
         corner[static_cast<std::size_t>(2 + j)] = ca + labrum_inner(u) * u;
       }
       if (femur_hit) break;

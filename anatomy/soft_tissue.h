@@ -1,15 +1,21 @@
 // hipfai — femoral and acetabular cartilage and the labrum synthesised on segmented bones (CT
 // gives bone only), as closed solids a hip model can carry (geometry/hip_model.h).
 //
-// Method (a RIGHT hip in working coordinates; c = the femoral head's sphere centre):
+// Method (a RIGHT hip in working coordinates; c = the joint centre: the HJC given, else the femoral
+// head's sphere centre, which also selects the head region):
 //   patches   the femoral head region: the femur vertices within max(0.5 mm, 2.5 rms) of the head
-//             sphere whose normals face away from c (within 40 deg), or the given vertices; the
+//             sphere whose normals face away from its centre (within 40 deg) and that lie beyond the
+//             head-neck junction (the alpha angle's clock profile, Nötzli's definition of where the
+//             head leaves its sphere, when given), or the given vertices; the
 //             lunate surface: geometry::find_lunate_surface about the head sphere (the horseshoe:
 //             the fossa and the notch are not on it). Each is made a clean manifold patch: the
-//             triangles with three patch corners, the largest edge-connected part, holes smaller
-//             than a 3 mm disc filled (band noise; a fovea is 10 mm or more across and stays
-//             bare), and the triangles at a vertex where the patch pinches (two fans) dropped
-//             until none is left.
+//             triangles with three patch corners, the largest edge-connected part, holes filled
+//             (those smaller than a 3 mm disc: band noise; on the head also every hole whose bone
+//             lies below the sphere's band: dips that cartilage fills in vivo, and the fovea,
+//             which faces the acetabular fossa where nothing articulates, so covering it changes
+//             no contact; a layer with holes meshes into distorted hexahedra at the FE's sizes;
+//             bone standing out of the sphere, a cam or an osteophyte, stays bare), and the
+//             triangles at a vertex where the patch pinches (two fans) dropped until none is left.
 //   layers    a LAYER SOLID by radial extrusion about c: every patch vertex x is placed at r_in(x)
 //             and r_out(x) along (x - c)/|x - c|; the inner surface (re-wound), the outer surface
 //             and one quad per boundary edge close it. Closed and manifold by construction for a
@@ -18,25 +24,29 @@
 //             Femoral cartilage: r_in = |x - c| (the bone), r_out = r_in + t_f(x); acetabular
 //             cartilage: r_out = |x - c| (the bone), r_in = r_out - t_a(x). The bone side of each
 //             layer is the bone's own triangles, so the bone/cartilage interface is shared exactly.
-//   thickness t_f: the generator's lens (geometry/hip_generator.cpp): thickest (t_f,max) at the
-//             patch point farthest from its edge, zero at the edge, along the thin-lens profile
-//             t_f = t_max (cos(b_max - b) - cos b_max) / (1 - cos b_max), b the angle (seen from c)
-//             to the nearest edge vertex, b_max its largest value; t_a: constant (thesis §4.3.2.2).
-//   joint     along every ray from c, the gap g between the femoral and the acetabular bone (ray
-//   space     casts: the femur from c, the pelvis from c) is compared with t_f + t_a there (t_a = 0
-//             where the ray meets the pelvis off the lunate surface, t_f = 0 off the head region);
-//             where g < t_f + t_a both are scaled by g / (t_f + t_a), so the cartilages of the
-//             congruent loaded joint touch; a wider gap is left open. Both layers use the same
-//             rule along the same rays, so they meet rather than overlap; the acetabular joint
-//             side is then also kept on or above the femoral layer's outer surface along its own
-//             ray (the two surfaces are piecewise linear over different meshes, and t_a drops to
-//             zero off the lunate surface between neighbouring femoral rays).
+//   joint     the thesis' model (§4.3.2.2): the two articular surfaces are portions of ONE sphere
+//   space     (they deviate from sphericity by < 0.1 mm: Macirowski, Tepic & Mann 1994), here
+//             about c, so the joint stays congruent as the femur turns about c. Its radius r_art
+//             splits the bone-to-bone gap g (ray casts from c) where the femoral cartilage is
+//             thickest: over the femoral rays that meet the lunate surface with a lens (below)
+//             within 10 % of t_f,max, the median of the meeting point r_f + g t_f,max /
+//             (t_f,max + t_a) when g < t_f,max + t_a (the literature ratio), else r_p - t_a (the
+//             acetabular cartilage keeps its constant thickness, the femoral takes the rest).
+//   thickness acetabular: from the lunate bone to the sphere, t_a(y) = |y - c| - r_art. Femoral:
+//             to the sphere where its ray meets the lunate surface, t_f(x) = r_art - |x - c|;
+//             elsewhere (facing the fossa, beyond the rim) min(r_art - |x - c|, lens(x)), the lens
+//             being the generator's (geometry/hip_generator.cpp): t_f,max at the patch point
+//             farthest from its edge, zero at the edge, t_max (cos(b_max - b) - cos b_max) /
+//             (1 - cos b_max), b the angle (seen from c) to the nearest edge vertex, b_max its
+//             largest value. The cartilage thus evens out the bone's own departures from the
+//             sphere. The acetabular joint side is also kept on or above the femoral layer's outer
+//             surface along its own ray (both are piecewise linear over different meshes).
 //   minimum   no layer is thinner than min_thickness_mm (the articular sphericity tolerance, 0.1 mm:
-//             surfaces that close are touching, not penetrating, for the study): it keeps the
-//             femoral layer's edge and a narrow joint space from collapsing into degenerate
-//             triangles. Where the gap is under two minima the cartilages overlap by at most that.
+//             surfaces that close are touching, not penetrating, for the study): where a bone
+//             stands within it of the sphere (a bump), its layer stands proud of the sphere by up to
+//             that much (LayerReport::overlap_area_mm2 says where).
 //   labrum    a triangular section (base `labrum_base_mm` wide on the rim, tip `labrum_height_mm`
-//             above it, the generator's section) in the meridian plane of the acetabular axis at
+//             above it, the generator's section) in the meridian plane of the acetabular axis through c at
 //             every 2.5 deg of clock angle: the rim's polar angle (Acetabulum::rim, plane-fit
 //             points only) is averaged over +-10 deg of clock (triangular weights); a section
 //             needs a rim point within 10 deg on both sides (so gaps of up to 20 deg are bridged)
@@ -63,6 +73,7 @@
 #include "geometry/tri_mesh.h"
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -82,10 +93,19 @@ struct SoftTissueRequest {
   const geometry::TriMesh* femur = nullptr;   // required: closed, outward, in working coordinates
   const geometry::TriMesh* pelvis = nullptr;  // required: same coordinates, the pose of the joint
   geometry::Vec3 head_centre_mm = geometry::Vec3::Zero();  // femoral head sphere (in `femur`'s pose)
+  // The joint centre the layers are extruded from and the labrum's sections are laid about (the
+  // HJC of the hip frame); unset: the head sphere's centre.
+  std::optional<geometry::Vec3> joint_centre_mm;
   double head_radius_mm = 0.0;
   double head_fit_rms_mm = 0.0;               // its fit's RMS: sets the head band (see the method)
   // Femur vertex indices of the articular head; empty: found on the sphere (see the method).
   std::vector<std::int32_t> head_vertices;
+  // Where the head ends towards the neck (used when head_vertices is empty): the alpha angle's
+  // clock profile, as (unit direction perpendicular to neck_axis, alpha in deg) in `femur`'s pose;
+  // head-region vertices closer to the neck axis than alpha at their clock are left out.
+  // Empty: no such limit.
+  geometry::Vec3 neck_axis = geometry::Vec3::Zero();
+  std::vector<std::pair<geometry::Vec3, double>> head_neck_junction;
   const Acetabulum* acetabulum = nullptr;     // required: lunate sphere, opening axis, rim
   SoftTissueOptions options;
   std::string femur_name = "femur", pelvis_name = "pelvis";  // for messages
@@ -99,9 +119,10 @@ struct LayerReport {
   double max_thickness_mm = 0.0;
   double volume_mm3 = 0.0;
   std::size_t patch_vertices = 0;
-  // Patch area (mm^2) where the bone-to-bone gap was narrower than t_f + t_a (the layer scaled
-  // down), and where it was under twice the minimum thickness (the cartilages overlap there).
-  double narrowed_area_mm2 = 0.0;
+  // Patch area (mm^2) whose articular side lies on the common articular sphere, and where the
+  // bone stands within the minimum thickness of it (the layer kept at the minimum stands proud of
+  // the sphere there by up to that much).
+  double articular_area_mm2 = 0.0;
   double overlap_area_mm2 = 0.0;
   std::size_t holes_filled = 0;      // small holes of the patch filled
   std::size_t pinches_removed = 0;   // triangles dropped at pinched vertices
@@ -109,6 +130,7 @@ struct LayerReport {
 
 struct SoftTissueReport {
   LayerReport femoral, acetabular;
+  double articular_radius_mm = 0.0;  // the common articular sphere about the joint centre
   double labrum_volume_mm3 = 0.0;
   int labrum_sections = 0;           // kept
   int labrum_sections_total = 0;     // tried (360 / labrum_step_deg)

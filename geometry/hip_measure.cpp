@@ -249,6 +249,7 @@ AlphaMeasurement measure_alpha_angle(const std::vector<const TriMesh*>& femur, c
   if (options.profile_step_deg > 0.0) {
     for (double angle = -180.0 + options.profile_step_deg; angle <= 180.0 + 1e-9; angle += options.profile_step_deg) {
       result.profile.emplace_back(angle, alpha_at(angle));
+      result.profile_directions.push_back(plane_direction(angle));
     }
   }
   // 3. Nötzli's plane.

@@ -79,6 +79,7 @@ struct AlphaMeasurement {
   double max_alpha_deg = 0.0;      // largest over the anterosuperior sector ...
   double max_plane_deg = 0.0;      // ... and where (clock angle)
   std::vector<std::pair<double, double>> profile;  // (clock angle, alpha; NaN: no contour)
+  std::vector<Vec3> profile_directions;            // each profile plane's unit direction (as plane_direction)
   Vec3 head_centre_mm = Vec3::Zero();
   double head_radius_mm = 0.0;
   Vec3 departure_point_mm = Vec3::Zero();

@@ -50,6 +50,14 @@ double read_number(const nlohmann::json& json, const std::string& key, const std
 
 }  // namespace
 
+const char* to_string(SoftTissueSource source) {
+  switch (source) {
+    case SoftTissueSource::kGenerated: return "generated";
+    case SoftTissueSource::kSynthesised: return "synthesised";
+  }
+  return "?";
+}
+
 const TriMesh& HipModel::tissue(const std::string& name) const {
   const auto it = tissues.find(name);
   if (it == tissues.end()) throw_error("hip model: no tissue '", name, "'");
@@ -97,6 +105,7 @@ void write_hip_model(const HipModel& model, const std::filesystem::path& dir,
     measured["alpha_profile"] = profile;
     json["measured"] = measured;
   }
+  if (model.soft_tissue != SoftTissueSource::kGenerated) json["soft_tissue"] = to_string(model.soft_tissue);
   json["edge_mm"] = model.parameters.edge_mm;
   if (model.surface_algorithm != 0) {
     json["surface_mesh"] = {{"gmsh_algorithm", model.surface_algorithm},
@@ -174,6 +183,16 @@ HipModel hip_model_from_json(const std::string& text, const std::filesystem::pat
     model.socket_opening_deg = read_number(json, "socket_opening_deg", what);
     if (!(model.socket_opening_deg > 0.0 && model.socket_opening_deg < 180.0)) {
       throw_error(what, ": socket_opening_deg: ", model.socket_opening_deg, " is outside (0, 180)");
+    }
+  }
+  if (json.contains("soft_tissue")) {
+    const nlohmann::json& source = json["soft_tissue"];
+    if (source == to_string(SoftTissueSource::kGenerated)) {
+      model.soft_tissue = SoftTissueSource::kGenerated;
+    } else if (source == to_string(SoftTissueSource::kSynthesised)) {
+      model.soft_tissue = SoftTissueSource::kSynthesised;
+    } else {
+      throw_error(what, ": soft_tissue: expected \"generated\" or \"synthesised\"");
     }
   }
   if (json.contains("surface_mesh")) {

@@ -10,6 +10,8 @@
 //     "measured"                       {"ce_deg", "alpha_notzli_deg", "alpha_max_deg",
 //                                       "alpha_max_clock", "alpha_profile": [{"clock",
 //                                       "clock_deg", "alpha_deg"}, ...]} (generated hips),
+//     "soft_tissue"                    "generated" or "synthesised" (SoftTissueSource; absent:
+//                                       generated),
 //     "edge_mm"                        target surface edge length,
 //     "parameters"                     every HipParameters field,
 //     "tissues"                        name -> file name relative to the directory,
@@ -41,8 +43,17 @@ struct HipVolumeMesh;  // geometry/hip_volume_mesh.h
 inline constexpr std::array<const char*, 5> kHipTissueNames{
     "femur_bone", "femoral_cartilage", "acetabular_bone", "acetabular_cartilage", "labrum"};
 
+// Where a model's cartilage and labrum come from: the parametric generator (exact spheres and
+// cones about the HJC), or synthesised on segmented bones (anatomy/soft_tissue.h: radial layers
+// over a bone's own triangles, a labrum swept along a measured rim). The volume mesher treats
+// their boundaries differently (geometry/hip_volume_mesh.h). model.json "soft_tissue": "generated"
+// (the default when absent) or "synthesised".
+enum class SoftTissueSource { kGenerated, kSynthesised };
+const char* to_string(SoftTissueSource source);
+
 struct HipModel {
   HipParameters parameters;
+  SoftTissueSource soft_tissue = SoftTissueSource::kGenerated;
   Vec3 hjc_mm = Vec3::Zero();
   HipFrameAxes axes;
   Vec3 neck_axis = Vec3::UnitX();       // from the HJC towards the neck

@@ -264,8 +264,29 @@ Stereographic choose_projection(const std::vector<Vec3>& directions, double radi
     }
   }
   // Beyond 150 deg from the centre the projection stretches lengths more than 15-fold.
-  if (best_cos < std::cos(150.0 * std::numbers::pi / 180.0)) {
-    throw_error("hip volume mesh: ", name, ": the tissue surrounds the HJC (no projection centre within 150 deg of all of it)");
+  const double limit_cos = std::cos(150.0 * std::numbers::pi / 180.0);
+  if (best_cos < limit_cos) {
+    // None of the candidates will do (a wide tissue seen from one side, e.g. a segmented head's
+    // cartilage): the centre of the smallest cap holding every direction, approached by moving
+    // towards the farthest direction with shrinking steps (Badoiu and Clarkson's iteration).
+    Vec3 centre = best;
+    for (int k = 1; k <= 2000; ++k) {
+      const Vec3* farthest = &directions.front();
+      for (const Vec3& d : directions) {
+        if (centre.dot(d) < centre.dot(*farthest)) farthest = &d;
+      }
+      centre = (centre + (*farthest - centre) / (k + 1.0)).normalized();
+      double lowest = 1.0;
+      for (const Vec3& d : directions) lowest = std::min(lowest, centre.dot(d));
+      if (lowest > best_cos) {
+        best_cos = lowest;
+        best = centre;
+      }
+    }
+  }
+  if (best_cos < limit_cos) {
+    throw_error("hip volume mesh: ", name, ": the tissue surrounds the HJC (no projection centre within 150 deg of all of it: ",
+                std::acos(best_cos) * 180.0 / std::numbers::pi, " deg at best)");
   }
   Stereographic projection;
   projection.centre = best;
@@ -276,23 +297,51 @@ Stereographic choose_projection(const std::vector<Vec3>& directions, double radi
   return projection;
 }
 
-// Resamples a closed polyline at about `spacing_mm` (arc length), keeping its sharp corners,
-// with an even number of points so that the enclosed domain can be meshed with quadrangles only.
-// The new points lie on the polyline's edges: rays from the HJC through them meet the surface.
-std::vector<Vec3> resample_loop(const std::vector<Vec3>& points, double spacing_mm) {
-  const std::size_t n = points.size();
-  // Arc length at each vertex (arc[n] = whole loop) and the point at arc length s (periodic).
-  std::vector<double> arc(n + 1, 0.0);
-  for (std::size_t k = 0; k < n; ++k) arc[k + 1] = arc[k] + (points[(k + 1) % n] - points[k]).norm();
-  const double perimeter = arc[n];
-  auto point_at = [&](double position) {
-    position = std::fmod(std::fmod(position, perimeter) + perimeter, perimeter);
+// A closed polyline by arc length: arc[k] at vertex k (arc[n] = the whole loop), and the point at
+// any arc length (periodic).
+struct ArcLengthLoop {
+  const std::vector<Vec3>& points;
+  std::vector<double> arc;
+  explicit ArcLengthLoop(const std::vector<Vec3>& loop) : points(loop), arc(loop.size() + 1, 0.0) {
+    const std::size_t n = loop.size();
+    for (std::size_t k = 0; k < n; ++k) arc[k + 1] = arc[k] + (loop[(k + 1) % n] - loop[k]).norm();
+  }
+  double perimeter() const { return arc.back(); }
+  Vec3 at(double position) const {
+    const std::size_t n = points.size();
+    position = std::fmod(std::fmod(position, perimeter()) + perimeter(), perimeter());
     const std::size_t k = static_cast<std::size_t>(std::upper_bound(arc.begin(), arc.end(), position) - arc.begin()) - 1;
     const std::size_t edge = std::min(k, n - 1);
     const double length = arc[edge + 1] - arc[edge];
     const double fraction = length > 0.0 ? (position - arc[edge]) / length : 0.0;
     return Vec3(points[edge] + fraction * (points[(edge + 1) % n] - points[edge]));
-  };
+  }
+};
+
+// The loop averaged over `window_mm` of arc length about each of its vertices (a moving average
+// along the curve): a zigzag shorter than the window is flattened to its middle line.
+std::vector<Vec3> smooth_loop(const std::vector<Vec3>& points, double window_mm) {
+  const ArcLengthLoop loop(points);
+  if (!(loop.perimeter() > 0.0)) return points;
+  const double half = 0.5 * std::min(window_mm, 0.25 * loop.perimeter());
+  constexpr int kSamples = 16;
+  std::vector<Vec3> smoothed(points.size(), Vec3::Zero());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    for (int k = 0; k <= kSamples; ++k) smoothed[i] += loop.at(loop.arc[i] - half + 2.0 * half * k / kSamples);
+    smoothed[i] /= kSamples + 1;
+  }
+  return smoothed;
+}
+
+// Resamples a closed polyline at about `spacing_mm` (arc length), keeping its sharp corners,
+// with an even number of points so that the enclosed domain can be meshed with quadrangles only.
+// The new points lie on the polyline's edges: rays from the HJC through them meet the surface.
+std::vector<Vec3> resample_loop(const std::vector<Vec3>& points, double spacing_mm) {
+  const std::size_t n = points.size();
+  const ArcLengthLoop loop(points);
+  const std::vector<double>& arc = loop.arc;
+  const double perimeter = loop.perimeter();
+  auto point_at = [&](double position) { return loop.at(position); };
   // Corners: where the curve turns more than 40 deg over half a spacing on either side. Measured
   // over that stretch, a faceted smooth curve (a few degrees per edge) or a jagged one (the
   // selection of faces along a side wall) does not count; where two surfaces meet (the cam circle
@@ -649,7 +698,11 @@ PlanarQuadMesh quad_mesh_shadow(const std::vector<std::vector<Vec3>>& loops_3d, 
 // rim_axis, rim_cos: the acetabular rim cone through the HJC, {d : d . rim_axis = |d| rim_cos}
 // (a plane when rim_cos = 0); the labrum's base lies on it.
 void mesh_tissue(const TissueRecipe& recipe, const TriMesh& tissue, const Vec3& hjc, const Vec3& rim_axis,
-                 double rim_cos, const HipVolumeOptions& options, HexMesh& out) {
+                 double rim_cos, SoftTissueSource source, const HipVolumeOptions& options, HexMesh& out) {
+  // Synthesised layers follow a segmented bone's triangles, so their outlines zigzag at the bone's
+  // edge length: a boundary node is snapped onto the outline only when its own ray misses the
+  // tissue (snapping every node onto a zigzag folds the quads beside it).
+  const bool synthesised = source == SoftTissueSource::kSynthesised;
   const std::string name = recipe.name;
   validate_mesh(tissue, name);
 
@@ -737,7 +790,11 @@ void mesh_tissue(const TissueRecipe& recipe, const TriMesh& tissue, const Vec3& 
     for (std::int32_t i : loop) points.push_back(vertex(tissue, i) - hjc);
     loops_3d.push_back(std::move(points));
   }
-  const PlanarQuadMesh plane = quad_mesh_shadow(loops_3d, projection, options.edge_mm, name);
+  std::vector<std::vector<Vec3>> domain_loops = loops_3d;
+  if (synthesised) {
+    for (auto& loop : domain_loops) loop = smooth_loop(loop, options.edge_mm);
+  }
+  const PlanarQuadMesh plane = quad_mesh_shadow(domain_loops, projection, options.edge_mm, name);
 
   // Columns: one per plane node, layers + 1 vertices from the inner to the outer face.
   const std::size_t layers = static_cast<std::size_t>(options.layers);
@@ -748,7 +805,7 @@ void mesh_tissue(const TissueRecipe& recipe, const TriMesh& tissue, const Vec3& 
   };
   for (std::size_t node = 0; node < plane.nodes.size(); ++node) {
     Vec3 direction = projection.unproject(plane.nodes[node]).normalized();
-    if (plane.on_boundary[node]) direction = snap_to_boundary(loops_3d, direction, &rim_cone).normalized();
+    if (plane.on_boundary[node] && !synthesised) direction = snap_to_boundary(loops_3d, direction, &rim_cone).normalized();
     auto interval = caster.cast(direction);
     if (!interval.hit) {
       // Just outside a concave stretch of the boundary: move onto it.
@@ -831,7 +888,24 @@ void mesh_tissue(const TissueRecipe& recipe, const TriMesh& tissue, const Vec3& 
       for (std::size_t layer = 0; layer < layers; ++layer) {
         const std::array<std::int32_t, 4> side{at(c, layer), at(c + 1, layer), at(c + 1, layer + 1), at(c, layer + 1)};
         SurfaceTag tag = SurfaceTag::kFree;
-        if (recipe.rim_side_bonded) {
+        if (recipe.rim_side_bonded && synthesised) {
+          // A synthesised labrum's base lies along the rays at the measured rim, which is no
+          // cone: its side faces are those facing away from the acetabular axis (the shadow's
+          // outer edge), not the end caps (facing along the rim) nor the tip (towards the axis).
+          const auto direction_of = [&](std::int32_t v) {
+            return Vec3((out.vertices[static_cast<std::size_t>(v)] - hjc).normalized());
+          };
+          const Vec3 middle = (direction_of(at(c, 0)) + direction_of(at(c + 1, 0))).normalized();
+          Vec3 centre = Vec3::Zero();
+          for (std::size_t k = 0; k < 4; ++k) centre += direction_of(at(k, 0));
+          Vec3 outward = middle - centre.normalized();
+          outward -= outward.dot(middle) * middle;
+          Vec3 away = rim_axis.dot(middle) * middle - rim_axis;  // polar angle increasing
+          if (outward.norm() > 0.0 && away.norm() > 0.0 &&
+              outward.normalized().dot(away.normalized()) > kRadialCosine) {
+            tag = SurfaceTag::kLabrumBonded;
+          }
+        } else if (recipe.rim_side_bonded) {
           bool on_rim = true;
           for (std::int32_t v : side) {
             const Vec3 d = out.vertices[static_cast<std::size_t>(v)] - hjc;
@@ -913,8 +987,25 @@ HipVolumeMesh build_hip_volume_mesh(const HipModel& model, const HipVolumeOption
       if (options.labrum_edge_mm > 0.0) tissue_options.edge_mm = options.labrum_edge_mm;
       if (options.labrum_layers > 0) tissue_options.layers = options.labrum_layers;
     }
+    const std::size_t first_hex = result.mesh.hexes.size();
     mesh_tissue(recipe, model.tissue(recipe.name), model.hjc_mm, model.acetabular_axis.normalized(),
-                std::cos(model.socket_opening_deg * kDegToRad), tissue_options, result.mesh);
+                std::cos(model.socket_opening_deg * kDegToRad), model.soft_tissue, tissue_options, result.mesh);
+    std::size_t inverted = 0;
+    double lowest = std::numeric_limits<double>::infinity();
+    Vec3 where = Vec3::Zero();
+    for (std::size_t h = first_hex; h < result.mesh.hexes.size(); ++h) {
+      const double q = hex_scaled_jacobian(result.mesh, result.mesh.hexes[h]);
+      if (q > 0.0) continue;
+      ++inverted;
+      if (q < lowest) {
+        lowest = q;
+        where = result.mesh.vertices[static_cast<std::size_t>(result.mesh.hexes[h][0])];
+      }
+    }
+    if (inverted > 0) {
+      throw_error("hip volume mesh: ", recipe.name, ": ", inverted, " inverted hexahedra (lowest scaled Jacobian ",
+                  lowest, ", e.g. at [", where.x(), ", ", where.y(), ", ", where.z(), "] mm)");
+    }
   }
   result.min_scaled_jacobian = min_scaled_jacobian(result.mesh);
   if (!(result.min_scaled_jacobian > 0.0)) {

@@ -53,6 +53,14 @@ SoftTissueModel build_soft_tissue_model(const SoftTissueModelRequest& request) {
   tissues.femur_name = assessment.femur_name;
   tissues.pelvis_name = assessment.pelvis_name;
   tissues.head_centre_mm = r.hjc_mm + r.neutral_rotation * (r.femur_landmarks.head_centre_mm - r.hjc_mm);
+  tissues.joint_centre_mm = r.hjc_mm;
+  // The head ends where the assessment's alpha profile says (the femur turned to neutral).
+  const geometry::AlphaMeasurement& measured_alpha = r.before.measures.alpha;
+  tissues.neck_axis = r.neutral_rotation * r.neck_axis;
+  for (std::size_t k = 0; k < measured_alpha.profile.size() && k < measured_alpha.profile_directions.size(); ++k) {
+    tissues.head_neck_junction.emplace_back(r.neutral_rotation * measured_alpha.profile_directions[k],
+                                            measured_alpha.profile[k].second);
+  }
   tissues.head_radius_mm = r.femur_landmarks.head_radius_mm;
   tissues.head_fit_rms_mm = r.femur_landmarks.head_fit_rms_mm;
   tissues.acetabulum = &r.acetabulum;
@@ -73,6 +81,7 @@ SoftTissueModel build_soft_tissue_model(const SoftTissueModelRequest& request) {
   m.tissues["acetabular_cartilage"] = to_hip_frame(made.acetabular_cartilage, axes, r.hjc_mm);
   m.tissues["labrum"] = to_hip_frame(made.labrum, axes, r.hjc_mm);
   m.hjc_mm = Vec3::Zero();
+  m.soft_tissue = geometry::SoftTissueSource::kSynthesised;
   m.lateral = Vec3::UnitX();
   m.superior = Vec3::UnitZ();
   m.neck_axis = (axes.transpose() * r.neutral_rotation * r.neck_axis).normalized();
@@ -117,8 +126,8 @@ void write_soft_tissue_model(const SoftTissueModel& result, const std::string& f
   md.precision(2);
   const auto layer = [&](const char* name, const anatomy::LayerReport& l) {
     md << "| " << name << " | " << l.covered_area_mm2 << " | " << l.mean_thickness_mm << " | " << l.min_thickness_mm
-       << " | " << l.max_thickness_mm << " | " << l.volume_mm3 << " | " << l.narrowed_area_mm2 << " ("
-       << (l.covered_area_mm2 > 0.0 ? 100.0 * l.narrowed_area_mm2 / l.covered_area_mm2 : 0.0) << " %) | "
+       << " | " << l.max_thickness_mm << " | " << l.volume_mm3 << " | " << l.articular_area_mm2 << " ("
+       << (l.covered_area_mm2 > 0.0 ? 100.0 * l.articular_area_mm2 / l.covered_area_mm2 : 0.0) << " %) | "
        << l.overlap_area_mm2 << " |\n";
   };
   md << "# Soft tissues synthesised on segmented bones\n\n"
@@ -133,20 +142,22 @@ void write_soft_tissue_model(const SoftTissueModel& result, const std::string& f
      << "Femoral head sphere radius " << result.head_radius_mm << " mm; lunate sphere radius " << result.lunate_radius_mm
      << " mm. Measured CE " << result.model.measured_ce_deg << " deg, alpha (Nötzli plane) "
      << result.model.measured_alpha_notzli_deg << " deg (model.json \"measured\").\n\n"
-     << "| layer | covered area (mm^2) | mean thickness (mm) | min | max | volume (mm^3) | gap < t_f + t_a (mm^2) | "
-        "overlap (gap < 2 x min) (mm^2) |\n|---|---|---|---|---|---|---|---|\n";
+     << "| layer | covered area (mm^2) | mean thickness (mm) | min | max | volume (mm^3) | on the articular sphere (mm^2) | "
+        "bone within the minimum of the sphere (mm^2) |\n|---|---|---|---|---|---|---|---|\n";
   layer("femoral cartilage", t.femoral);
   layer("acetabular cartilage", t.acetabular);
   md << "\nLabrum: " << t.labrum_volume_mm3 << " mm^3, " << t.labrum_sections << " of " << t.labrum_sections_total
      << " sections (" << t.labrum_missing_rim << " without rim: the notch; " << t.labrum_dropped_femur
      << " over the femur; " << t.labrum_dropped_pelvis << " not clear of the pelvis), " << t.labrum_pieces
      << (t.labrum_closed_ring ? " closed ring" : " open piece(s) with end caps") << ".\n\n"
-     << "Method (anatomy/soft_tissue.h): layers extruded radially about the head centre from the femoral head "
-        "region and the lunate surface; femoral cartilage " << defaults.femoral_max_thickness_mm
-     << " mm at most, thinning to the region's edge (lens profile); acetabular cartilage "
-     << defaults.acetabular_thickness_mm << " mm. Joint space: along each ray from the head centre, where the "
-        "bone-to-bone gap is narrower than t_f + t_a both layers are scaled by gap / (t_f + t_a) so they touch "
-        "(the loaded joint is congruent); wider gaps are left open; no layer under "
+     << "Method (anatomy/soft_tissue.h): layers extruded radially about the HJC from the femoral head region "
+        "(up to the head-neck junction of the alpha profile) and the lunate surface. The two articular surfaces "
+        "are one sphere about the HJC (the thesis' model; sphericity < 0.1 mm, Macirowski et al. 1994), radius "
+     << t.articular_radius_mm << " mm: it splits the bone-to-bone gap in the ratio of the literature thicknesses ("
+     << defaults.femoral_max_thickness_mm << " mm femoral at its thickest, " << defaults.acetabular_thickness_mm
+     << " mm acetabular) where the femoral cartilage is thickest. The acetabular cartilage fills the lunate bone to "
+        "the sphere; the femoral cartilage fills the head to the sphere where it faces the lunate surface and "
+        "thins to the region's edge elsewhere (lens profile); no layer under "
      << defaults.min_thickness_mm << " mm. Labrum: base " << defaults.labrum_base_mm << " mm on the rim, tip "
      << defaults.labrum_height_mm << " mm above it, swept along the rim.\n\n"
      << "Time: " << result.total_seconds << " s (assessment " << result.assessment_seconds << " s, tissues "

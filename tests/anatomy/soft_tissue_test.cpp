@@ -135,6 +135,7 @@ Synthesised synthesise_on(const geometry::HipModel& model) {
   request.femur = &femur;
   request.pelvis = &pelvis;
   request.head_centre_mm = head.sphere.center_mm;
+  request.joint_centre_mm = model.hjc_mm;
   request.head_radius_mm = head.sphere.radius_mm;
   request.head_fit_rms_mm = head.sphere.rms_mm;
   request.head_vertices = head.mesh_vertices;
@@ -211,14 +212,13 @@ TEST(SoftTissue, SynthesisedOnGeneratedBonesMatchesTheGeneratorsTissues) {
     // Labrum: the generated bone shows neither the notch nor where the generator stopped the
     // labrum over the neck, so the volume is compared per degree of rim it spans. The same
     // section (base 5 mm, tip 7 mm); 10 %: its inner arc, which four chords approximate (the
-    // whole circular segment is 1.2 of its 16.3 mm^2), the 0.1 mm clearance over the femoral
-    // cartilage, and the span of the generator's cut ends counted to whole degrees.
+    // whole circular segment is 1.2 of its 16.3 mm^2), and the span of the generator's cut ends counted to whole degrees.
     EXPECT_NEAR(sl / sl_fraction, gl / gl_fraction, 0.10 * gl / gl_fraction);
     std::printf("CE %.0f alpha %.0f: femoral area %.0f/%.0f mm2 mean %.2f/%.2f mm; acetabular area %.0f/%.0f mean "
-                "%.2f/%.2f; labrum %.0f/%.0f mm3 (generated/synthesised); narrowed %.0f/%.0f mm2, sections %d/%d, "
+                "%.2f/%.2f; labrum %.0f/%.0f mm3 (generated/synthesised); on sphere %.0f/%.0f mm2, sections %d/%d, "
                 "pieces %d, dropped femur %d pelvis %d rim %d, %.2f s\n",
                 ce, alpha, gf_area, sf_area, gf_t, sf_t, ga_area, sa_area, ga_t, sa_t, gl, sl,
-                t.report.femoral.narrowed_area_mm2, t.report.acetabular.narrowed_area_mm2, t.report.labrum_sections,
+                t.report.femoral.articular_area_mm2, t.report.acetabular.articular_area_mm2, t.report.labrum_sections,
                 t.report.labrum_sections_total, t.report.labrum_pieces, t.report.labrum_dropped_femur,
                 t.report.labrum_dropped_pelvis, t.report.labrum_missing_rim, t.report.seconds);
   }

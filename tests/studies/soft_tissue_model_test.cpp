@@ -49,13 +49,13 @@ TEST(SoftTissueModel, TheRealBonesGiveAValidModelFolder) {
   request.assessment.pelvis = &pelvis;
   const SoftTissueModel result = build_soft_tissue_model(request);
   const auto& r = result.report;
-  std::printf("LHDL: femoral %.0f mm2 mean %.2f (%.2f-%.2f) narrowed %.0f overlap %.0f; acetabular %.0f mm2 mean %.2f "
-              "(%.2f-%.2f) narrowed %.0f overlap %.0f; labrum %.0f mm3 %d/%d sections %d pieces (femur %d pelvis %d "
+  std::printf("LHDL: femoral %.0f mm2 mean %.2f (%.2f-%.2f) on sphere %.0f overlap %.0f; acetabular %.0f mm2 mean %.2f "
+              "(%.2f-%.2f) on sphere %.0f overlap %.0f; labrum %.0f mm3 %d/%d sections %d pieces (femur %d pelvis %d "
               "rim %d); head %.2f lunate %.2f; %.2f s (assessment %.2f, tissues %.2f)\n",
               r.femoral.covered_area_mm2, r.femoral.mean_thickness_mm, r.femoral.min_thickness_mm,
-              r.femoral.max_thickness_mm, r.femoral.narrowed_area_mm2, r.femoral.overlap_area_mm2,
+              r.femoral.max_thickness_mm, r.femoral.articular_area_mm2, r.femoral.overlap_area_mm2,
               r.acetabular.covered_area_mm2, r.acetabular.mean_thickness_mm, r.acetabular.min_thickness_mm,
-              r.acetabular.max_thickness_mm, r.acetabular.narrowed_area_mm2, r.acetabular.overlap_area_mm2,
+              r.acetabular.max_thickness_mm, r.acetabular.articular_area_mm2, r.acetabular.overlap_area_mm2,
               r.labrum_volume_mm3, r.labrum_sections, r.labrum_sections_total, r.labrum_pieces, r.labrum_dropped_femur,
               r.labrum_dropped_pelvis, r.labrum_missing_rim, result.head_radius_mm, result.lunate_radius_mm,
               result.total_seconds, result.assessment_seconds, r.seconds);
@@ -82,12 +82,21 @@ TEST(SoftTissueModel, TheRealBonesGiveAValidModelFolder) {
   double mean_r = 0.0;
   for (const Vec3& v : fc.vertices) mean_r += v.norm() / static_cast<double>(fc.vertices.size());
   EXPECT_NEAR(mean_r, result.head_radius_mm, 2.0);
-  // Cartilage layers on their bones, as thick as the literature's (thinned only in the joint space).
+  // Cartilage layers on their bones whose joint sides are one sphere about the HJC (the origin),
+  // between the two bones' spheres; a layer leaves it only by the minimum thickness, where its bone
+  // stands closer to the sphere than that.
   EXPECT_GT(r.femoral.covered_area_mm2, 1000.0);
   EXPECT_GT(r.acetabular.covered_area_mm2, 1000.0);
-  EXPECT_LE(r.femoral.max_thickness_mm, request.options.femoral_max_thickness_mm + 1e-9);
-  EXPECT_LE(r.acetabular.max_thickness_mm, request.options.acetabular_thickness_mm + 1e-9);
   EXPECT_GE(r.femoral.min_thickness_mm, request.options.min_thickness_mm - 1e-9);
+  EXPECT_GE(r.acetabular.min_thickness_mm, request.options.min_thickness_mm - 1e-9);
+  const double r_art = r.articular_radius_mm;
+  EXPECT_GT(r_art, result.head_radius_mm);
+  EXPECT_LT(r_art, result.lunate_radius_mm);
+  const double slack = request.options.min_thickness_mm + 1e-9;
+  for (const Vec3& v : m.tissue("acetabular_cartilage").vertices) EXPECT_GE(v.norm(), r_art - slack);
+  // The sphere fits this joint: its bones come within the minimum of it over under 1 % of each layer.
+  EXPECT_LT(r.femoral.overlap_area_mm2, 0.01 * r.femoral.covered_area_mm2);
+  EXPECT_LT(r.acetabular.overlap_area_mm2, 0.01 * r.acetabular.covered_area_mm2);
 
   // Apart from each other and the bones (the shared bone interfaces aside); tolerance as on the
   // generated hips: 0.1 mm minimum layer plus the chord sagitta of the meshes (~1.5 mm edges on a
