@@ -22,6 +22,7 @@ struct TrainArgs {
   int components = literature::kEstimatorEffectiveFeatures, nearest = literature::kEstimatorNearestSets;
   double scale_floor_mm = literature::kSphericityToleranceMm;
   std::vector<std::string> tissues;
+  std::vector<std::string> fe_hip;  // folder, table, folder, table, ...
 };
 
 void add_train_options(CLI::App* app, TrainArgs& args, bool fe_required) {
@@ -30,6 +31,12 @@ void add_train_options(CLI::App* app, TrainArgs& args, bool fe_required) {
                              "scripts/fem-sweep output folder; repeat for several sweeps of the same motion");
   if (fe_required) fe->required();
   app->add_option("--hips", args.hips, "Folder of hip model folders (model.json), matched to the FE rows by CE/alpha");
+  app->add_option("--fe-hip", args.fe_hip,
+                  "A hip of its own and its FE: DIR TABLE, a hip model folder (e.g. `hipfai soft-tissue` on a "
+                  "segmented hip) and its `fem run --csv` table (the run's --out HDF5 beside it, same name, .h5); "
+                  "repeat for more hips")
+      ->expected(2)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   app->add_option("--measure", args.measure, "FE quantity to estimate (a steps.csv column ending in _mpa)")
       ->capture_default_str();
   app->add_option("--polar-steps", args.polar_steps, "Feature grid: polar steps (thesis f = 1944 = 4 x 18 x 27)")
@@ -51,6 +58,7 @@ studies::EstimatorTrainOptions train_options(const CLI::App* app, const TrainArg
   studies::EstimatorTrainOptions options;
   for (const auto& fe : args.fe) options.fe.emplace_back(fe);
   options.hips = args.hips;
+  for (std::size_t k = 0; k + 1 < args.fe_hip.size(); k += 2) options.fe_hips.emplace_back(args.fe_hip[k], args.fe_hip[k + 1]);
   options.base_model = args.base;
   options.measure = args.measure;
   options.grid.polar_steps = args.polar_steps;

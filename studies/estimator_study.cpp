@@ -137,13 +137,36 @@ bool angles_of_model_name(const std::string& name, double& ce, double& alpha) {
   return std::isfinite(ce) && std::isfinite(alpha);
 }
 
-FeSweep read_fem_sweep_folder(const std::filesystem::path& dir, const std::string& measure) {
+// Each step's angle of an `fem run` (--out h5, --csv table with `rows` steps): the angle of its
+// rotation (frame-free), from the HDF5.
+std::vector<double> fem_run_angles(const std::filesystem::path& h5, std::size_t table_rows,
+                                   const std::filesystem::path& csv) {
+  std::size_t rows = 0, cols = 0;
+  const std::vector<double> rotation = read_dataset(h5, "/steps/rotation", &rows, &cols);
+  if (rows != table_rows || rotation.size() != 9 * rows) {
+    throw_error(h5.string(), ": ", rows, " rotations for ", table_rows, " steps in ", csv.string());
+  }
+  std::vector<double> angles;
+  for (std::size_t k = 0; k < rows; ++k) {
+    const double trace = rotation[9 * k] + rotation[9 * k + 4] + rotation[9 * k + 8];
+    angles.push_back(std::acos(std::clamp((trace - 1.0) / 2.0, -1.0, 1.0)) * 180.0 / std::numbers::pi);
+  }
+  return angles;
+}
+
+// Index of `measure` among the FE measures of `fem run` tables; throws naming `where` otherwise.
+std::size_t fe_measure_index(const std::string& measure, const std::string& where) {
   const auto& measures = validation_fe_measures();
   const auto which = std::find(measures.begin(), measures.end(), measure);
   if (which == measures.end()) {
-    throw_error(dir.string(), ": ", measure, " is not one of the FE measures of `fem run` tables (",
-                measures.front(), ", ...)");
+    throw_error(where, ": ", measure, " is not one of the FE measures of `fem run` tables (", measures.front(),
+                ", ...)");
   }
+  return static_cast<std::size_t>(which - measures.begin());
+}
+
+FeSweep read_fem_sweep_folder(const std::filesystem::path& dir, const std::string& measure) {
+  const std::size_t which = fe_measure_index(measure, dir.string());
   std::ifstream summary(dir / "summary.csv");
   std::string line;
   std::getline(summary, line);
@@ -161,26 +184,66 @@ FeSweep read_fem_sweep_folder(const std::filesystem::path& dir, const std::strin
     if (!std::filesystem::exists(csv)) continue;  // the model stopped before its table was written
     const HipFeTable table = read_hip_fe_csv(csv);
     const auto values = validation_fe_measures_of(table, table.rows, csv);
-    // Each step's angle: the angle of its rotation (frame-free), from the run's HDF5.
-    std::size_t rows = 0, cols = 0;
-    const std::vector<double> rotation = read_dataset(h5, "/steps/rotation", &rows, &cols);
-    if (rows != table.rows || rotation.size() != 9 * rows) {
-      throw_error(h5.string(), ": ", rows, " rotations for ", table.rows, " steps in ", csv.string());
-    }
-    std::vector<double> angles;
-    for (std::size_t k = 0; k < rows; ++k) {
-      const double trace = rotation[9 * k] + rotation[9 * k + 4] + rotation[9 * k + 8];
-      angles.push_back(std::acos(std::clamp((trace - 1.0) / 2.0, -1.0, 1.0)) * 180.0 / std::numbers::pi);
-    }
+    const std::vector<double> angles = fem_run_angles(h5, table.rows, csv);
     if (sweep.hips.empty()) sweep.angle_deg = angles;
     check_same_motion(sweep.angle_deg, angles, csv.string() + " vs the sweep's other models");
     // fem-sweep tables have no penetration depths: they stay empty (impinging unknown).
-    sweep.hips.push_back({ce, alpha, kNaN, values[static_cast<std::size_t>(which - measures.begin())], {}, {}});
+    sweep.hips.push_back({ce, alpha, kNaN, values[which], {}, {}});
   }
   if (sweep.hips.empty()) throw_error(dir.string(), ": no model of the sweep has its table (<model>.csv)");
   return sweep;
 }
 #endif
+
+stats::PenetrationDepths penetration_over_motion(const std::vector<double>& angle_deg, const geometry::HipModel& hip,
+                                                 const std::filesystem::path& hip_dir);
+
+// One hip and its own FE run added to (or replacing the same hip in) the model's training hips.
+void add_fe_hip(EstimatorModel& model, const std::filesystem::path& dir, const std::filesystem::path& table_file,
+                const std::string& measure, std::vector<std::string>* notes) {
+#ifdef HIPFAI_WITH_FEM
+  const HipFeTable table = read_hip_fe_csv(table_file);
+  const std::filesystem::path h5 = std::filesystem::path(table_file).replace_extension(".h5");
+  const std::vector<double> angles = fem_run_angles(h5, table.rows, table_file);
+  if (model.angle_deg.empty()) model.angle_deg = angles;
+  check_same_motion(model.angle_deg, angles, table_file.string() + " vs the other training hips");
+  const auto values = validation_fe_measures_of(table, table.rows, table_file)[fe_measure_index(measure, table_file.string())];
+  const std::set<std::string> tissues(model.grid.tissues.begin(), model.grid.tissues.end());
+  const auto start = std::chrono::steady_clock::now();
+  const geometry::HipModel hip_model = geometry::load_hip_model(dir, tissues);
+  TrainingHip hip;
+  hip.name = std::filesystem::path(dir).lexically_normal().filename().string();
+  if (hip.name.empty()) hip.name = std::filesystem::path(dir).lexically_normal().parent_path().filename().string();
+  hip.ce_deg = std::isfinite(hip_model.measured_ce_deg) ? hip_model.measured_ce_deg : hip_model.parameters.ce_deg;
+  hip.alpha_deg = std::isfinite(hip_model.measured_alpha_notzli_deg) ? hip_model.measured_alpha_notzli_deg
+                                                                     : hip_model.parameters.alpha_deg;
+  hip.edge_mm = hip_model.parameters.edge_mm;
+  hip.dir = dir;
+  hip.load_ms = elapsed_ms(start);
+  hip.hash = hip_content_hash(hip_model, model.grid);
+  const HipFeatures features = extract_hip_features(hip_model, model.grid);
+  hip.features = features.values;
+  hip.feature_ms = features.extraction_ms;
+  hip.misses = features.misses;
+  hip.values = values;
+  const geometry::HipModel whole = geometry::load_hip_model(dir);
+  const stats::PenetrationDepths depths = penetration_over_motion(model.angle_deg, whole, dir);
+  for (Eigen::Index j = 0; j < depths.curvilinear_mm.cols(); ++j) {
+    hip.curvilinear_mm.push_back(depths.curvilinear_mm(0, j));
+    hip.radial_mm.push_back(depths.radial_mm(0, j));
+  }
+  const auto existing = std::find_if(model.hips.begin(), model.hips.end(), [&](const TrainingHip& h) { return h.hash == hip.hash; });
+  if (existing != model.hips.end()) {
+    if (notes) notes->push_back(hip.name + ": FE values replaced by those of " + table_file.string());
+    *existing = std::move(hip);
+  } else {
+    model.hips.push_back(std::move(hip));
+  }
+#else
+  (void)model, (void)dir, (void)measure, (void)notes;
+  throw_error(table_file.string(), ": reading an `fem run` table's HDF5 needs the FE module (HIPFAI_WITH_FEM)");
+#endif
+}
 
 }  // namespace
 
@@ -381,6 +444,7 @@ EstimatorModel train_estimator_model(const EstimatorTrainOptions& options, std::
       }
     }
   }
+  for (const auto& [dir, table_file] : options.fe_hips) add_fe_hip(model, dir, table_file, options.measure, notes);
   const auto rows = static_cast<Eigen::Index>(model.hips.size());
   if (rows < 3) throw_error("train: ", rows, " hips with FE results; the estimator needs at least 3");
   Eigen::MatrixXd features(rows, model.grid.num_features());
@@ -406,11 +470,16 @@ stats::PenetrationDepths penetration_over_model_motion(const EstimatorModel& mod
     throw_error("depth_nn needs the training hips' penetration depths, and this model has none (trained from an FE "
                 "table without max_curvilinear_mm / max_radial_mm)");
   }
-  const auto p = static_cast<int>(model.angle_deg.size());
+  return penetration_over_motion(model.angle_deg, hip, hip_dir);
+}
+
+stats::PenetrationDepths penetration_over_motion(const std::vector<double>& angle_deg, const geometry::HipModel& hip,
+                                                 const std::filesystem::path& hip_dir) {
+  const auto p = static_cast<int>(angle_deg.size());
   const Motion motion = standing_to_sitting(p);
   for (int j = 0; j < p; ++j) {
-    if (std::abs(motion.steps[static_cast<std::size_t>(j)].angle_deg - model.angle_deg[static_cast<std::size_t>(j)]) > 1e-6) {
-      throw_error("depth_nn: the model's motion (", p, " steps to ", model.angle_deg.back(),
+    if (std::abs(motion.steps[static_cast<std::size_t>(j)].angle_deg - angle_deg[static_cast<std::size_t>(j)]) > 1e-6) {
+      throw_error("depth_nn: the model's motion (", p, " steps to ", angle_deg.back(),
                   " deg) is not standing-to-sitting in ", p, " sub-motions, the only motion whose axis predict knows");
     }
   }

@@ -69,6 +69,10 @@ struct EstimatorTrainOptions {
   std::vector<std::filesystem::path> fe;   // one or more sweeps (same motion)
   std::filesystem::path hips;
   std::filesystem::path base_model;        // retraining: start from this model's training hips
+  // Hips added one by one, any hip model folder (a segmented hip with synthesised soft tissue,
+  // `hipfai soft-tissue`): (folder, its `fem run --csv` table; the run's HDF5, --out, beside it
+  // with the same name and .h5). Their penetration depths are computed over the motion.
+  std::vector<std::pair<std::filesystem::path, std::filesystem::path>> fe_hips;
   std::string measure = "pressure_max_mpa";
   FeatureGrid grid;
   bool grid_given = false;                 // the user chose the grid (compared with base_model's)

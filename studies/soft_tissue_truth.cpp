@@ -2,6 +2,7 @@
 #include "studies/soft_tissue_truth.h"
 
 #include "anatomy/frame_file.h"
+#include "core/error.h"
 #include "core/literature.h"
 #include "core/progress.h"
 #include "core/stopwatch.h"
@@ -12,8 +13,14 @@
 #include "studies/penetration_run.h"
 #include "studies/soft_tissue_model.h"
 
+#ifdef HIPFAI_WITH_FEM
+#include "studies/fe_batch.h"
+#include "studies/hip_fe_table.h"
+#endif
+
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 
 namespace hipfai::studies {
 namespace {
@@ -29,7 +36,43 @@ PenetrationRun depths(const geometry::HipModel& model, const std::string& id, co
   return compute_penetration(hip, motion, options, log);
 }
 
+#ifdef HIPFAI_WITH_FEM
+// Peaks of a finished FE run (its cache entry's fe.csv and timing.txt).
+SoftTissueFePeaks fe_peaks(const std::filesystem::path& entry) {
+  const HipFeTable table = read_hip_fe_csv(entry / "fe.csv");
+  SoftTissueFePeaks peaks;
+  peaks.steps = static_cast<int>(table.rows);
+  const auto& status = table.column("status");
+  const auto peak_of = [&](const std::string& column) {
+    double peak = 0.0;
+    if (table.values.count(column) == 0) return peak;
+    const auto& values = table.column(column);
+    for (std::size_t k = 0; k < table.rows; ++k) {
+      if (status[k] == 0.0 && std::isfinite(values[k])) peak = std::max(peak, values[k]);
+    }
+    return peak;
+  };
+  for (std::size_t k = 0; k < table.rows; ++k) peaks.unconverged += status[k] != 0.0;
+  peaks.pressure_mpa = peak_of("max_pressure_mpa");
+  peaks.ball_pressure_mpa = peak_of("ball_peak_pressure_mpa");
+  for (std::size_t t = 0; t < 3; ++t) {
+    const std::string body = soft_tissue_fe_tissues()[t];
+    peaks.von_mises_mpa[t] = peak_of("max_von_mises_mpa " + body);
+    peaks.ball_von_mises_mpa[t] = peak_of("ball_peak_von_mises_mpa " + body);
+  }
+  std::ifstream timing(entry / "timing.txt");
+  std::string word;
+  if (!(timing >> word >> peaks.seconds)) peaks.seconds = 0.0;
+  return peaks;
+}
+#endif
+
 }  // namespace
+
+const std::array<const char*, 3>& soft_tissue_fe_tissues() {
+  static const std::array<const char*, 3> names{"femoral cartilage", "acetabular cartilage", "labrum"};
+  return names;
+}
 
 SoftTissueTruthResult run_soft_tissue_truth(const SoftTissueTruthOptions& options) {
   const auto start = SteadyClock::now();
@@ -84,6 +127,35 @@ SoftTissueTruthResult run_soft_tissue_truth(const SoftTissueTruthOptions& option
     result.contact_tolerance_mm = std::max({result.contact_tolerance_mm, a.contact_tolerance_mm, b.contact_tolerance_mm});
     result.rows.push_back(row);
     progress.advance();
+  }
+  progress.finish();
+  if (!options.fe_level.empty()) {
+#ifdef HIPFAI_WITH_FEM
+    // Both tissue sets of every hip, generated first, through the FE cache.
+    std::vector<FeBatchJob> jobs;
+    for (const SoftTissueTruthRow& row : result.rows) {
+      for (const char* which : {"generated", "synthesised"}) {
+        FeBatchJob job;
+        job.id = row.hip + " (" + which + ")";
+        job.run.model_dir = (options.out_dir / "hips" / row.hip / which).string();
+        job.run.steps = motion.steps.size() == 0 ? options.sub_motions : static_cast<int>(motion.steps.size());
+        job.run.level = options.fe_level;
+        jobs.push_back(std::move(job));
+      }
+    }
+    FeBatchOptions batch;
+    batch.cache_dir = options.cache_dir;
+    batch.program = options.program;
+    batch.jobs = options.jobs;
+    batch.label = "soft-tissue-truth";
+    const std::vector<FeBatchEntry> entries = run_fe_batch(jobs, batch);
+    for (std::size_t h = 0; h < result.rows.size(); ++h) {
+      result.rows[h].generated_fe = fe_peaks(entries[2 * h].entry);
+      result.rows[h].synthesised_fe = fe_peaks(entries[2 * h + 1].entry);
+    }
+#else
+    throw_error("soft-tissue-truth: this build has no FE (HIPFAI_WITH_FEM off); use --fe-level none");
+#endif
   }
   result.seconds = seconds_since(start);
   return result;

@@ -5,10 +5,14 @@
 // radial: femur bone and cartilage vs acetabular cartilage and labrum, both roles) are computed on
 // the generated and on the synthesised tissues (studies/penetration_run.h), both with the generated
 // hip's contact tolerance. Per hip: the tissues' volumes and both maxima, generated vs synthesised,
-// and whether each penetrates.
+// and whether each penetrates. With an FE level, also the FE of both tissue sets over the same
+// motion (studies/fe_batch.h, cached like `study validate`'s): the peaks over the motion of the
+// contact pressure and of the von Mises stress per tissue, raw and ball-averaged.
 #pragma once
 
+#include <array>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,6 +24,20 @@ struct SoftTissueTruthOptions {
   std::filesystem::path out_dir = "out/soft-tissue-truth";
   bool quick = false;             // two hips (CE 20 alpha 80, CE 40 alpha 40) at 3 mm, 10 sub-motions
   int threads = 2;
+  // FE of both tissue sets at this level (fem::hip_fe_level_names()); empty: no FE.
+  std::string fe_level = "default";
+  std::filesystem::path cache_dir = "cache";
+  std::filesystem::path program;  // the hipfai executable of the FE workers; empty: in this process
+  int jobs = 2;                   // FE worker processes at once
+};
+
+// Peaks over the motion of one FE run (MPa), over its converged steps.
+struct SoftTissueFePeaks {
+  double pressure_mpa = 0.0, ball_pressure_mpa = 0.0;
+  // Per tissue: femoral cartilage, acetabular cartilage, labrum.
+  std::array<double, 3> von_mises_mpa{}, ball_von_mises_mpa{};
+  int steps = 0, unconverged = 0;
+  double seconds = 0.0;  // the run's wall time (from its cache entry)
 };
 
 struct SoftTissueTruthRow {
@@ -31,6 +49,7 @@ struct SoftTissueTruthRow {
   double generated_curvilinear_mm = 0.0, synthesised_curvilinear_mm = 0.0;  // max over the motion
   double generated_radial_mm = 0.0, synthesised_radial_mm = 0.0;
   double synthesis_seconds = 0.0;
+  std::optional<SoftTissueFePeaks> generated_fe, synthesised_fe;  // with an FE level
 };
 
 struct SoftTissueTruthResult {
@@ -39,6 +58,9 @@ struct SoftTissueTruthResult {
   double contact_tolerance_mm = 0.0;  // the generated hips' (applied to both runs), largest over the hips
   double seconds = 0.0;
 };
+
+// The FE tissues' names in SoftTissueFePeaks order.
+const std::array<const char*, 3>& soft_tissue_fe_tissues();
 
 SoftTissueTruthResult run_soft_tissue_truth(const SoftTissueTruthOptions& options);
 

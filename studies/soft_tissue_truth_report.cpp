@@ -24,6 +24,35 @@ std::string percent(double generated, double synthesised) {
   return fixed(100.0 * (synthesised - generated) / generated, 1);
 }
 
+// The FE measures compared, in column order: name, and the value of a run's peaks.
+struct FeMeasure {
+  std::string name, label;
+  double (*of)(const SoftTissueFePeaks&, std::size_t tissue);
+  std::size_t tissue;
+};
+std::vector<FeMeasure> fe_measures() {
+  std::vector<FeMeasure> measures{
+      {"fe_ball_pressure_mpa", "ball-averaged peak pressure", [](const SoftTissueFePeaks& p, std::size_t) { return p.ball_pressure_mpa; }, 0},
+      {"fe_pressure_mpa", "peak pressure", [](const SoftTissueFePeaks& p, std::size_t) { return p.pressure_mpa; }, 0}};
+  for (std::size_t t = 0; t < 3; ++t) {
+    std::string tissue = soft_tissue_fe_tissues()[t];
+    std::replace(tissue.begin(), tissue.end(), ' ', '_');
+    measures.push_back({"fe_ball_von_mises_" + tissue + "_mpa", std::string("ball-averaged peak von Mises, ") + soft_tissue_fe_tissues()[t],
+                        [](const SoftTissueFePeaks& p, std::size_t i) { return p.ball_von_mises_mpa[i]; }, t});
+  }
+  for (std::size_t t = 0; t < 3; ++t) {
+    std::string tissue = soft_tissue_fe_tissues()[t];
+    std::replace(tissue.begin(), tissue.end(), ' ', '_');
+    measures.push_back({"fe_von_mises_" + tissue + "_mpa", std::string("peak von Mises, ") + soft_tissue_fe_tissues()[t],
+                        [](const SoftTissueFePeaks& p, std::size_t i) { return p.von_mises_mpa[i]; }, t});
+  }
+  return measures;
+}
+
+bool within(double generated, double synthesised, double fraction) {
+  return std::abs(synthesised - generated) <= fraction * std::abs(generated);
+}
+
 }  // namespace
 
 std::filesystem::path write_soft_tissue_truth(const SoftTissueTruthResult& result) {
@@ -32,7 +61,16 @@ std::filesystem::path write_soft_tissue_truth(const SoftTissueTruthResult& resul
   csv << "hip,generated_femoral_cartilage_mm3,synthesised_femoral_cartilage_mm3,generated_acetabular_cartilage_mm3,"
          "synthesised_acetabular_cartilage_mm3,generated_labrum_mm3,synthesised_labrum_mm3,"
          "synthesised_femoral_mean_thickness_mm,synthesised_acetabular_mean_thickness_mm,generated_curvilinear_mm,"
-         "synthesised_curvilinear_mm,generated_radial_mm,synthesised_radial_mm,synthesis_seconds\n";
+         "synthesised_curvilinear_mm,generated_radial_mm,synthesised_radial_mm,synthesis_seconds";
+  const std::vector<FeMeasure> measures = fe_measures();
+  const bool with_fe = !result.rows.empty() && result.rows.front().generated_fe && result.rows.front().synthesised_fe;
+  if (with_fe) {
+    for (const char* which : {"generated_", "synthesised_"}) {
+      for (const FeMeasure& m : measures) csv << ',' << which << m.name;
+      csv << ',' << which << "fe_unconverged_steps," << which << "fe_seconds";
+    }
+  }
+  csv << '\n';
   std::ostringstream table;
   table << "| hip | femoral cartilage mm³ (gen / syn) | acetabular cartilage mm³ | labrum mm³ | curvilinear mm (gen / syn, "
            "Δ %) | radial mm (gen / syn, Δ %) |\n|---|---|---|---|---|---|\n";
@@ -43,7 +81,14 @@ std::filesystem::path write_soft_tissue_truth(const SoftTissueTruthResult& resul
         << r.generated_labrum_mm3 << ',' << r.synthesised_labrum_mm3 << ',' << r.synthesised_femoral_mean_thickness_mm
         << ',' << r.synthesised_acetabular_mean_thickness_mm << ',' << r.generated_curvilinear_mm << ','
         << r.synthesised_curvilinear_mm << ',' << r.generated_radial_mm << ',' << r.synthesised_radial_mm << ','
-        << r.synthesis_seconds << '\n';
+        << r.synthesis_seconds;
+    if (with_fe) {
+      for (const auto* peaks : {&*r.generated_fe, &*r.synthesised_fe}) {
+        for (const FeMeasure& m : measures) csv << ',' << m.of(*peaks, m.tissue);
+        csv << ',' << peaks->unconverged << ',' << peaks->seconds;
+      }
+    }
+    csv << '\n';
     table << "| " << r.hip << " | " << fixed(r.generated_femoral_cartilage_mm3, 0) << " / "
           << fixed(r.synthesised_femoral_cartilage_mm3, 0) << " | " << fixed(r.generated_acetabular_cartilage_mm3, 0)
           << " / " << fixed(r.synthesised_acetabular_cartilage_mm3, 0) << " | " << fixed(r.generated_labrum_mm3, 0)
@@ -65,6 +110,47 @@ std::filesystem::path write_soft_tissue_truth(const SoftTissueTruthResult& resul
     }
   }
   const std::size_t n = result.rows.size();
+  // FE: per measure, the hips whose synthesised peak is within 15 % of the generated one.
+  std::ostringstream fe_section;
+  if (with_fe) {
+    std::ostringstream fe_table;
+    fe_table << "| hip | steps not converged (gen / syn) |";
+    for (std::size_t k = 0; k < 5; ++k) fe_table << ' ' << measures[k].label << " MPa (gen / syn, Δ %) |";
+    fe_table << "\n|---|---|---|---|---|---|---|\n";
+    std::vector<int> held(measures.size(), 0);
+    int all_ball = 0, unconverged = 0;
+    double fe_seconds = 0.0;
+    for (const auto& r : result.rows) {
+      const SoftTissueFePeaks& g = *r.generated_fe;
+      const SoftTissueFePeaks& y = *r.synthesised_fe;
+      unconverged += g.unconverged + y.unconverged;
+      fe_seconds += g.seconds + y.seconds;
+      bool ball = true;
+      for (std::size_t m = 0; m < measures.size(); ++m) {
+        const bool ok = within(measures[m].of(g, measures[m].tissue), measures[m].of(y, measures[m].tissue), 0.15);
+        held[m] += ok;
+        if (m == 0 || (m >= 2 && m < 5)) ball = ball && ok;
+      }
+      all_ball += ball;
+      fe_table << "| " << r.hip << " | " << g.unconverged << " / " << y.unconverged << " |";
+      for (std::size_t m = 0; m < 5; ++m) {
+        const double a = measures[m].of(g, measures[m].tissue), b = measures[m].of(y, measures[m].tissue);
+        fe_table << ' ' << fixed(a, 3) << " / " << fixed(b, 3) << " (" << percent(a, b) << ") |";
+      }
+      fe_table << '\n';
+    }
+    fe_section << "## FE over standing-to-sitting, level " << result.options.fe_level << "\n\n"
+               << "Both tissue sets of every hip through `hipfai fem run` (" << unconverged
+               << " steps not converged in all; FE time " << fixed(fe_seconds, 0)
+               << " s summed over the runs, from the cache where they were already solved). Peaks over the motion; "
+                  "the ball-averaged ones (over a 1 mm ball, the FE's own robust peak) first.\n\n"
+               << "| FE peak within 15 % (goal: all) | hips |\n|---|---|\n"
+               << "| all four ball-averaged peaks (pressure, von Mises of each tissue) | " << all_ball << " of " << n << " |\n";
+    for (std::size_t m = 0; m < measures.size(); ++m) {
+      fe_section << "| " << measures[m].label << " | " << held[m] << " of " << n << " |\n";
+    }
+    fe_section << '\n' << fe_table.str() << '\n';
+  }
   std::ostringstream md;
   md << "# Synthesised soft tissue against known truth\n\n"
      << n << " generated hips (" << (result.options.quick ? "quick: 3 mm edges, 10 sub-motions"
@@ -81,7 +167,7 @@ std::filesystem::path write_soft_tissue_truth(const SoftTissueTruthResult& resul
      << "| curvilinear maxima within 10 % (hips where both penetrate) | " << within_curvilinear << " of " << both_c
      << " | all |\n"
      << "| radial maxima within 10 % (hips where both penetrate) | " << within_radial << " of " << both_r << " | all |\n\n"
-     << table.str() << "\nWhole study " << fixed(result.seconds, 1) << " s. Per hip: `soft_tissue_truth.csv`; the "
+     << fe_section.str() << table.str() << "\nWhole study " << fixed(result.seconds, 1) << " s. Per hip: `soft_tissue_truth.csv`; the "
      << "models: `hips/<hip>/generated`, `hips/<hip>/synthesised`.\n";
   write_file_atomically(result.options.out_dir / "soft_tissue_truth.csv", csv.str());
   const auto path = result.options.out_dir / "soft_tissue_truth.md";

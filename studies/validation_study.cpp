@@ -10,19 +10,11 @@
 #include "studies/scene.h"
 
 #ifdef HIPFAI_WITH_FEM
+#include "studies/fe_batch.h"
 #include "studies/hip_fe_run.h"
 #endif
 
-#include <fcntl.h>
-#include <sys/prctl.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
-#include <cerrno>
-#include <csignal>
-
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -30,11 +22,8 @@
 #include <fstream>
 #include <iomanip>
 #include <limits>
-#include <mutex>
 #include <sstream>
-#include <thread>
 
-extern char** environ;
 
 namespace hipfai::studies {
 
@@ -175,146 +164,29 @@ std::vector<std::vector<double>> validation_fe_measures_of(const HipFeTable& tab
 
 namespace {
 
-// The environment of an FE worker: one thread per process (two processes share two cores), and
-// nothing of an MPI launcher the parent may have been started under.
-std::vector<std::string> worker_environment() {
-  std::vector<std::string> env;
-  for (char** e = environ; e != nullptr && *e != nullptr; ++e) {
-    const std::string entry(*e);
-    if (entry.rfind("OMPI_", 0) == 0 || entry.rfind("PMIX_", 0) == 0 || entry.rfind("OMP_NUM_THREADS=", 0) == 0 ||
-        entry.rfind("OPENBLAS_NUM_THREADS=", 0) == 0) {
-      continue;
-    }
-    env.push_back(entry);
-  }
-  env.emplace_back("OMP_NUM_THREADS=1");
-  env.emplace_back("OPENBLAS_NUM_THREADS=1");
-  return env;
-}
-
-// Runs `program args...` with stdout and stderr to `log`; returns its exit status (-1: not started
-// or killed by a signal). The child is killed when this process dies (PR_SET_PDEATHSIG), so a
-// killed study leaves no worker writing into the cache behind it.
-int run_process(const std::filesystem::path& program, const std::vector<std::string>& args,
-                const std::filesystem::path& log) {
-  std::vector<std::string> argv_text{program.string()};
-  argv_text.insert(argv_text.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (std::string& a : argv_text) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  std::vector<std::string> env_text = worker_environment();
-  std::vector<char*> envp;
-  for (std::string& e : env_text) envp.push_back(e.data());
-  envp.push_back(nullptr);
-  const int log_fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (log_fd < 0) return -1;
-  const pid_t parent = ::getpid();
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    // Child: only async-signal-safe calls until exec.
-    ::prctl(PR_SET_PDEATHSIG, SIGKILL);
-    if (::getppid() != parent) ::_exit(127);  // the parent died before prctl took effect
-    ::dup2(log_fd, STDOUT_FILENO);
-    ::dup2(log_fd, STDERR_FILENO);
-    ::execve(argv[0], argv.data(), envp.data());
-    ::_exit(127);
-  }
-  ::close(log_fd);
-  if (pid < 0) return -1;
-  int status = 0;
-  while (::waitpid(pid, &status, 0) < 0) {
-    if (errno != EINTR) return -1;
-  }
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
-struct FeJob {
-  std::size_t hip = 0;
-  HipFeRunOptions run;
-  std::filesystem::path entry;
-};
-
-// Solves the FE of one hip into its cache entry (in this process or a worker process); writes the
-// run's wall time beside its table.
-void solve_fe(const FeJob& job, const ValidationOptions& options) {
-  AtomicDirectory staging(job.entry);
-  const std::filesystem::path& partial = staging.partial_path();
-  HipFeRunOptions run = job.run;
-  run.out_file = (partial / "results.h5").string();
-  run.csv_file = (partial / "fe.csv").string();
-  run.vtu_every = static_cast<unsigned int>(options.sub_motions);  // the end pose only
-  run.vtu_prefix = (partial / "fe").string();
-  const auto start = Clock::now();
-  if (options.program.empty()) {
-    run.progress = false;
-    (void)run_hip_fe(run, false);
-  } else {
-    const int status = run_process(options.program, hip_fe_command_arguments(run), partial / "run.log");
-    // Exit status 1 with a complete table: some steps did not converge (kept, with their status).
-    if (status != 0 && !std::filesystem::exists(partial / "fe.csv")) {
-      staging.keep();  // the log the message points to
-      throw_error("FE of ", job.run.model_dir, " failed (exit status ", status, "); see ",
-                  (partial / "run.log").string());
-    }
-  }
-  write_file_atomically(partial / "timing.txt", "wall_s " + number(seconds_since(start)) + "\n");
-  commit_hip_fe_entry(staging);
-}
-
 void run_fe_stage(std::vector<HipRun>& hips, const Motion& motion, const ValidationOptions& options) {
-  // The cache key hashes the hip's meshes: computed once per hip, kept with its entry.
-  std::vector<FeJob> jobs;
-  std::vector<std::filesystem::path> entries;
-  for (std::size_t h = 0; h < hips.size(); ++h) {
-    FeJob job;
-    job.hip = h;
-    job.run.model_dir = hips[h].hip.dir.string();
+  std::vector<FeBatchJob> jobs;
+  for (const HipRun& hip : hips) {
+    FeBatchJob job;
+    job.id = hip.hip.id;
+    job.run.model_dir = hip.hip.dir.string();
     job.run.steps = options.sub_motions;
     job.run.level = options.fe_level;
     if (options.body_weight_n > 0) job.run.body_weight_n = options.body_weight_n;
-    job.entry = hip_fe_cache_entry(options.cache_dir, hip_fe_cache_key(job.run));
-    entries.push_back(job.entry);
-    hips[h].timing.fe_reused = std::filesystem::exists(job.entry / "fe.csv");
-    if (!hips[h].timing.fe_reused) jobs.push_back(std::move(job));
+    job.run.vtu_every = static_cast<unsigned int>(options.sub_motions);  // the end pose only
+    jobs.push_back(std::move(job));
   }
-  const std::size_t reused = hips.size() - jobs.size();
-  if (options.progress) {
-    std::printf("validate: FE (level %s) on %zu hips, %zu from the cache, %zu to solve in %d process(es)\n",
-                options.fe_level.c_str(), hips.size(), reused, jobs.size(),
-                options.program.empty() ? 1 : std::max(1, options.jobs));
-    std::fflush(stdout);
-  }
-  std::atomic<std::size_t> next{0}, done{0};
-  std::mutex mutex;
-  std::vector<std::string> errors;
-  const auto start = Clock::now();
-  auto worker = [&] {
-    for (std::size_t j = next++; j < jobs.size(); j = next++) {
-      const auto job_start = Clock::now();
-      try {
-        solve_fe(jobs[j], options);
-      } catch (const std::exception& error) {
-        const std::lock_guard<std::mutex> lock(mutex);
-        errors.emplace_back(error.what());
-        continue;
-      }
-      const std::lock_guard<std::mutex> lock(mutex);
-      if (options.progress) {
-        const std::size_t finished = ++done;
-        std::printf("validate: FE [%zu/%zu] %s in %.0f s (%.0f s elapsed)\n", finished, jobs.size(),
-                    hips[jobs[j].hip].hip.id.c_str(), seconds_since(job_start), seconds_since(start));
-        std::fflush(stdout);
-      }
-    }
-  };
-  const int workers = options.program.empty() ? 1 : std::max(1, std::min<int>(options.jobs, static_cast<int>(jobs.size())));
-  std::vector<std::thread> threads;
-  for (int w = 0; w < workers; ++w) threads.emplace_back(worker);
-  for (std::thread& thread : threads) thread.join();
-  if (!errors.empty()) {
-    std::string text;
-    for (const std::string& e : errors) text += (text.empty() ? "" : "; ") + e;
-    throw_error("validate: ", errors.size(), " FE run(s) failed: ", text);
+  FeBatchOptions batch;
+  batch.cache_dir = options.cache_dir;
+  batch.program = options.program;
+  batch.jobs = options.jobs;
+  batch.progress = options.progress;
+  batch.label = "validate";
+  const std::vector<FeBatchEntry> done = run_fe_batch(jobs, batch);
+  std::vector<std::filesystem::path> entries;
+  for (std::size_t h = 0; h < hips.size(); ++h) {
+    hips[h].timing.fe_reused = done[h].reused;
+    entries.push_back(done[h].entry);
   }
   // Read every hip's entry back.
   for (std::size_t h = 0; h < hips.size(); ++h) {

@@ -36,6 +36,23 @@ test $(wc -l < \"$2/depth.csv\") -eq 7 || { echo 'depth.csv: 6 steps expected' >
 cmp \"$2/a/loo.csv\" \"$2/b/loo.csv\" || { echo 'a rerun from the cache changed loo.csv' >&2; exit 1; }"
                    sh $<TARGET_FILE:hipfai> ${estimator_tmp})
   set_tests_properties(cli.estimator_validate_quick PROPERTIES LABELS "cli;slow" TIMEOUT 600)
+
+  # A real hip (the LHDL CT bones with synthesised soft tissue, cli.soft_tissue_real_bones): the
+  # quick model predicts it and says how far outside its training hips it lies; its own FE over the
+  # same motion (coarse, 6 steps) is added with --fe-hip, and as a training hip it is then interior.
+  set(real_hip ${CMAKE_BINARY_DIR}/cli-tmp/soft_tissue_real_bones/out)
+  add_test(NAME cli.estimator_real_hip
+           COMMAND sh -c "set -e; rm -f \"$2/real.csv\" \"$2/real.h5\" \"$2/real-model.h5\"; \
+\"$1\" estimator predict --model \"$2/a/model.h5\" --hip \"$3\" > \"$2/real-before.log\"; \
+grep -q 'Mahalanobis distance' \"$2/real-before.log\" || { echo 'predict: no Mahalanobis line' >&2; exit 1; }; \
+\"$1\" fem run --model \"$3\" --level coarse --steps 6 --out \"$2/real.h5\" --csv \"$2/real.csv\" > /dev/null 2>&1; \
+\"$1\" estimator train --base \"$2/a/model.h5\" --fe-hip \"$3\" \"$2/real.csv\" --out \"$2/real-model.h5\" > \"$2/real-train.log\"; \
+grep -q '^trained on 6 hips x 6 steps' \"$2/real-train.log\" || { cat \"$2/real-train.log\"; exit 1; }; \
+\"$1\" estimator predict --model \"$2/real-model.h5\" --hip \"$3\" > \"$2/real-after.log\"; \
+grep -q '^interior' \"$2/real-after.log\" || { cat \"$2/real-after.log\"; exit 1; }"
+                   sh $<TARGET_FILE:hipfai> ${estimator_tmp} ${real_hip})
+  set_tests_properties(cli.estimator_real_hip PROPERTIES LABELS "cli;slow" TIMEOUT 600
+                       DEPENDS "cli.estimator_validate_quick;cli.soft_tissue_real_bones")
 endif()
 hipfai_cli_test(NAME estimator_predict_bad_e_prime EXIT nonzero STDERR "--e-prime"
   COMMAND estimator predict --model @TMP@/none.h5 --hip @TMP@ --e-prime most)

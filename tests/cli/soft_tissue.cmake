@@ -24,3 +24,11 @@ file(WRITE ${soft_scene} "schema_version: 1\nunits: {length: mm, angle: deg}\nna
                          "outputs: [curvilinear_depth, radial_depth]\n")
 hipfai_cli_test(NAME soft_tissue_model_runs EXIT 0 COMMAND run ${soft_scene} --out @TMP@/out --cache @TMP@/cache)
 set_tests_properties(cli.soft_tissue_model_runs PROPERTIES DEPENDS cli.soft_tissue_real_bones)
+# ... and what `fem run` solves: the synthesised layers meshed with hexahedra (coarse, 3 steps, all
+# converged or the command fails).
+if(HIPFAI_WITH_FEM)
+  hipfai_cli_test(NAME soft_tissue_model_fem_run EXIT 0
+    COMMAND fem run --model ${CMAKE_BINARY_DIR}/cli-tmp/soft_tissue_real_bones/out --level coarse --steps 3
+            --out @TMP@/fe.h5 --csv @TMP@/fe.csv)
+  set_tests_properties(cli.soft_tissue_model_fem_run PROPERTIES DEPENDS cli.soft_tissue_real_bones)
+endif()

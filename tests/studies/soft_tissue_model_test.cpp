@@ -7,6 +7,10 @@
 #include "core/error.h"
 #include "geometry/mesh_check.h"
 #include "geometry/mesh_io.h"
+#include "geometry/hip_volume_mesh.h"
+#ifdef HIPFAI_WITH_FEM
+#include "fem/hip_fe_model.h"
+#endif
 #include "../geometry/mesh_inside.h"
 
 #include <gtest/gtest.h>
@@ -15,6 +19,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <set>
 #include <tuple>
 
@@ -41,13 +46,19 @@ std::size_t vertices_inside(const TriMesh& tissue, const TriMesh& solid, const s
   return count;
 }
 
-TEST(SoftTissueModel, TheRealBonesGiveAValidModelFolder) {
+// The soft tissue model of the LHDL CT bones, with the request's default options.
+SoftTissueModel lhdl_model() {
   const TriMesh femur = geometry::read_mesh(kLhdl + "femur_r.ply");
   const TriMesh pelvis = geometry::read_mesh(kLhdl + "pelvis_no_sacrum.ply");
   SoftTissueModelRequest request;
   request.assessment.femur = &femur;
   request.assessment.pelvis = &pelvis;
-  const SoftTissueModel result = build_soft_tissue_model(request);
+  return build_soft_tissue_model(request);
+}
+
+TEST(SoftTissueModel, TheRealBonesGiveAValidModelFolder) {
+  const SoftTissueModelRequest request;
+  const SoftTissueModel result = lhdl_model();
   const auto& r = result.report;
   std::printf("LHDL: femoral %.0f mm2 mean %.2f (%.2f-%.2f) on sphere %.0f overlap %.0f; acetabular %.0f mm2 mean %.2f "
               "(%.2f-%.2f) on sphere %.0f overlap %.0f; labrum %.0f mm3 %d/%d sections %d pieces (femur %d pelvis %d "
@@ -134,6 +145,37 @@ TEST(SoftTissueModel, TheRealBonesGiveAValidModelFolder) {
   EXPECT_NE(json.find("\"handedness\": \"right\""), std::string::npos);
   EXPECT_NE(json.find("\"measured\""), std::string::npos);
 }
+
+#ifdef HIPFAI_WITH_FEM
+TEST(SoftTissueModel, TheRealHipMeshesIntoValidTaggedHexahedraAtEveryLevel) {
+  // The FE volume mesh of the synthesised layers (hexahedra through the thickness along the rays
+  // from the HJC): positive Jacobians, every tissue, and the surfaces the FE model bonds and
+  // brings into contact, at each FE level.
+  const SoftTissueModel result = lhdl_model();
+  EXPECT_EQ(result.model.soft_tissue, geometry::SoftTissueSource::kSynthesised);
+  for (const fem::HipFeLevel level : {fem::HipFeLevel::kCoarse, fem::HipFeLevel::kDefault, fem::HipFeLevel::kFine}) {
+    SCOPED_TRACE(fem::to_string(level));
+    const geometry::HipVolumeMesh volume = geometry::build_hip_volume_mesh(result.model, fem::hip_volume_options(level));
+    std::printf("%s: %zu hexahedra, min scaled Jacobian %.2f\n", fem::to_string(level), volume.mesh.hexes.size(),
+                volume.min_scaled_jacobian);
+    EXPECT_GT(volume.min_scaled_jacobian, 0.0);
+    std::map<geometry::VolumeTag, std::size_t> hexes;
+    std::map<geometry::SurfaceTag, std::size_t> quads;
+    for (const auto tag : volume.mesh.hex_tags) ++hexes[tag];
+    for (const auto tag : volume.mesh.quad_tags) ++quads[tag];
+    for (const auto tag : {geometry::VolumeTag::kFemoralCartilage, geometry::VolumeTag::kAcetabularCartilage,
+                           geometry::VolumeTag::kLabrum}) {
+      EXPECT_GT(hexes[tag], 0u) << geometry::to_string(tag);
+    }
+    for (const auto tag : {geometry::SurfaceTag::kFemoralCartilageArticular, geometry::SurfaceTag::kFemoralCartilageBonded,
+                           geometry::SurfaceTag::kAcetabularCartilageArticular,
+                           geometry::SurfaceTag::kAcetabularCartilageBonded, geometry::SurfaceTag::kLabrumArticular,
+                           geometry::SurfaceTag::kLabrumBonded}) {
+      EXPECT_GT(quads[tag], 0u) << geometry::to_string(tag);
+    }
+  }
+}
+#endif
 
 TEST(SoftTissueModel, AMirroredHipGivesTheSameModel) {
   // The LHDL bones mirrored through a sagittal plane are a left hip; it is mirrored back into a

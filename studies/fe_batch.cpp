@@ -1,0 +1,170 @@
+// hipfai — the FE of many hips into the FE cache, in worker processes (see fe_batch.h).
+#include "studies/fe_batch.h"
+
+#ifdef HIPFAI_WITH_FEM
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "core/stopwatch.h"
+
+#include <fcntl.h>
+#include <sys/prctl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <csignal>
+#include <cstdio>
+#include <mutex>
+#include <sstream>
+#include <thread>
+
+extern char** environ;
+
+namespace hipfai::studies {
+namespace {
+
+// The environment of an FE worker: one thread per process (two processes share two cores), and
+// nothing of an MPI launcher the parent may have been started under.
+std::vector<std::string> worker_environment() {
+  std::vector<std::string> env;
+  for (char** e = environ; e != nullptr && *e != nullptr; ++e) {
+    const std::string entry(*e);
+    if (entry.rfind("OMPI_", 0) == 0 || entry.rfind("PMIX_", 0) == 0 || entry.rfind("OMP_NUM_THREADS=", 0) == 0 ||
+        entry.rfind("OPENBLAS_NUM_THREADS=", 0) == 0) {
+      continue;
+    }
+    env.push_back(entry);
+  }
+  env.emplace_back("OMP_NUM_THREADS=1");
+  env.emplace_back("OPENBLAS_NUM_THREADS=1");
+  return env;
+}
+
+// Runs `program args...` with stdout and stderr to `log`; returns its exit status (-1: not started
+// or killed by a signal). The child is killed when this process dies (PR_SET_PDEATHSIG), so a
+// killed study leaves no worker writing into the cache behind it.
+int run_process(const std::filesystem::path& program, const std::vector<std::string>& args,
+                const std::filesystem::path& log) {
+  std::vector<std::string> argv_text{program.string()};
+  argv_text.insert(argv_text.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (std::string& a : argv_text) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  std::vector<std::string> env_text = worker_environment();
+  std::vector<char*> envp;
+  for (std::string& e : env_text) envp.push_back(e.data());
+  envp.push_back(nullptr);
+  const int log_fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (log_fd < 0) return -1;
+  const pid_t parent = ::getpid();
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    // Child: only async-signal-safe calls until exec.
+    ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (::getppid() != parent) ::_exit(127);  // the parent died before prctl took effect
+    ::dup2(log_fd, STDOUT_FILENO);
+    ::dup2(log_fd, STDERR_FILENO);
+    ::execve(argv[0], argv.data(), envp.data());
+    ::_exit(127);
+  }
+  ::close(log_fd);
+  if (pid < 0) return -1;
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0) {
+    if (errno != EINTR) return -1;
+  }
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+std::string seconds_text(double seconds) {
+  std::ostringstream text;
+  text.precision(10);
+  text << seconds;
+  return text.str();
+}
+
+// Solves one run into its cache entry (in this process or a worker process); writes the run's
+// wall time beside its table.
+void solve(const FeBatchJob& job, const std::filesystem::path& entry, const FeBatchOptions& options) {
+  AtomicDirectory staging(entry);
+  const std::filesystem::path& partial = staging.partial_path();
+  HipFeRunOptions run = job.run;
+  run.out_file = (partial / "results.h5").string();
+  run.csv_file = (partial / "fe.csv").string();
+  if (run.vtu_every > 0) run.vtu_prefix = (partial / "fe").string();
+  const auto start = SteadyClock::now();
+  if (options.program.empty()) {
+    run.progress = false;
+    (void)run_hip_fe(run, false);
+  } else {
+    const int status = run_process(options.program, hip_fe_command_arguments(run), partial / "run.log");
+    // Exit status 1 with a complete table: some steps did not converge (kept, with their status).
+    if (status != 0 && !std::filesystem::exists(partial / "fe.csv")) {
+      staging.keep();  // the log the message points to
+      throw_error("FE of ", job.run.model_dir, " failed (exit status ", status, "); see ",
+                  (partial / "run.log").string());
+    }
+  }
+  write_file_atomically(partial / "timing.txt", "wall_s " + seconds_text(seconds_since(start)) + "\n");
+  commit_hip_fe_entry(staging);
+}
+
+}  // namespace
+
+std::vector<FeBatchEntry> run_fe_batch(const std::vector<FeBatchJob>& jobs, const FeBatchOptions& options) {
+  if (options.jobs < 1) throw_error(options.label, ": --jobs must be at least 1");
+  std::vector<FeBatchEntry> entries(jobs.size());
+  std::vector<std::size_t> to_solve;
+  for (std::size_t j = 0; j < jobs.size(); ++j) {
+    entries[j].entry = hip_fe_cache_entry(options.cache_dir, hip_fe_cache_key(jobs[j].run));
+    entries[j].reused = std::filesystem::exists(entries[j].entry / "fe.csv");
+    if (!entries[j].reused) to_solve.push_back(j);
+  }
+  const int workers = options.program.empty() ? 1 : std::max(1, std::min<int>(options.jobs, static_cast<int>(to_solve.size())));
+  if (options.progress) {
+    std::printf("%s: FE (level %s) on %zu hips, %zu from the cache, %zu to solve in %d process(es)\n",
+                options.label.c_str(), jobs.empty() ? "-" : jobs.front().run.level.c_str(), jobs.size(),
+                jobs.size() - to_solve.size(), to_solve.size(), options.program.empty() ? 1 : options.jobs);
+    std::fflush(stdout);
+  }
+  std::atomic<std::size_t> next{0}, done{0};
+  std::mutex mutex;
+  std::vector<std::string> errors;
+  const auto start = SteadyClock::now();
+  auto worker = [&] {
+    for (std::size_t k = next++; k < to_solve.size(); k = next++) {
+      const std::size_t j = to_solve[k];
+      const auto job_start = SteadyClock::now();
+      try {
+        solve(jobs[j], entries[j].entry, options);
+      } catch (const std::exception& error) {
+        const std::lock_guard<std::mutex> lock(mutex);
+        errors.emplace_back(error.what());
+        continue;
+      }
+      const std::lock_guard<std::mutex> lock(mutex);
+      if (options.progress) {
+        const std::size_t finished = ++done;
+        std::printf("%s: FE [%zu/%zu] %s in %.0f s (%.0f s elapsed)\n", options.label.c_str(), finished,
+                    to_solve.size(), jobs[j].id.c_str(), seconds_since(job_start), seconds_since(start));
+        std::fflush(stdout);
+      }
+    }
+  };
+  std::vector<std::thread> threads;
+  for (int w = 0; w < workers; ++w) threads.emplace_back(worker);
+  for (std::thread& thread : threads) thread.join();
+  if (!errors.empty()) {
+    std::string text;
+    for (const std::string& e : errors) text += (text.empty() ? "" : "; ") + e;
+    throw_error(options.label, ": ", errors.size(), " FE run(s) failed: ", text);
+  }
+  return entries;
+}
+
+}  // namespace hipfai::studies
+
+#endif  // HIPFAI_WITH_FEM

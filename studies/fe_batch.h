@@ -1,0 +1,47 @@
+// hipfai — the FE of many hips into the FE cache, in worker processes: the one place a study
+// solves FE runs it does not have yet (studies/hip_fe_run.h has the run, its key and its entry).
+//
+// run_fe_batch() keys every job (hip_fe_cache_key), takes the finished entries from the cache and
+// solves the rest, each in a `hipfai fem run` worker process (`jobs` at once; one thread each, no
+// MPI launcher's environment) or, without a program, one after the other in this process. A
+// worker is killed with the study (PR_SET_PDEATHSIG), and an entry exists only when complete
+// (AtomicDirectory), so a killed batch resumes where it stopped. Each entry holds fe.csv,
+// results.h5, run.log (workers) and timing.txt ("wall_s <seconds>").
+#pragma once
+
+#ifdef HIPFAI_WITH_FEM
+
+#include "studies/hip_fe_run.h"
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace hipfai::studies {
+
+struct FeBatchJob {
+  std::string id;         // names the hip in progress lines and errors
+  HipFeRunOptions run;    // model_dir, motion, level, ... (out_file and csv_file are the entry's)
+};
+
+struct FeBatchOptions {
+  std::filesystem::path cache_dir = "cache";
+  // The hipfai executable the workers run; empty: the runs are solved in this process.
+  std::filesystem::path program;
+  int jobs = 2;                      // worker processes at once
+  bool progress = true;              // a line per finished run on stdout
+  std::string label = "FE";          // prefix of those lines ("validate", ...)
+};
+
+struct FeBatchEntry {
+  std::filesystem::path entry;       // the cache entry's folder (fe.csv, results.h5, timing.txt)
+  bool reused = false;               // found finished in the cache
+};
+
+// One entry per job, in the jobs' order. Throws hipfai::Error naming every run that failed (a
+// worker that left no table: its run.log is kept and named); the other runs stay cached.
+std::vector<FeBatchEntry> run_fe_batch(const std::vector<FeBatchJob>& jobs, const FeBatchOptions& options);
+
+}  // namespace hipfai::studies
+
+#endif  // HIPFAI_WITH_FEM
