@@ -42,9 +42,17 @@ struct PairFilter {
   geometry::Vec3 centre = geometry::Vec3::Zero();
   double min_distance_mm = 0.0;                // striking: |v - c| > this
   double min_depth_mm = 0.0;                   // radial: depth > this
+  // Radial, when set: the vertex (of `points`) plus its depth must stay within max_reach_mm of the
+  // centre (where the ray leaves the mobile solid).
+  const geometry::TriMesh* points = nullptr;
+  double max_reach_mm = 0.0;
   bool keep(const contact::PenetrationPair& pair) const {
     if (mobile) {
       return (mobile->vertices[static_cast<std::size_t>(pair.mobile_vertex)] - centre).norm() > min_distance_mm;
+    }
+    if (points && (points->vertices[static_cast<std::size_t>(pair.mobile_vertex)] - centre).norm() + pair.depth_mm >
+                      max_reach_mm) {
+      return false;
     }
     return pair.depth_mm > min_depth_mm;
   }
@@ -275,11 +283,21 @@ PenetrationRun compute_penetration(const LoadedHip& hip, const Motion& motion,
     if (options.swap_roles) socket_in_femur.emplace(femur_table, femur, socket, outside);
     run.radial_preprocessing_ms = ms_since(start);
     // Records a merged side's per-vertex result under its two tissues' names.
-    auto record_split = [&](std::size_t k, const contact::PenetrationResult& result, const std::string& first,
-                            std::size_t n_first, const std::string& second, std::size_t n_second, double& max_depth,
-                            int& count) {
+    // The swap role: a socket vertex inside the femur counts where the femoral head holds it. The
+    // socket's soft tissues reach no farther from the HJC than their outermost vertex; where the
+    // ray from the HJC leaves the femur beyond that, it runs along the neck or the shaft (a whole
+    // segmented femur at a large angle), and the distance to that exit is not a depth into the head.
+    PairFilter swap_filter = radial_filter;
+    swap_filter.points = &socket;
+    swap_filter.centre = centre;
+    for (const geometry::Vec3& v : socket.vertices) {
+      swap_filter.max_reach_mm = std::max(swap_filter.max_reach_mm, (v - centre).norm());
+    }
+    auto record_split = [&](std::size_t k, const contact::PenetrationResult& result, const PairFilter& filter,
+                            const std::string& first, std::size_t n_first, const std::string& second,
+                            std::size_t n_second, double& max_depth, int& count) {
       std::vector<double> step_values(n_first + n_second, 0.0), max_values(n_first + n_second, 0.0);
-      record(result, radial_filter, step_values, max_values, max_depth, count);
+      record(result, filter, step_values, max_values, max_depth, count);
       auto& step_a = field(step_fields[k], first + "/radial_depth_mm", n_first);
       auto& step_b = field(step_fields[k], second + "/radial_depth_mm", n_second);
       auto& max_a = field(run.max_fields, first + "/radial_depth_mm", n_first);
@@ -297,12 +315,12 @@ PenetrationRun compute_penetration(const LoadedHip& hip, const Motion& motion,
     for (std::size_t k = 0; k < steps; ++k) {
       auto& s = run.steps[k];
       const auto query_start = Clock::now();
-      record_split(k, femur_in_socket.query_rotation(rotation[k]), "femur_bone", bone.num_vertices(),
+      record_split(k, femur_in_socket.query_rotation(rotation[k]), radial_filter, "femur_bone", bone.num_vertices(),
                    "femoral_cartilage", cartilage.num_vertices(), s.radial_mm, s.radial_vertices);
       log.ran(StageKind::kRadialQuery);
       if (options.swap_roles) {
         // The socket seen from the femur turns by the inverse rotation.
-        record_split(k, socket_in_femur->query_rotation(rotation[k].transpose()),
+        record_split(k, socket_in_femur->query_rotation(rotation[k].transpose()), swap_filter,
                      "acetabular_cartilage", acetabular.num_vertices(), "labrum", labrum.num_vertices(),
                      s.radial_swap_mm, s.radial_vertices);
         log.ran(StageKind::kRadialQuery);

@@ -105,7 +105,9 @@ SoftTissueModel build_soft_tissue_model(const SoftTissueModelRequest& request) {
   geometry::HipParameters& p = m.parameters;
   p.ce_deg = std::clamp(measures.lateral_ce.ce_deg, 0.0, 45.0);
   p.alpha_deg = std::clamp(measures.alpha.alpha_deg, 35.0, 90.0);
-  p.articular_radius_mm = std::clamp(r.acetabulum.radius_mm - request.options.acetabular_thickness_mm, 20.0, 30.0);
+  // The common articular sphere of the synthesised layers (anatomy/soft_tissue.h): the studies'
+  // striking region and contact tolerance are measured from it.
+  p.articular_radius_mm = std::clamp(out.report.articular_radius_mm, 20.0, 30.0);
   p.femoral_cartilage_mm = request.options.femoral_max_thickness_mm;
   p.acetabular_cartilage_mm = request.options.acetabular_thickness_mm;
   p.labrum_height_mm = request.options.labrum_height_mm;
