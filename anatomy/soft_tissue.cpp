@@ -498,8 +498,9 @@ SoftTissues synthesise_soft_tissues(const SoftTissueRequest& request) {
       auto after = std::upper_bound(junction.begin(), junction.end(), std::make_pair(azimuth, -1e300));
       const auto& hi = after == junction.end() ? junction.front() : *after;
       const auto& lo = after == junction.begin() ? junction.back() : *(after - 1);
-      const double span = std::remainder(hi.first - lo.first, 2.0 * std::numbers::pi);
-      const double from_lo = std::remainder(azimuth - lo.first, 2.0 * std::numbers::pi);
+      const auto turn = [](double a) { return std::fmod(std::fmod(a, 2.0 * std::numbers::pi) + 2.0 * std::numbers::pi, 2.0 * std::numbers::pi); };
+      const double span = junction.size() == 1 ? 2.0 * std::numbers::pi : turn(hi.first - lo.first);
+      const double from_lo = turn(azimuth - lo.first);
       const double f = span > 0.0 ? std::clamp(from_lo / span, 0.0, 1.0) : 0.0;
       const double alpha = lo.second + f * (hi.second - lo.second);
       return std::acos(std::clamp(d.normalized().dot(n), -1.0, 1.0)) * geometry::kRadToDeg >= alpha;
@@ -606,10 +607,10 @@ SoftTissues synthesise_soft_tissues(const SoftTissueRequest& request) {
     socket_r_in[i] = r - t_a[i];
   }
   out.femoral_cartilage = layer_solid(femur, head_in, head, head_boundary, c, head_r_in, head_r_out, t_f);
-  // The two layers' surfaces are piecewise linear over different meshes (and t_a jumps to zero
-  // off the lunate surface along the femoral rays), so the acetabular joint side is also kept at
-  // or above the femoral layer's outer surface along its own ray (looking back from the bone),
-  // down to the minimum thickness.
+  // The two layers' surfaces are piecewise linear over different meshes (and a femoral layer
+  // kept at the minimum over a bone bump stands proud of the sphere), so the acetabular joint
+  // side is also kept at or above the femoral layer's outer surface along its own ray (looking
+  // back from the bone), down to the minimum thickness.
   {
     const MeshQueries femoral_layer(out.femoral_cartilage);
     for (std::size_t i = 0; i < t_a.size(); ++i) {
@@ -627,11 +628,16 @@ SoftTissues synthesise_soft_tissues(const SoftTissueRequest& request) {
   fill_layer_numbers(report.acetabular, socket_area, t_a, out.acetabular_cartilage);
 
   // --- labrum ---------------------------------------------------------------------------------
+  // Clock and polar angles seen from the joint centre (the acetabulum's own are about the lunate
+  // sphere's centre; the sections are laid about c).
+  const auto clock_polar = [&](const Vec3& x) {
+    const Vec3 d = x - c;
+    const double clock = std::atan2(d.dot(acetabulum.clock_superior), d.dot(acetabulum.clock_anterior)) * geometry::kRadToDeg;
+    return std::make_pair(clock, std::atan2(d.cross(acetabulum.axis).norm(), d.dot(acetabulum.axis)) * geometry::kRadToDeg);
+  };
   std::vector<std::pair<double, double>> rim;  // (clock, polar) of the plane-fit rim points
   for (const RimPoint& p : acetabulum.rim) {
-    if (!p.in_plane_fit) continue;
-    const Vec3 d = p.point_mm - c;  // its polar angle seen from the joint centre
-    rim.emplace_back(p.clock_deg, std::atan2(d.cross(acetabulum.axis).norm(), d.dot(acetabulum.axis)) * geometry::kRadToDeg);
+    if (p.in_plane_fit) rim.push_back(clock_polar(p.point_mm));
   }
   if (rim.size() < 3) throw_error(request.pelvis_name, ": too little acetabular rim to carry a labrum");
   const MeshQueries cartilage_queries(out.acetabular_cartilage);
@@ -640,7 +646,7 @@ SoftTissues synthesise_soft_tissues(const SoftTissueRequest& request) {
   // inner face on the common articular sphere.
   const Vec3 ca = c, axis = acetabulum.axis;
   const auto articular_sphere = [&](const Vec3&) { return r_art; };
-  // Outer radius of the femur with its cartilage along a ray from the acetabular centre.
+  // Outer radius of the femur with its cartilage along a ray from c.
   const auto femoral_outer = [&](const Vec3& u) {
     const auto hit = femur_queries.first_hit(ca, u);
     if (!hit) return 0.0;
@@ -658,11 +664,7 @@ SoftTissues synthesise_soft_tissues(const SoftTissueRequest& request) {
   // kNotchPolarDeg below the rim. The rim finder may keep the notch's rim (it dips only ~10 deg
   // deeper there), the articular surface does not reach it.
   std::vector<std::pair<double, double>> lunate_clock_polar;  // (clock, polar) of lunate vertices
-  for (std::int32_t v : socket.mesh_index) {
-    const Vec3 d = pelvis.vertices[static_cast<std::size_t>(v)] - ca;
-    lunate_clock_polar.emplace_back(acetabulum.clock_of(pelvis.vertices[static_cast<std::size_t>(v)]),
-                                    std::atan2(d.cross(axis).norm(), d.dot(axis)) * geometry::kRadToDeg);
-  }
+  for (std::int32_t v : socket.mesh_index) lunate_clock_polar.push_back(clock_polar(pelvis.vertices[static_cast<std::size_t>(v)]));
   constexpr double kNotchPolarDeg = 30.0, kNotchClockDeg = 5.0;
   const int count = static_cast<int>(std::lround(360.0 / o.labrum_step_deg));
   report.labrum_sections_total = count;

@@ -44,7 +44,8 @@
 //   minimum   no layer is thinner than min_thickness_mm (the articular sphericity tolerance, 0.1 mm:
 //             surfaces that close are touching, not penetrating, for the study): where a bone
 //             stands within it of the sphere (a bump), its layer stands proud of the sphere by up to
-//             that much (LayerReport::overlap_area_mm2 says where).
+//             that much, plus what the bone itself stands out (LayerReport::overlap_area_mm2 says
+//             where).
 //   labrum    a triangular section (base `labrum_base_mm` wide on the rim, tip `labrum_height_mm`
 //             above it, the generator's section) in the meridian plane of the acetabular axis through c at
 //             every 2.5 deg of clock angle: the rim's polar angle (Acetabulum::rim, plane-fit
@@ -53,7 +54,7 @@
 //             and lunate surface within 30 deg below the rim within +-5 deg of clock (the
 //             horseshoe's opening, the notch, where the rim finder may still keep the rim, is
 //             left open); its base lies on the
-//             ray at the rim's polar angle, from the articular sphere (lunate radius - t_a) out;
+//             ray at the rim's polar angle, from the common articular sphere out;
 //             its inner face follows the articular sphere, or the femoral cartilage's outer
 //             surface where that stands higher (the labrum seals on the head). The section is
 //             tilted towards the opening in 0.5 deg steps (up to 10 deg) until it is clear of the
@@ -124,7 +125,7 @@ struct LayerReport {
   // the sphere there by up to that much).
   double articular_area_mm2 = 0.0;
   double overlap_area_mm2 = 0.0;
-  std::size_t holes_filled = 0;      // small holes of the patch filled
+  std::size_t holes_filled = 0;      // holes of the patch filled (see "patches" above)
   std::size_t pinches_removed = 0;   // triangles dropped at pinched vertices
 };
 
@@ -150,7 +151,8 @@ struct SoftTissues {
 };
 
 // Throws hipfai::Error with one line for missing or empty bones, no head region ("<femur>: no
-// femoral head region on the sphere ..."), no lunate surface, or no rim to carry a labrum.
+// femoral head region on the sphere ..."), no lunate surface, a head region facing no lunate
+// surface, or no rim to carry a labrum.
 SoftTissues synthesise_soft_tissues(const SoftTissueRequest& request);
 
 }  // namespace hipfai::anatomy

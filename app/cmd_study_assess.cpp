@@ -46,7 +46,11 @@ const CommandRegistrar registrar("study.assess", [](CLI::App& parent) {
       ->capture_default_str()->check(CLI::Range(1, 200));
   tissue->add_option("--threads", tissue_options->threads, "Threads of the penetration queries")->capture_default_str();
   tissue->add_flag("--quick", tissue_options->quick, "Test-sized: two hips at 3 mm, 10 sub-motions, FE coarse");
+#ifdef HIPFAI_WITH_FEM
   auto fe_level = std::make_shared<std::string>("default");
+#else
+  auto fe_level = std::make_shared<std::string>("none");
+#endif
   CLI::Option* fe_level_option = tissue->add_option("--fe-level", *fe_level,
                      "FE of both tissue sets at this level (docs/fem-levels.md), or none")
       ->capture_default_str()->check(CLI::IsMember({"none", "coarse", "default", "fine"}));

@@ -275,7 +275,9 @@ Stereographic choose_projection(const std::vector<Vec3>& directions, double radi
       for (const Vec3& d : directions) {
         if (centre.dot(d) < centre.dot(*farthest)) farthest = &d;
       }
-      centre = (centre + (*farthest - centre) / (k + 1.0)).normalized();
+      const Vec3 moved = centre + (*farthest - centre) / (k + 1.0);
+      if (moved.norm() < 1e-12) break;  // the farthest direction opposite the centre: no cap to find
+      centre = moved.normalized();
       double lowest = 1.0;
       for (const Vec3& d : directions) lowest = std::min(lowest, centre.dot(d));
       if (lowest > best_cos) {
@@ -335,7 +337,8 @@ std::vector<Vec3> smooth_loop(const std::vector<Vec3>& points, double window_mm)
 
 // Resamples a closed polyline at about `spacing_mm` (arc length), keeping its sharp corners,
 // with an even number of points so that the enclosed domain can be meshed with quadrangles only.
-// The new points lie on the polyline's edges: rays from the HJC through them meet the surface.
+// The new points lie on the polyline's edges: rays from the HJC through them meet the surface
+// (for a smoothed loop, smooth_loop, they lie near it: the columns cast their own rays).
 std::vector<Vec3> resample_loop(const std::vector<Vec3>& points, double spacing_mm) {
   const std::size_t n = points.size();
   const ArcLengthLoop loop(points);
@@ -700,9 +703,12 @@ PlanarQuadMesh quad_mesh_shadow(const std::vector<std::vector<Vec3>>& loops_3d, 
 void mesh_tissue(const TissueRecipe& recipe, const TriMesh& tissue, const Vec3& hjc, const Vec3& rim_axis,
                  double rim_cos, SoftTissueSource source, const HipVolumeOptions& options, HexMesh& out) {
   // Synthesised layers follow a segmented bone's triangles, so their outlines zigzag at the bone's
-  // edge length: a boundary node is snapped onto the outline only when its own ray misses the
-  // tissue (snapping every node onto a zigzag folds the quads beside it).
+  // edge length: the outline is smoothed for the quad mesh and a boundary node is snapped onto it
+  // only when its own ray misses the tissue (snapping every node onto a zigzag folds the quads
+  // beside it). A synthesised labrum is a sweep with a smooth outline and sharp corners (its end
+  // caps): meshed as a generated one, only its bonded side found otherwise (below).
   const bool synthesised = source == SoftTissueSource::kSynthesised;
+  const bool zigzag_outline = synthesised && recipe.volume != VolumeTag::kLabrum;
   const std::string name = recipe.name;
   validate_mesh(tissue, name);
 
@@ -791,7 +797,7 @@ void mesh_tissue(const TissueRecipe& recipe, const TriMesh& tissue, const Vec3& 
     loops_3d.push_back(std::move(points));
   }
   std::vector<std::vector<Vec3>> domain_loops = loops_3d;
-  if (synthesised) {
+  if (zigzag_outline) {
     for (auto& loop : domain_loops) loop = smooth_loop(loop, options.edge_mm);
   }
   const PlanarQuadMesh plane = quad_mesh_shadow(domain_loops, projection, options.edge_mm, name);
@@ -805,7 +811,7 @@ void mesh_tissue(const TissueRecipe& recipe, const TriMesh& tissue, const Vec3& 
   };
   for (std::size_t node = 0; node < plane.nodes.size(); ++node) {
     Vec3 direction = projection.unproject(plane.nodes[node]).normalized();
-    if (plane.on_boundary[node] && !synthesised) direction = snap_to_boundary(loops_3d, direction, &rim_cone).normalized();
+    if (plane.on_boundary[node] && !zigzag_outline) direction = snap_to_boundary(loops_3d, direction, &rim_cone).normalized();
     auto interval = caster.cast(direction);
     if (!interval.hit) {
       // Just outside a concave stretch of the boundary: move onto it.

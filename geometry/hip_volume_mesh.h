@@ -27,6 +27,14 @@
 //     within 45 deg of radial there; quads over a side wall (fossa, labral notch) are kFree;
 //   - side faces (the columns at the shadow's boundary) are kFree, except the labrum's side
 //     faces lying in the acetabular rim plane: kLabrumBonded.
+// Tissues synthesised on segmented bones (HipModel::soft_tissue, anatomy/soft_tissue.h) are radial
+// layers about the HJC already, but the cartilages' outlines follow the bone's triangles in a
+// zigzag: for them the outline is smoothed over one edge length before the quad mesh, and a
+// boundary node is moved onto the true outline only when its own ray misses the tissue; their
+// labrum's base lies along the measured rim, not on a cone, so its bonded side faces are those
+// facing away from the acetabular axis (not the end caps nor the tip). When no candidate
+// projection centre holds the whole shadow within 150 deg (a segmented head seen from its
+// centre), the centre of the smallest cap holding it is used.
 //
 // Files are gmsh MSH 2.2 ASCII: hexahedra (type 5) with their tissue as physical tag, boundary
 // quadrangles (type 3) with their surface tag as physical tag, $PhysicalNames naming both.

@@ -479,8 +479,8 @@ stats::PenetrationDepths penetration_over_motion(const std::vector<double>& angl
   const Motion motion = standing_to_sitting(p);
   for (int j = 0; j < p; ++j) {
     if (std::abs(motion.steps[static_cast<std::size_t>(j)].angle_deg - angle_deg[static_cast<std::size_t>(j)]) > 1e-6) {
-      throw_error("depth_nn: the model's motion (", p, " steps to ", angle_deg.back(),
-                  " deg) is not standing-to-sitting in ", p, " sub-motions, the only motion whose axis predict knows");
+      throw_error(hip_dir.string(), ": the motion (", p, " steps to ", angle_deg.back(), " deg) is not standing-to-sitting in ",
+                  p, " sub-motions, the only motion whose penetration depths the estimator computes");
     }
   }
   std::string missing;

@@ -127,7 +127,7 @@ std::vector<FeBatchEntry> run_fe_batch(const std::vector<FeBatchJob>& jobs, cons
   if (options.progress) {
     std::printf("%s: FE (level %s) on %zu hips, %zu from the cache, %zu to solve in %d process(es)\n",
                 options.label.c_str(), jobs.empty() ? "-" : jobs.front().run.level.c_str(), jobs.size(),
-                jobs.size() - to_solve.size(), to_solve.size(), options.program.empty() ? 1 : options.jobs);
+                jobs.size() - to_solve.size(), to_solve.size(), workers);
     std::fflush(stdout);
   }
   std::atomic<std::size_t> next{0}, done{0};
@@ -143,6 +143,7 @@ std::vector<FeBatchEntry> run_fe_batch(const std::vector<FeBatchJob>& jobs, cons
       } catch (const std::exception& error) {
         const std::lock_guard<std::mutex> lock(mutex);
         errors.emplace_back(error.what());
+        entries[j].error = error.what();
         continue;
       }
       const std::lock_guard<std::mutex> lock(mutex);
@@ -157,7 +158,7 @@ std::vector<FeBatchEntry> run_fe_batch(const std::vector<FeBatchJob>& jobs, cons
   std::vector<std::thread> threads;
   for (int w = 0; w < workers; ++w) threads.emplace_back(worker);
   for (std::thread& thread : threads) thread.join();
-  if (!errors.empty()) {
+  if (!errors.empty() && !options.keep_going) {
     std::string text;
     for (const std::string& e : errors) text += (text.empty() ? "" : "; ") + e;
     throw_error(options.label, ": ", errors.size(), " FE run(s) failed: ", text);

@@ -31,15 +31,20 @@ struct FeBatchOptions {
   int jobs = 2;                      // worker processes at once
   bool progress = true;              // a line per finished run on stdout
   std::string label = "FE";          // prefix of those lines ("validate", ...)
+  // A run that fails is recorded in its entry (FeBatchEntry::error) and the others go on, instead
+  // of an error for the batch.
+  bool keep_going = false;
 };
 
 struct FeBatchEntry {
   std::filesystem::path entry;       // the cache entry's folder (fe.csv, results.h5, timing.txt)
   bool reused = false;               // found finished in the cache
+  std::string error;                 // keep_going: why the run failed (empty: it did not)
 };
 
 // One entry per job, in the jobs' order. Throws hipfai::Error naming every run that failed (a
-// worker that left no table: its run.log is kept and named); the other runs stay cached.
+// worker that left no table: its run.log is kept and named), unless keep_going; the other runs
+// stay cached.
 std::vector<FeBatchEntry> run_fe_batch(const std::vector<FeBatchJob>& jobs, const FeBatchOptions& options);
 
 }  // namespace hipfai::studies

@@ -220,6 +220,9 @@ std::string hip_fe_cache_key(const HipFeRunOptions& options) {
   hasher.add(literature::kLabrumYoungsModulusMPa).add(literature::kLabrumPoissonRatio);
   hasher.add(options.body_weight_n).add(options.peak_radius_mm);
   hasher.add(std::string_view(options.solver));
+  // How the volume mesher reads the tissues' outlines (geometry/hip_volume_mesh.h); generated
+  // models keep the keys they had before the flag existed.
+  if (model.soft_tissue != geometry::SoftTissueSource::kGenerated) hasher.add(std::string_view(geometry::to_string(model.soft_tissue)));
   const Motion motion = hip_fe_motion(options);
   const Eigen::Vector3d default_force = fem::constant_joint_force_n(options.body_weight_n);
   for (const MotionStep& step : motion.steps) {

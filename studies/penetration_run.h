@@ -4,7 +4,9 @@
 // about each step's rotation axis through the HJC; with the role swap, labrum vertices against the
 // femur bone turning the opposite way. Radial depth: radial segmenting about the HJC, femoral
 // cartilage (mobile, inside) against acetabular cartilage + labrum (fixed, outside); with the role
-// swap, acetabular vertices against the femoral cartilage. Tables are built once per axis (or
+// swap, acetabular vertices against the femoral cartilage (counted where the ray from the HJC
+// leaves the femur within the socket tissues' reach: beyond it the ray runs along the neck or
+// shaft of a whole femur, not through the head). Tables are built once per axis (or
 // once, radial) and every step is one pass over the mobile vertices.
 //
 // Touching is not penetrating. The articulating surfaces of both sides are discretisations of the

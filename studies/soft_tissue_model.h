@@ -13,7 +13,7 @@
 // socket_opening_deg (mean polar angle of the rim), "measured" CE (lateral, Wiberg) and alpha
 // (Nötzli plane, largest and its clock, the profile). "parameters" (the generator's fields, which
 // the reader checks against their ranges) carries what a real hip has of them: articular radius =
-// lunate radius - acetabular cartilage, the cartilage and labrum sizes used, and ce_deg/alpha_deg
+// the common articular sphere's (anatomy/soft_tissue.h), the cartilage and labrum sizes used, and ce_deg/alpha_deg
 // = the measured angles clamped into the generator's ranges (CE 0-45, alpha 35-90 deg; the exact
 // values are in "measured").
 #pragma once

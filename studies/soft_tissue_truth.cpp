@@ -140,6 +140,8 @@ SoftTissueTruthResult run_soft_tissue_truth(const SoftTissueTruthOptions& option
         job.run.model_dir = (options.out_dir / "hips" / row.hip / which).string();
         job.run.steps = motion.steps.size() == 0 ? options.sub_motions : static_cast<int>(motion.steps.size());
         job.run.level = options.fe_level;
+        // The end pose's fields, as `study validate` keeps them: the two studies share cache entries.
+        job.run.vtu_every = static_cast<unsigned int>(job.run.steps);
         jobs.push_back(std::move(job));
       }
     }
@@ -148,10 +150,18 @@ SoftTissueTruthResult run_soft_tissue_truth(const SoftTissueTruthOptions& option
     batch.program = options.program;
     batch.jobs = options.jobs;
     batch.label = "soft-tissue-truth";
+    batch.keep_going = true;  // a hip whose FE fails is reported with why, the others compared
     const std::vector<FeBatchEntry> entries = run_fe_batch(jobs, batch);
     for (std::size_t h = 0; h < result.rows.size(); ++h) {
-      result.rows[h].generated_fe = fe_peaks(entries[2 * h].entry);
-      result.rows[h].synthesised_fe = fe_peaks(entries[2 * h + 1].entry);
+      SoftTissueTruthRow& row = result.rows[h];
+      for (std::size_t k = 0; k < 2; ++k) {
+        const FeBatchEntry& entry = entries[2 * h + k];
+        if (!entry.error.empty()) {
+          row.fe_error += (row.fe_error.empty() ? "" : "; ") + entry.error;
+          continue;
+        }
+        (k == 0 ? row.generated_fe : row.synthesised_fe) = fe_peaks(entry.entry);
+      }
     }
 #else
     throw_error("soft-tissue-truth: this build has no FE (HIPFAI_WITH_FEM off); use --fe-level none");

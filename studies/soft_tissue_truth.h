@@ -24,8 +24,9 @@ struct SoftTissueTruthOptions {
   std::filesystem::path out_dir = "out/soft-tissue-truth";
   bool quick = false;             // two hips (CE 20 alpha 80, CE 40 alpha 40) at 3 mm, 10 sub-motions
   int threads = 2;
-  // FE of both tissue sets at this level (fem::hip_fe_level_names()); empty: no FE.
-  std::string fe_level = "default";
+  // FE of both tissue sets at this level (fem::hip_fe_level_names()); empty: no FE (the CLI's
+  // default is "default" in a build with the FE module).
+  std::string fe_level;
   std::filesystem::path cache_dir = "cache";
   std::filesystem::path program;  // the hipfai executable of the FE workers; empty: in this process
   int jobs = 2;                   // FE worker processes at once
@@ -49,7 +50,8 @@ struct SoftTissueTruthRow {
   double generated_curvilinear_mm = 0.0, synthesised_curvilinear_mm = 0.0;  // max over the motion
   double generated_radial_mm = 0.0, synthesised_radial_mm = 0.0;
   double synthesis_seconds = 0.0;
-  std::optional<SoftTissueFePeaks> generated_fe, synthesised_fe;  // with an FE level
+  std::optional<SoftTissueFePeaks> generated_fe, synthesised_fe;  // with an FE level, when solved
+  std::string fe_error;  // why an FE run of this hip failed (empty: none did)
 };
 
 struct SoftTissueTruthResult {

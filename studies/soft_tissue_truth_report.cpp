@@ -49,7 +49,9 @@ std::vector<FeMeasure> fe_measures() {
   return measures;
 }
 
+// Within `fraction` of a non-zero generated value (two zeros: the same, both nothing).
 bool within(double generated, double synthesised, double fraction) {
+  if (generated == 0.0) return synthesised == 0.0;
   return std::abs(synthesised - generated) <= fraction * std::abs(generated);
 }
 
@@ -63,7 +65,7 @@ std::filesystem::path write_soft_tissue_truth(const SoftTissueTruthResult& resul
          "synthesised_femoral_mean_thickness_mm,synthesised_acetabular_mean_thickness_mm,generated_curvilinear_mm,"
          "synthesised_curvilinear_mm,generated_radial_mm,synthesised_radial_mm,synthesis_seconds";
   const std::vector<FeMeasure> measures = fe_measures();
-  const bool with_fe = !result.rows.empty() && result.rows.front().generated_fe && result.rows.front().synthesised_fe;
+  const bool with_fe = !result.options.fe_level.empty();
   if (with_fe) {
     for (const char* which : {"generated_", "synthesised_"}) {
       for (const FeMeasure& m : measures) csv << ',' << which << m.name;
@@ -83,9 +85,13 @@ std::filesystem::path write_soft_tissue_truth(const SoftTissueTruthResult& resul
         << r.synthesised_curvilinear_mm << ',' << r.generated_radial_mm << ',' << r.synthesised_radial_mm << ','
         << r.synthesis_seconds;
     if (with_fe) {
-      for (const auto* peaks : {&*r.generated_fe, &*r.synthesised_fe}) {
-        for (const FeMeasure& m : measures) csv << ',' << m.of(*peaks, m.tissue);
-        csv << ',' << peaks->unconverged << ',' << peaks->seconds;
+      for (const auto* peaks : {&r.generated_fe, &r.synthesised_fe}) {
+        if (!*peaks) {
+          csv << std::string(measures.size() + 2, ',');  // not solved (fe_error in the report)
+          continue;
+        }
+        for (const FeMeasure& m : measures) csv << ',' << m.of(**peaks, m.tissue);
+        csv << ',' << (*peaks)->unconverged << ',' << (*peaks)->seconds;
       }
     }
     csv << '\n';
@@ -118,9 +124,16 @@ std::filesystem::path write_soft_tissue_truth(const SoftTissueTruthResult& resul
     for (std::size_t k = 0; k < 5; ++k) fe_table << ' ' << measures[k].label << " MPa (gen / syn, Δ %) |";
     fe_table << "\n|---|---|---|---|---|---|---|\n";
     std::vector<int> held(measures.size(), 0);
-    int all_ball = 0, unconverged = 0;
+    int all_ball = 0, unconverged = 0, failed = 0;
     double fe_seconds = 0.0;
+    std::string failures;
     for (const auto& r : result.rows) {
+      if (!r.generated_fe || !r.synthesised_fe) {
+        ++failed;
+        failures += "- " + r.hip + ": " + r.fe_error + "\n";
+        fe_table << "| " << r.hip << " | FE failed (below) | | | | | |\n";
+        continue;
+      }
       const SoftTissueFePeaks& g = *r.generated_fe;
       const SoftTissueFePeaks& y = *r.synthesised_fe;
       unconverged += g.unconverged + y.unconverged;
@@ -150,6 +163,7 @@ std::filesystem::path write_soft_tissue_truth(const SoftTissueTruthResult& resul
       fe_section << "| " << measures[m].label << " | " << held[m] << " of " << n << " |\n";
     }
     fe_section << '\n' << fe_table.str() << '\n';
+    if (failed > 0) fe_section << failed << " hip(s) without a comparison (counted as not within):\n\n" << failures << '\n';
   }
   std::ostringstream md;
   md << "# Synthesised soft tissue against known truth\n\n"

@@ -33,4 +33,5 @@ add_test(NAME cli.run_plan_assessment_stage
          COMMAND sh -c "\"$1\" run \"$2\" --plan | grep -q '^[0-9]*[.] assessment: femur_bone and acetabular_bone'"
                  sh $<TARGET_FILE:hipfai> ${CMAKE_SOURCE_DIR}/meshes/scenes/assess_cam_hip.yaml)
 set_tests_properties(cli.run_plan_assessment_stage PROPERTIES LABELS "cli;fast" TIMEOUT 60)
-hipfai_cli_test(NAME study_soft_tissue_truth_quick EXIT 0 COMMAND study soft-tissue-truth --quick --out @TMP@/out)
+hipfai_cli_test(NAME study_soft_tissue_truth_quick EXIT 0
+  COMMAND study soft-tissue-truth --quick --out @TMP@/out --cache @TMP@/cache)
