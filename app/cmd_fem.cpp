@@ -11,6 +11,7 @@
 // `fem` itself has sub-commands.
 #ifdef HIPFAI_WITH_FEM
 
+#include "app/cli_util.h"
 #include "app/command_registry.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
@@ -243,8 +244,7 @@ const CommandRegistrar registrar{"fem", [](CLI::App& parent) {
       ->check(CLI::ExistingFile);
   run->add_option("--steps", run_options->steps, "Sub-motions of standing-to-sitting (without --motion)")
       ->check(CLI::Range(1, 1000));
-  run->add_option("--level", run_options->level, "Mesh level (coarse, default, fine)")
-      ->check(CLI::IsMember(fem::hip_fe_level_names()));
+  add_enum_option(run, "--level", run_options->level, kFeLevels, "Mesh level (coarse, default, fine)");
   run->add_option("--body-weight-n", run_options->body_weight_n,
                   "Body weight (N) scaling the joint force when the motion has none")
       ->check(CLI::Range(1.0, 5000.0));
@@ -258,11 +258,9 @@ const CommandRegistrar registrar{"fem", [](CLI::App& parent) {
       ->check(kFiniteLengthMm);
   run->add_option("--out", run_options->out_file, "HDF5 results file")->required();
   run->add_option("--csv", run_options->csv_file, "Also write one summary row per step (CSV)");
-  run->add_option("--solver", run_options->solver,
+  add_enum_option(run, "--solver", run_options->solver, kFeSolvers,
                   "Solver: substructured (each body factorised once, contact condensed; default), "
-                  "direct (MUMPS on the whole system: the monolithic reference) or cg (CG + GAMG)")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"substructured", "direct", "cg"}));
+                  "direct (MUMPS on the whole system: the monolithic reference) or cg (CG + GAMG)");
   auto* vtu_prefix = run->add_option("--vtu-prefix", run_options->vtu_prefix,
                                      "Fields to <prefix>_<step>.vtu and <prefix>.pvd (ParaView)");
   run->add_option("--vtu-every", run_options->vtu_every, "Write VTU every N steps (and the last)")
@@ -282,9 +280,10 @@ const CommandRegistrar registrar{"fem", [](CLI::App& parent) {
       ->check(CLI::ExistingFile);
   levels->add_option("--steps", levels_options->run.steps, "Sub-motions of standing-to-sitting (without --motion)")
       ->check(CLI::Range(1, 1000));
-  levels->add_option("--levels", levels_options->levels, "Levels to run (the finest is the reference)")
+  auto level_names = std::make_shared<std::vector<std::string>>(fe_level_names());
+  levels->add_option("--levels", *level_names, "Levels to run (the finest is the reference)")
       ->delimiter(',')
-      ->check(CLI::IsMember(fem::hip_fe_level_names()));
+      ->check(CLI::IsMember(fe_level_names()));
   levels->add_option("--body-weight-n", levels_options->run.body_weight_n,
                      "Body weight (N) scaling the joint force when the motion has none")
       ->check(CLI::Range(1.0, 5000.0));
@@ -296,14 +295,14 @@ const CommandRegistrar registrar{"fem", [](CLI::App& parent) {
                      "Ball radius (mm) of the ball-averaged peak von Mises and pressure")
       ->capture_default_str()
       ->check(kFiniteLengthMm);
-  levels->add_option("--solver", levels_options->run.solver,
-                     "Solver of every level: substructured (default), direct (the monolithic reference) or cg")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"substructured", "direct", "cg"}));
+  add_enum_option(levels, "--solver", levels_options->run.solver, kFeSolvers,
+                  "Solver of every level: substructured (default), direct (the monolithic reference) or cg");
   levels->add_option("--out", levels_options->out_dir,
                      "Output directory: levels.md, levels.csv, levels_*.svg, <level>.h5/.csv")
       ->required();
-  levels->callback([levels_options] {
+  levels->callback([levels_options, level_names] {
+    levels_options->levels.clear();
+    for (const std::string& name : *level_names) levels_options->levels.push_back(parse_fe_level(name, "fem levels"));
     if (levels_options->levels.size() < 2) throw_error("fem levels: --levels needs at least two levels");
     const studies::FemLevelsResult result = studies::compute_fem_levels(*levels_options);
     studies::write_fem_levels_report(result, *levels_options);

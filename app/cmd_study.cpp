@@ -1,4 +1,5 @@
 // hipfai study fai: the 25-model FAI penetration study (thesis §4.3).
+#include "app/cli_util.h"
 #include "app/command_registry.h"
 #include "geometry/hip_parameters.h"
 #include "studies/fai_study.h"
@@ -111,8 +112,7 @@ const CommandRegistrar registrar("study", [](CLI::App& parent) {
   auto validate_cache = std::make_shared<std::string>("cache");
   validate->add_flag("--quick", *validate_quick,
                      "Test-sized run: 2 hips (CE 20 / alpha 40, CE 40 / alpha 60) at 3 mm edges, 6 steps, FE coarse");
-  validate->add_option("--fe-level", validate_options->fe_level, "FE mesh level (docs/fem-levels.md)")
-      ->capture_default_str()->check(CLI::IsMember({"coarse", "default", "fine"}));
+  add_enum_option(validate, "--fe-level", validate_options->fe_level, kFeLevels, "FE mesh level (docs/fem-levels.md)");
   validate->add_option("--out", *validate_out, "Output folder")->capture_default_str();
   validate->add_option("--cache", *validate_cache, "Cache folder: generated hips, radial tables, FE runs")
       ->capture_default_str();
@@ -134,12 +134,12 @@ const CommandRegistrar registrar("study", [](CLI::App& parent) {
       run.hips = {{20, 40}, {40, 60}};
       run.edge_mm = 3.0;
       run.sub_motions = 6;
-      if (validate->count("--fe-level") == 0) run.fe_level = "coarse";
+      if (validate->count("--fe-level") == 0) run.fe_level = FeLevel::kCoarse;
     }
     const auto result = studies::run_validation_study(run);
     const auto report = studies::write_correlation_report(run.out_dir);
     std::cout << std::fixed << std::setprecision(2) << "validate: " << result.hips.size() << " hips x " << result.steps
-              << " steps, FE level " << result.fe_level << ", " << std::setprecision(0) << result.seconds
+              << " steps, FE level " << to_string(result.fe_level) << ", " << std::setprecision(0) << result.seconds
               << " s; mean r (primary measure) " << std::setprecision(2) << report.mean_r_all << " all, "
               << report.mean_r_curvilinear << " curvilinear, " << report.mean_r_radial << " radial over "
               << report.ok_cells << " cells; report: " << report.report.string() << '\n';

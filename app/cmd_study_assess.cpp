@@ -47,21 +47,23 @@ const CommandRegistrar registrar("study.assess", [](CLI::App& parent) {
   tissue->add_option("--threads", tissue_options->threads, "Threads of the penetration queries")->capture_default_str();
   tissue->add_flag("--quick", tissue_options->quick, "Test-sized: two hips at 3 mm, 10 sub-motions, FE coarse");
 #ifdef HIPFAI_WITH_FEM
-  auto fe_level = std::make_shared<std::string>("default");
+  auto fe_level = std::make_shared<std::string>(to_string(FeLevel::kDefault));
 #else
   auto fe_level = std::make_shared<std::string>("none");
 #endif
+  std::vector<std::string> fe_level_choices = fe_level_names();
+  fe_level_choices.insert(fe_level_choices.begin(), "none");
   CLI::Option* fe_level_option = tissue->add_option("--fe-level", *fe_level,
                      "FE of both tissue sets at this level (docs/fem-levels.md), or none")
-      ->capture_default_str()->check(CLI::IsMember({"none", "coarse", "default", "fine"}));
+      ->capture_default_str()->check(CLI::IsMember(fe_level_choices));
   tissue->add_option("--cache", tissue_options->cache_dir, "Cache folder of the FE runs (shared with study validate)")
       ->capture_default_str();
   tissue->add_option("--jobs", tissue_options->jobs, "FE runs at once (one per process)")
       ->capture_default_str()->check(CLI::Range(1, 64));
   tissue->callback([tissue_options, fe_level, fe_level_option] {
     studies::SoftTissueTruthOptions run = *tissue_options;
-    run.fe_level = *fe_level == "none" ? "" : *fe_level;
-    if (run.quick && fe_level_option->count() == 0) run.fe_level = "coarse";
+    run.fe_level = fe_level_from_name(*fe_level);  // none: no FE
+    if (run.quick && fe_level_option->count() == 0 && run.fe_level) run.fe_level = FeLevel::kCoarse;
     run.program = std::filesystem::read_symlink("/proc/self/exe");
     const auto result = studies::run_soft_tissue_truth(run);
     const auto report = studies::write_soft_tissue_truth(result);

@@ -31,27 +31,6 @@ dealii::types::material_id material_of(VolumeTag tag) {
 
 }  // namespace
 
-const char* to_string(HipFeLevel level) {
-  switch (level) {
-    case HipFeLevel::kCoarse: return "coarse";
-    case HipFeLevel::kDefault: return "default";
-    case HipFeLevel::kFine: return "fine";
-  }
-  return "?";
-}
-
-const std::vector<std::string>& hip_fe_level_names() {
-  static const std::vector<std::string> names{"coarse", "default", "fine"};
-  return names;
-}
-
-HipFeLevel parse_hip_fe_level(const std::string& name) {
-  for (const HipFeLevel level : {HipFeLevel::kCoarse, HipFeLevel::kDefault, HipFeLevel::kFine}) {
-    if (name == to_string(level)) return level;
-  }
-  throw_error("fem: unknown mesh level '", name, "' (coarse, default or fine)");
-}
-
 geometry::HipVolumeOptions hip_volume_options(HipFeLevel level) {
   geometry::HipVolumeOptions options;
   options.min_thickness_mm = 0.25;

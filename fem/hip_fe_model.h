@@ -25,6 +25,7 @@
 // edge on R = 25 mm) would be of the order of the cartilage compression itself.
 #pragma once
 
+#include "core/fe_choices.h"
 #include "fem/contact_problem.h"
 #include "fem/motion_solver.h"
 #include "geometry/hip_model.h"
@@ -48,11 +49,8 @@ inline constexpr unsigned int kPelvisBody = 1;
 // value — every result scales with it through the joint force, so the CLI exposes it.
 inline constexpr double kDefaultBodyWeightN = 700.0;
 
-enum class HipFeLevel { kCoarse, kDefault, kFine };
-const char* to_string(HipFeLevel level);
-// "coarse", "default" or "fine"; throws hipfai::Error otherwise.
-HipFeLevel parse_hip_fe_level(const std::string& name);
-const std::vector<std::string>& hip_fe_level_names();
+// The mesh levels (their names: core/fe_choices.h).
+using HipFeLevel = FeLevel;
 
 // Level -> volume mesh options (edge on the articular faces, hexes through the thickness,
 // minimum thickness of the blunted tapered edges); hexes and DOFs for the CE 20 / alpha 40 hip:

@@ -130,7 +130,7 @@ EstimatorValidateSummary validate_estimator(const EstimatorValidateOptions& opti
     fe.hips = {{20, 40}, {40, 60}, {0, 50}, {20, 60}, {30, 70}};
     fe.edge_mm = 3.0;
     fe.sub_motions = 6;
-    fe.fe_level = "coarse";
+    fe.fe_level = FeLevel::kCoarse;
     fe.program = options.quick_program;
     fe.progress = options.train.progress;
     const auto start = std::chrono::steady_clock::now();

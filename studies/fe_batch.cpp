@@ -126,7 +126,7 @@ std::vector<FeBatchEntry> run_fe_batch(const std::vector<FeBatchJob>& jobs, cons
   const int workers = options.program.empty() ? 1 : std::max(1, std::min<int>(options.jobs, static_cast<int>(to_solve.size())));
   if (options.progress) {
     std::printf("%s: FE (level %s) on %zu hips, %zu from the cache, %zu to solve in %d process(es)\n",
-                options.label.c_str(), jobs.empty() ? "-" : jobs.front().run.level.c_str(), jobs.size(),
+                options.label.c_str(), jobs.empty() ? "-" : to_string(jobs.front().run.level), jobs.size(),
                 jobs.size() - to_solve.size(), to_solve.size(), workers);
     std::fflush(stdout);
   }

@@ -40,7 +40,7 @@ void write_fem_levels_report(const FemLevelsResult& result, const FemLevelsOptio
            ",ball_peak_pressure_x_mm,ball_peak_pressure_y_mm,ball_peak_pressure_z_mm,ball_peak_pressure_surface\n";
     csv.precision(10);
     for (const FemLevelRow& row : rows) {
-      csv << row.level << ',' << row.summary.hexes << ','
+      csv << to_string(row.level) << ',' << row.summary.hexes << ','
           << (row.summary.results.empty() ? 0ul : row.summary.results.front().statistics.n_dofs) << ','
           << row.summary.results.size() << ',' << row.summary.failed << ',' << row.summary.seconds << ','
           << row.wall_per_step << ',' << row.peak_pressure << ','
@@ -73,7 +73,7 @@ void write_fem_levels_report(const FemLevelsResult& result, const FemLevelsOptio
   LineChart accuracy;
   accuracy.title = "Peak values: difference from the finest level";
   accuracy.x_label = "degrees of freedom";
-  accuracy.y_label = "difference from " + finest.level + " (%)";
+  accuracy.y_label = "difference from " + std::string(to_string(finest.level)) + " (%)";
   accuracy.log_x = true;
   auto dofs_of = [](const FemLevelRow& row) {
     return row.summary.results.empty() ? 0.0 : static_cast<double>(row.summary.results.front().statistics.n_dofs);
@@ -144,7 +144,7 @@ void write_fem_levels_report(const FemLevelsResult& result, const FemLevelsOptio
              ? ", labrum meshed " + std::to_string(options.run.labrum_refinement) + " times finer than each level"
              : std::string())
      << ". Peak = maximum over the steps. "
-     << "Differences are relative to the finest level run (" << finest.level << "). Times are wall "
+     << "Differences are relative to the finest level run (" << to_string(finest.level) << "). Times are wall "
      << "times on this machine (" << std::thread::hardware_concurrency() << " hardware threads).\n\n";
   md << "| level | hexahedra | DOFs | not converged | wall per step (s) | wall per model (s) | peak pressure (MPa) | diff |";
   for (const std::string& body : bodies) md << " max VM " << body << " (MPa) | diff |";
@@ -152,7 +152,7 @@ void write_fem_levels_report(const FemLevelsResult& result, const FemLevelsOptio
   for (std::size_t b = 0; b < bodies.size(); ++b) md << "---:|---:|";
   md << '\n';
   for (const FemLevelRow& row : rows) {
-    std::snprintf(line, sizeof line, "| %s | %zu | %.0f | %zu | %.2f | %.1f | %.4f | %+.1f %% |", row.level.c_str(),
+    std::snprintf(line, sizeof line, "| %s | %zu | %.0f | %zu | %.2f | %.1f | %.4f | %+.1f %% |", to_string(row.level),
                   row.summary.hexes, dofs_of(row), row.summary.failed, row.wall_per_step, row.summary.seconds,
                   row.peak_pressure, relative_difference_percent(row.peak_pressure, finest.peak_pressure));
     md << line;
@@ -165,7 +165,7 @@ void write_fem_levels_report(const FemLevelsResult& result, const FemLevelsOptio
   for (std::size_t b = 0; b < bodies.size(); ++b) md << "---:|---:|";
   md << '\n';
   for (const FemLevelRow& row : rows) {
-    md << "| " << row.level << " |";
+    md << "| " << to_string(row.level) << " |";
     body_cells(row.peak_p95, finest.peak_p95);
     md << '\n';
   }
@@ -173,7 +173,7 @@ void write_fem_levels_report(const FemLevelsResult& result, const FemLevelsOptio
      << "| level | mean pressure (MPa) | diff | contact area (mm^2) | diff | femur translation (mm) | diff |\n"
      << "|---|---:|---:|---:|---:|---:|---:|\n";
   for (const FemLevelRow& row : rows) {
-    std::snprintf(line, sizeof line, "| %s | %.4f | %+.1f %% | %.0f | %+.1f %% | %.4f | %+.1f %% |\n", row.level.c_str(),
+    std::snprintf(line, sizeof line, "| %s | %.4f | %+.1f %% | %.0f | %+.1f %% | %.4f | %+.1f %% |\n", to_string(row.level),
                   row.last_mean_pressure, relative_difference_percent(row.last_mean_pressure, finest.last_mean_pressure),
                   row.last_area, relative_difference_percent(row.last_area, finest.last_area), row.last_translation,
                   relative_difference_percent(row.last_translation, finest.last_translation));
@@ -188,7 +188,7 @@ void write_fem_levels_report(const FemLevelsResult& result, const FemLevelsOptio
   for (std::size_t b = 0; b < bodies.size(); ++b) md << "---:|---:|";
   md << '\n';
   for (const FemLevelRow& row : rows) {
-    std::snprintf(line, sizeof line, "| %s | %.4f | %+.1f %% |", row.level.c_str(), row.ball_peak_pressure,
+    std::snprintf(line, sizeof line, "| %s | %.4f | %+.1f %% |", to_string(row.level), row.ball_peak_pressure,
                   relative_difference_percent(row.ball_peak_pressure, finest.ball_peak_pressure));
     md << line;
     body_cells(row.ball_peak_vm, finest.ball_peak_vm);
@@ -197,7 +197,7 @@ void write_fem_levels_report(const FemLevelsResult& result, const FemLevelsOptio
   md << "\nWhere the pressure peaks sit (hip frame, mm, at the step of the peak; the slave surface of the node):\n\n"
      << "| level | max nodal pressure at | surface | ball peak centre | surface |\n|---|---|---|---|---|\n";
   for (const FemLevelRow& row : rows) {
-    std::snprintf(line, sizeof line, "| %s | (%.2f, %.2f, %.2f) | %s | (%.2f, %.2f, %.2f) | %s |\n", row.level.c_str(),
+    std::snprintf(line, sizeof line, "| %s | (%.2f, %.2f, %.2f) | %s | (%.2f, %.2f, %.2f) | %s |\n", to_string(row.level),
                   row.max_pressure_position[0], row.max_pressure_position[1], row.max_pressure_position[2],
                   row.max_pressure_surface.c_str(), row.ball_peak_pressure_position[0],
                   row.ball_peak_pressure_position[1], row.ball_peak_pressure_position[2],

@@ -17,9 +17,9 @@ FemLevelsResult compute_fem_levels(const FemLevelsOptions& options) {
   int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   // Levels in the order of refinement; the finest one is the reference.
-  std::vector<std::string> levels;
-  for (const std::string& name : fem::hip_fe_level_names()) {
-    if (std::find(options.levels.begin(), options.levels.end(), name) != options.levels.end()) levels.push_back(name);
+  std::vector<FeLevel> levels;
+  for (const FeLevel level : kFeLevels) {
+    if (std::find(options.levels.begin(), options.levels.end(), level) != options.levels.end()) levels.push_back(level);
   }
   // A model directory that cannot be read fails here, before the output directory exists.
   (void)geometry::load_hip_model(options.run.model_dir,
@@ -28,11 +28,11 @@ FemLevelsResult compute_fem_levels(const FemLevelsOptions& options) {
   FemLevelsResult result;
   result.writer = rank == 0;
   std::vector<FemLevelRow>& rows = result.rows;
-  for (const std::string& level : levels) {
+  for (const FeLevel level : levels) {
     HipFeRunOptions run = options.run;
     run.level = level;
-    run.out_file = (options.out_dir / (level + ".h5")).string();
-    run.csv_file = (options.out_dir / (level + ".csv")).string();
+    run.out_file = (options.out_dir / (std::string(to_string(level)) + ".h5")).string();
+    run.csv_file = (options.out_dir / (std::string(to_string(level)) + ".csv")).string();
     FemLevelRow row;
     row.level = level;
     row.summary = run_hip_fe(run, false);

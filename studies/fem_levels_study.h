@@ -19,13 +19,13 @@ namespace hipfai::studies {
 
 struct FemLevelsOptions {
   HipFeRunOptions run;  // model, motion, steps, body weight, solver (level and outputs set per level)
-  std::vector<std::string> levels = {"coarse", "default", "fine"};
+  std::vector<FeLevel> levels{kFeLevels.begin(), kFeLevels.end()};
   std::filesystem::path out_dir;
 };
 
 // One level's run and its peaks over the motion.
 struct FemLevelRow {
-  std::string level;
+  FeLevel level = FeLevel::kCoarse;
   HipFeRunSummary summary;
   double peak_pressure = 0.0, wall_per_step = 0.0;
   std::vector<double> peak_vm, peak_p95;  // per body, max over the steps
@@ -44,7 +44,7 @@ struct FemLevelsResult {
   bool writer = false;            // this process writes the report (MPI rank 0)
 };
 
-// Runs the levels of options.levels that fem::hip_fe_level_names() knows, in order of
+// Runs the levels of options.levels, in order of
 // refinement. Throws hipfai::Error when the model folder cannot be read (before any output).
 FemLevelsResult compute_fem_levels(const FemLevelsOptions& options);
 

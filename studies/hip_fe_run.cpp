@@ -53,7 +53,7 @@ std::string slave_surface_name(const std::vector<std::string>& pair_surfaces, in
 }
 
 geometry::HipVolumeOptions volume_options_of(const HipFeRunOptions& options) {
-  geometry::HipVolumeOptions volume = fem::hip_volume_options(fem::parse_hip_fe_level(options.level));
+  geometry::HipVolumeOptions volume = fem::hip_volume_options(options.level);
   if (options.labrum_refinement > 1) {
     volume.labrum_edge_mm = volume.edge_mm / options.labrum_refinement;
     volume.labrum_layers = volume.layers * options.labrum_refinement;
@@ -92,9 +92,11 @@ HipFeRunSummary run_hip_fe(const HipFeRunOptions& options, bool throw_on_failure
   solver.peak_average_radius_mm = options.peak_radius_mm;
   // Direct (MUMPS) by default: the hip meshes have 15-150 k DOFs with thin, nearly incompressible
   // layers, where CG + GAMG needs ~600 iterations per solve (127 s vs 13 s per coarse step).
-  solver.linear_solver = options.solver == "cg"       ? fem::LinearSolver::kCgAmg
-                         : options.solver == "direct" ? fem::LinearSolver::kDirect
-                                                      : fem::LinearSolver::kSubstructured;
+  switch (options.solver) {
+    case FeSolver::kSubstructured: solver.linear_solver = fem::LinearSolver::kSubstructured; break;
+    case FeSolver::kDirect: solver.linear_solver = fem::LinearSolver::kDirect; break;
+    case FeSolver::kCg: solver.linear_solver = fem::LinearSolver::kCgAmg; break;
+  }
   fem::ContactProblem problem(MPI_COMM_WORLD, solver);
   fem::build_hip_fe_model(problem, volume.mesh, model.tissue("femur_bone"), model.hjc_mm);
 
@@ -112,7 +114,7 @@ HipFeRunSummary run_hip_fe(const HipFeRunOptions& options, bool throw_on_failure
     writer = std::make_unique<fem::FemResultsWriter>(options.out_file, summary.bodies, fem::kFemurBody);
     if (options.progress || options.verbose) {
       std::printf("%s: %s, level %s: %zu hexahedra (min scaled Jacobian %.2f), %zu steps\n",
-                  options.label.c_str(), options.model_dir.c_str(), options.level.c_str(), summary.hexes,
+                  options.label.c_str(), options.model_dir.c_str(), to_string(options.level), summary.hexes,
                   volume.min_scaled_jacobian, steps.size());
       std::fflush(stdout);
     }
@@ -212,14 +214,14 @@ std::string hip_fe_cache_key(const HipFeRunOptions& options) {
   }
   for (int d = 0; d < 3; ++d) hasher.add(model.hjc_mm[d]);
   const geometry::HipVolumeOptions volume = volume_options_of(options);
-  hasher.add(std::string_view(options.level));
+  hasher.add(std::string_view(to_string(options.level)));
   hasher.add(volume.edge_mm).add(static_cast<std::int64_t>(volume.layers));
   hasher.add(volume.labrum_edge_mm).add(static_cast<std::int64_t>(volume.labrum_layers));
   // Materials (thesis §4.3.2.3) and the load.
   hasher.add(literature::kCartilageYoungsModulusMPa).add(literature::kCartilagePoissonRatio);
   hasher.add(literature::kLabrumYoungsModulusMPa).add(literature::kLabrumPoissonRatio);
   hasher.add(options.body_weight_n).add(options.peak_radius_mm);
-  hasher.add(std::string_view(options.solver));
+  hasher.add(std::string_view(to_string(options.solver)));
   // How the volume mesher reads the tissues' outlines (geometry/hip_volume_mesh.h); generated
   // models keep the keys they had before the flag existed.
   if (model.soft_tissue != geometry::SoftTissueSource::kGenerated) hasher.add(std::string_view(geometry::to_string(model.soft_tissue)));
@@ -275,10 +277,10 @@ std::vector<std::string> hip_fe_command_arguments(const HipFeRunOptions& options
     out << value;
     return out.str();
   };
-  std::vector<std::string> args{"fem", "run", "--model", options.model_dir, "--level", options.level,
+  std::vector<std::string> args{"fem", "run", "--model", options.model_dir, "--level", to_string(options.level),
                                 "--body-weight-n", number(options.body_weight_n), "--peak-radius-mm",
                                 number(options.peak_radius_mm), "--labrum-refinement",
-                                std::to_string(options.labrum_refinement), "--solver", options.solver,
+                                std::to_string(options.labrum_refinement), "--solver", to_string(options.solver),
                                 "--out", options.out_file};
   if (options.motion_file.empty()) {
     args.insert(args.end(), {"--steps", std::to_string(options.steps)});

@@ -21,6 +21,7 @@
 #ifdef HIPFAI_WITH_FEM
 
 #include "core/atomic_file.h"
+#include "core/fe_choices.h"
 #include "fem/hip_fe_model.h"
 #include "studies/hip_fe_table.h"
 #include "studies/motion.h"
@@ -41,7 +42,7 @@ struct HipFeRunOptions {
   std::optional<Motion> motion;
   std::string motion_file;
   int steps = 30;
-  std::string level = "coarse";  // fem::hip_fe_level_names()
+  FeLevel level = FeLevel::kCoarse;
   double body_weight_n = fem::kDefaultBodyWeightN;
   double peak_radius_mm = fem::ContactOptions{}.peak_average_radius_mm;
   // The labrum meshed n times finer than the level (edge / n, layers * n): for the study of its
@@ -49,9 +50,7 @@ struct HipFeRunOptions {
   int labrum_refinement = 1;
   std::string out_file;  // per-step HDF5 (required)
   std::string csv_file;  // per-step table (empty: none), written atomically after the motion
-  // "substructured" (each body factorised once, contact condensed), "direct" (MUMPS on the
-  // whole system per active set: the monolithic reference) or "cg" (CG + GAMG)
-  std::string solver = "substructured";
+  FeSolver solver = FeSolver::kSubstructured;  // core/fe_choices.h
   unsigned int vtu_every = 0;     // fields to <vtu_prefix>_<step>.vtu every n steps and the last
   std::string vtu_prefix;
   bool verbose = false;   // active-set iterations on stdout

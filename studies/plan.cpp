@@ -112,7 +112,7 @@ Plan plan_scene(const Scene& scene, const Motion& motion) {
   }
   if (needs_fe(scene)) {
     std::ostringstream label;
-    label << "contact FE over the motion (level " << scene.fe.level << "; " << fe_load_description(scene, motion)
+    label << "contact FE over the motion (level " << to_string(scene.fe.level) << "; " << fe_load_description(scene, motion)
           << ')';
     add(StageKind::kFiniteElement, label.str(), steps);
   }

@@ -267,11 +267,10 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& origin) 
   if (const YAML::Node fe = root["fe"]) {
     ctx.only_keys(fe, "fe", {"level", "body_weight_n"});
     if (fe["level"]) {
-      // The names of fem::hip_fe_level_names(), spelled out: scenes are read without the FE module.
-      scene.fe.level = ctx.text(fe["level"], "fe.level");
-      if (scene.fe.level != "coarse" && scene.fe.level != "default" && scene.fe.level != "fine") {
-        ctx.fail(fe["level"], "fe.level", "unknown level '" + scene.fe.level + "' (expected coarse, default or fine)");
-      }
+      const std::string name = ctx.text(fe["level"], "fe.level");
+      const std::optional<FeLevel> level = fe_level_from_name(name);
+      if (!level) ctx.fail(fe["level"], "fe.level", "unknown level '" + name + "' (expected coarse, default or fine)");
+      scene.fe.level = *level;
     }
     if (fe["body_weight_n"]) {
       scene.fe.body_weight_n = ctx.number(fe["body_weight_n"], "fe.body_weight_n", 0, 10000);

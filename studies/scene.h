@@ -20,7 +20,7 @@
 // top-level `fe` block (ignored when no output needs the FE):
 //
 //   fe: {level: coarse, body_weight_n: 700}
-//     level          coarse | default | fine (fem::hip_fe_level_names(), docs/fem-levels.md);
+//     level          coarse | default | fine (core/fe_choices.h, docs/fem-levels.md);
 //                    default "default"
 //     body_weight_n  body weight (N), (0, 10000]; default 700. The joint force scales with it:
 //                    standing-to-sitting gets the sitting-down load (studies/motion.h,
@@ -30,6 +30,8 @@
 // Every problem (unknown key, missing file, wrong unit, angle out of range) is reported before any
 // work starts, as "<file>:<line>: <key>: <problem>". Relative paths are relative to the scene file.
 #pragma once
+
+#include "core/fe_choices.h"
 
 #include "contact/radial_mapping.h"
 #include "geometry/hip_parameters.h"
@@ -83,7 +85,7 @@ struct SceneOptions {
 
 // The `fe` block (see the top of this file).
 struct FeSpec {
-  std::string level = "default";   // coarse | default | fine
+  FeLevel level = FeLevel::kDefault;  // core/fe_choices.h
   double body_weight_n = 700.0;     // N; the same default as fem::kDefaultBodyWeightN
 };
 

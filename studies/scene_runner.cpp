@@ -276,7 +276,7 @@ SceneRunSummary run_scene(const Scene& scene, const Motion& motion, const SceneR
     }
     if (fe.ran) {
       file.create_group("/fe");
-      file.set_attribute("/fe", "level", fe.level);
+      file.set_attribute("/fe", "level", std::string(to_string(fe.level)));
       file.set_attribute("/fe", "load", fe.load);
       file.set_attribute("/fe", "body_weight_n", scene.fe.body_weight_n);
       file.set_attribute("/fe", "cache_entry", fe.entry.string());
@@ -329,7 +329,7 @@ SceneRunSummary run_scene(const Scene& scene, const Motion& motion, const SceneR
     text << (options.write_files ? " (assessment/)" : "") << '\n';
   }
   if (fe.ran) {
-    text << "  FE level " << fe.level << " (" << fe.load << "): " << fe.not_converged << " of "
+    text << "  FE level " << to_string(fe.level) << " (" << fe.load << "): " << fe.not_converged << " of "
          << fe.status.size() << " steps not converged, " << std::setprecision(1) << fe.seconds << " s"
          << (fe.reused ? " (from the cache " : " (computed, cached in ") << fe.entry.string() << ")\n"
          << std::setprecision(3);

@@ -15,6 +15,8 @@
 //   pressure_ball_mpa                              area, averaged over a ball about the peak
 #pragma once
 
+#include "core/fe_choices.h"
+
 #include "studies/hip_source.h"
 #include "studies/motion.h"
 #include "studies/penetration_run.h"
@@ -41,7 +43,7 @@ struct SceneFeResult {
   bool ran = false;                   // the scene asked for FE outputs
   bool reused = false;                // answered from the cache entry, nothing solved
   std::filesystem::path entry;        // <cache>/fe/<key>
-  std::string level;
+  FeLevel level = FeLevel::kDefault;
   std::string load;                   // the joint force applied, in words
   double seconds = 0.0;               // wall time of the FE stage in this run
   std::vector<std::string> status;    // per step: "converged", ...

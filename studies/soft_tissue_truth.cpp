@@ -129,7 +129,7 @@ SoftTissueTruthResult run_soft_tissue_truth(const SoftTissueTruthOptions& option
     progress.advance();
   }
   progress.finish();
-  if (!options.fe_level.empty()) {
+  if (options.fe_level) {
 #ifdef HIPFAI_WITH_FEM
     // Both tissue sets of every hip, generated first, through the FE cache.
     std::vector<FeBatchJob> jobs;
@@ -139,7 +139,7 @@ SoftTissueTruthResult run_soft_tissue_truth(const SoftTissueTruthOptions& option
         job.id = row.hip + " (" + which + ")";
         job.run.model_dir = (options.out_dir / "hips" / row.hip / which).string();
         job.run.steps = motion.steps.size() == 0 ? options.sub_motions : static_cast<int>(motion.steps.size());
-        job.run.level = options.fe_level;
+        job.run.level = *options.fe_level;
         // The end pose's fields, as `study validate` keeps them: the two studies share cache entries.
         job.run.vtu_every = static_cast<unsigned int>(job.run.steps);
         jobs.push_back(std::move(job));

@@ -10,6 +10,8 @@
 // contact pressure and of the von Mises stress per tissue, raw and ball-averaged.
 #pragma once
 
+#include "core/fe_choices.h"
+
 #include <array>
 #include <filesystem>
 #include <optional>
@@ -24,9 +26,9 @@ struct SoftTissueTruthOptions {
   std::filesystem::path out_dir = "out/soft-tissue-truth";
   bool quick = false;             // two hips (CE 20 alpha 80, CE 40 alpha 40) at 3 mm, 10 sub-motions
   int threads = 2;
-  // FE of both tissue sets at this level (fem::hip_fe_level_names()); empty: no FE (the CLI's
-  // default is "default" in a build with the FE module).
-  std::string fe_level;
+  // FE of both tissue sets at this level; none: no FE (the CLI's default is the default level in
+  // a build with the FE module).
+  std::optional<FeLevel> fe_level;
   std::filesystem::path cache_dir = "cache";
   std::filesystem::path program;  // the hipfai executable of the FE workers; empty: in this process
   int jobs = 2;                   // FE worker processes at once

@@ -65,7 +65,7 @@ std::filesystem::path write_soft_tissue_truth(const SoftTissueTruthResult& resul
          "synthesised_femoral_mean_thickness_mm,synthesised_acetabular_mean_thickness_mm,generated_curvilinear_mm,"
          "synthesised_curvilinear_mm,generated_radial_mm,synthesised_radial_mm,synthesis_seconds";
   const std::vector<FeMeasure> measures = fe_measures();
-  const bool with_fe = !result.options.fe_level.empty();
+  const bool with_fe = result.options.fe_level.has_value();
   if (with_fe) {
     for (const char* which : {"generated_", "synthesised_"}) {
       for (const FeMeasure& m : measures) csv << ',' << which << m.name;
@@ -152,7 +152,7 @@ std::filesystem::path write_soft_tissue_truth(const SoftTissueTruthResult& resul
       }
       fe_table << '\n';
     }
-    fe_section << "## FE over standing-to-sitting, level " << result.options.fe_level << "\n\n"
+    fe_section << "## FE over standing-to-sitting, level " << to_string(*result.options.fe_level) << "\n\n"
                << "Both tissue sets of every hip through `hipfai fem run` (" << unconverged
                << " steps not converged in all; FE time " << fixed(fe_seconds, 0)
                << " s summed over the runs, from the cache where they were already solved). Peaks over the motion; "

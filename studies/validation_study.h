@@ -19,6 +19,8 @@
 //   fig61/       the CE 40 / alpha 60 hip at the end pose for ParaView (when on the grid)
 #pragma once
 
+#include "core/fe_choices.h"
+
 #ifdef HIPFAI_WITH_FEM
 #include "studies/hip_fe_run.h"
 #endif
@@ -39,7 +41,7 @@ struct ValidationOptions {
   std::vector<std::pair<double, double>> hips;
   double edge_mm = 2.0;       // surface resolution of the penetration method
   int sub_motions = 30;       // steps of standing-to-sitting (thesis: 30)
-  std::string fe_level = "default";
+  FeLevel fe_level = FeLevel::kDefault;
   double body_weight_n = 0.0; // <= 0: fem::kDefaultBodyWeightN
   int jobs = 2;               // FE worker processes at once
   int threads = 2;            // threads of the penetration method
@@ -75,7 +77,7 @@ struct ValidationHipTiming {
 struct ValidationResult {
   std::vector<ValidationHipTiming> hips;
   int steps = 0;
-  std::string fe_level;
+  FeLevel fe_level = FeLevel::kDefault;
   double seconds = 0;
 };
 

@@ -141,8 +141,10 @@ TEST(CreateHexTriangulation, RejectsBrokenMeshesWithOneLine) {
 }
 
 TEST(HipFeLevel, NamesRoundTripAndRefineMonotonically) {
-  for (const std::string& name : hip_fe_level_names()) EXPECT_EQ(to_string(parse_hip_fe_level(name)), name);
-  EXPECT_THROW(parse_hip_fe_level("medium"), Error);
+  for (const std::string& name : fe_level_names()) EXPECT_EQ(to_string(parse_fe_level(name, "test")), name);
+  for (const std::string& name : fe_solver_names()) EXPECT_EQ(to_string(parse_fe_solver(name, "test")), name);
+  EXPECT_THROW(parse_fe_level("medium", "test"), Error);
+  EXPECT_THROW(parse_fe_solver("gauss", "test"), Error);
   const auto coarse = hip_volume_options(HipFeLevel::kCoarse);
   const auto normal = hip_volume_options(HipFeLevel::kDefault);
   const auto fine = hip_volume_options(HipFeLevel::kFine);

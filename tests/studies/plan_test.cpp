@@ -52,7 +52,7 @@ std::string fe_label(const Plan& plan) {
 
 TEST(Plan, FeOnlyWhenAsked) {
   Scene scene = scene_with({Output::kVonMises});
-  scene.fe.level = "coarse";
+  scene.fe.level = FeLevel::kCoarse;
   const Plan plan = plan_scene(scene, standing_to_sitting(5));
   EXPECT_EQ(plan.count(StageKind::kFiniteElement), 1);
   // The FE tissues: no acetabular bone.

@@ -177,7 +177,7 @@ Scene fe_scene(std::set<Output> outputs) {
     scene.tissues.insert(tissues.begin(), tissues.end());
   }
   scene.motion.sub_motions = 2;  // standing to sitting in 2 steps: ~4 s at the coarse level
-  scene.fe.level = "coarse";
+  scene.fe.level = FeLevel::kCoarse;
   return scene;
 }
 

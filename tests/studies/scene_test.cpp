@@ -111,7 +111,7 @@ TEST(Scene, FeBlockIsReadAndFeOutputsNeedTheFeTissuesOnly) {
   std::string text = replaced(kGood, "[radial_depth]", "[von_mises, contact_pressure]");
   text += "fe: {level: coarse, body_weight_n: 800}\n";
   const Scene scene = parse_scene(text, "scene.yaml");
-  EXPECT_EQ(scene.fe.level, "coarse");
+  EXPECT_EQ(scene.fe.level, FeLevel::kCoarse);
   EXPECT_DOUBLE_EQ(scene.fe.body_weight_n, 800.0);
   EXPECT_TRUE(needs_fe(scene));
   EXPECT_FALSE(needs_penetration(scene));
@@ -122,7 +122,7 @@ TEST(Scene, FeBlockIsReadAndFeOutputsNeedTheFeTissuesOnly) {
 
 TEST(Scene, FeBlockDefaults) {
   const Scene scene = parse_scene(kGood, "scene.yaml");
-  EXPECT_EQ(scene.fe.level, "default");
+  EXPECT_EQ(scene.fe.level, FeLevel::kDefault);
   EXPECT_DOUBLE_EQ(scene.fe.body_weight_n, 700.0);
   EXPECT_FALSE(needs_fe(scene));
   EXPECT_TRUE(needs_penetration(scene));
@@ -147,16 +147,13 @@ TEST(Scene, FeBlockErrorsNameKeyAndLine) {
   EXPECT_NE(message.find("scene.yaml:8: fe: expected a mapping"), std::string::npos) << message;
 }
 
-#ifdef HIPFAI_WITH_FEM
-// The scene reader spells the level names out (it builds without the FE module): they must be
-// the FE module's, every one of them.
-TEST(Scene, FeLevelsAreTheFeModulesLevels) {
-  for (const std::string& level : fem::hip_fe_level_names()) {
-    const Scene scene = parse_scene(kGood + "fe: {level: " + level + "}\n", "scene.yaml");
+// Every level of the one name table (core/fe_choices.h) reads back as itself.
+TEST(Scene, FeLevelsAreTheTablesLevels) {
+  for (const FeLevel level : kFeLevels) {
+    const Scene scene = parse_scene(kGood + "fe: {level: " + to_string(level) + "}\n", "scene.yaml");
     EXPECT_EQ(scene.fe.level, level);
   }
 }
-#endif
 
 }  // namespace
 }  // namespace hipfai::studies

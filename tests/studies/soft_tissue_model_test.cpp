@@ -153,10 +153,10 @@ TEST(SoftTissueModel, TheRealHipMeshesIntoValidTaggedHexahedraAtEveryLevel) {
   // brings into contact, at each FE level.
   const SoftTissueModel result = lhdl_model();
   EXPECT_EQ(result.model.soft_tissue, geometry::SoftTissueSource::kSynthesised);
-  for (const fem::HipFeLevel level : {fem::HipFeLevel::kCoarse, fem::HipFeLevel::kDefault, fem::HipFeLevel::kFine}) {
-    SCOPED_TRACE(fem::to_string(level));
+  for (const FeLevel level : kFeLevels) {
+    SCOPED_TRACE(to_string(level));
     const geometry::HipVolumeMesh volume = geometry::build_hip_volume_mesh(result.model, fem::hip_volume_options(level));
-    std::printf("%s: %zu hexahedra, min scaled Jacobian %.2f\n", fem::to_string(level), volume.mesh.hexes.size(),
+    std::printf("%s: %zu hexahedra, min scaled Jacobian %.2f\n", to_string(level), volume.mesh.hexes.size(),
                 volume.min_scaled_jacobian);
     EXPECT_GT(volume.min_scaled_jacobian, 0.0);
     std::map<geometry::VolumeTag, std::size_t> hexes;

@@ -34,7 +34,7 @@ TEST(ValidationStudy, QuickRunEndToEndAndFromTheCache) {
   options.hips = {{20, 40}, {40, 60}};
   options.edge_mm = 3.0;
   options.sub_motions = 6;
-  options.fe_level = "coarse";
+  options.fe_level = FeLevel::kCoarse;
   options.program = program;
   options.progress = false;
   const ValidationResult first = run_validation_study(options);
@@ -80,9 +80,7 @@ TEST(ValidationStudy, RejectsUnusableOptionsBeforeAnyWork) {
   options.sub_motions = 2;
   EXPECT_ANY_THROW(run_validation_study(options));
   options.sub_motions = 6;
-  options.fe_level = "medium";
-  EXPECT_ANY_THROW(run_validation_study(options));
-  options.fe_level = "coarse";
+  options.fe_level = FeLevel::kCoarse;
   options.program = "/nonexistent/hipfai";
   EXPECT_ANY_THROW(run_validation_study(options));
   EXPECT_FALSE(std::filesystem::exists(options.out_dir));
