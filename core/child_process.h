@@ -1,4 +1,5 @@
-// hipfai — work done in a forked child process, so that a library that crashes cannot crash hipfai.
+// hipfai — work done in a forked child process, so that a library that crashes cannot crash hipfai,
+// and other programs run as worker processes (run_program).
 //
 // Some libraries hipfai calls can take the process down on inputs nothing can check beforehand:
 // Debian's HDF5 on damaged metadata (studies/hdf5_child.h) and gmsh's surface mesher on some
@@ -10,8 +11,10 @@
 // at fork time (for gmsh: the parent holds lock_gmsh() around the call).
 #pragma once
 
+#include <filesystem>
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace hipfai {
 
@@ -42,5 +45,12 @@ ChildOutcome run_in_child(const std::function<void(int fd)>& work, const ChildRe
 
 // Writes all of `bytes` to `fd` (retrying short writes and EINTR); false on a write error.
 bool write_all(int fd, const std::string& bytes);
+
+// Runs `program args...` in a child process (fork and execve) with its stdout and stderr to `log`
+// and `environment` as its environment ("NAME=value" each). The child is killed when this process
+// dies (PR_SET_PDEATHSIG), so a killed caller leaves no worker behind it. Returns the child's exit
+// status; -1 when it could not be started, the log not opened, or a signal ended it.
+int run_program(const std::filesystem::path& program, const std::vector<std::string>& args,
+                const std::filesystem::path& log, const std::vector<std::string>& environment);
 
 }  // namespace hipfai

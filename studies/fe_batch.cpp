@@ -4,18 +4,13 @@
 #ifdef HIPFAI_WITH_FEM
 
 #include "core/atomic_file.h"
+#include "core/child_process.h"
 #include "core/error.h"
 #include "core/stopwatch.h"
 
-#include <fcntl.h>
-#include <sys/prctl.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
-#include <cerrno>
-#include <csignal>
 #include <cstdio>
 #include <mutex>
 #include <sstream>
@@ -43,42 +38,6 @@ std::vector<std::string> worker_environment() {
   return env;
 }
 
-// Runs `program args...` with stdout and stderr to `log`; returns its exit status (-1: not started
-// or killed by a signal). The child is killed when this process dies (PR_SET_PDEATHSIG), so a
-// killed study leaves no worker writing into the cache behind it.
-int run_process(const std::filesystem::path& program, const std::vector<std::string>& args,
-                const std::filesystem::path& log) {
-  std::vector<std::string> argv_text{program.string()};
-  argv_text.insert(argv_text.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (std::string& a : argv_text) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  std::vector<std::string> env_text = worker_environment();
-  std::vector<char*> envp;
-  for (std::string& e : env_text) envp.push_back(e.data());
-  envp.push_back(nullptr);
-  const int log_fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (log_fd < 0) return -1;
-  const pid_t parent = ::getpid();
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    // Child: only async-signal-safe calls until exec.
-    ::prctl(PR_SET_PDEATHSIG, SIGKILL);
-    if (::getppid() != parent) ::_exit(127);  // the parent died before prctl took effect
-    ::dup2(log_fd, STDOUT_FILENO);
-    ::dup2(log_fd, STDERR_FILENO);
-    ::execve(argv[0], argv.data(), envp.data());
-    ::_exit(127);
-  }
-  ::close(log_fd);
-  if (pid < 0) return -1;
-  int status = 0;
-  while (::waitpid(pid, &status, 0) < 0) {
-    if (errno != EINTR) return -1;
-  }
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
 std::string seconds_text(double seconds) {
   std::ostringstream text;
   text.precision(10);
@@ -100,7 +59,7 @@ void solve(const FeBatchJob& job, const std::filesystem::path& entry, const FeBa
     run.progress = false;
     (void)run_hip_fe(run, false);
   } else {
-    const int status = run_process(options.program, hip_fe_command_arguments(run), partial / "run.log");
+    const int status = run_program(options.program, hip_fe_command_arguments(run), partial / "run.log", worker_environment());
     // Exit status 1 with a complete table: some steps did not converge (kept, with their status).
     if (status != 0 && !std::filesystem::exists(partial / "fe.csv")) {
       staging.keep();  // the log the message points to
