@@ -86,10 +86,15 @@ EstimateResult estimate(const TrainedEstimator& model, const Eigen::VectorXd& ta
   const Eigen::VectorXd target = pca_scores(model.pca, target_features.transpose()).row(0).transpose();
   EstimateResult result;
   result.mahalanobis = significant_mahalanobis(model, target);
+  // A training hip lies on its own ranges' ends: its scores and distance, computed again, may
+  // differ from the stored ones by round-off, which must not flag it (1e-9 of the range).
+  constexpr double kRoundOff = 1e-9;
   for (int k = 0; k < model.significant_components; ++k) {
-    if (target(k) < model.score_min(k) || target(k) > model.score_max(k)) ++result.outside_components;
+    const double slack = kRoundOff * std::max(1.0, model.score_max(k) - model.score_min(k));
+    if (target(k) < model.score_min(k) - slack || target(k) > model.score_max(k) + slack) ++result.outside_components;
   }
-  result.bordering = result.outside_components > 0 || result.mahalanobis > model.max_training_mahalanobis;
+  result.bordering = result.outside_components > 0 ||
+                     result.mahalanobis > model.max_training_mahalanobis * (1.0 + kRoundOff);
   switch (method) {
     case EstimatorMethod::kPcaNn: {
       PcaNnOptions options;

@@ -115,6 +115,18 @@ TEST(PressureEstimator, BorderingFlag) {
   EXPECT_GT(near.steps[0].high, 14.0);
 }
 
+// Every training hip, the extreme ones included (on its ranges' ends), is inside the training
+// range: the scores and distance computed again differ from the stored ones by round-off at most.
+TEST(PressureEstimator, NoTrainingHipIsBordering) {
+  const Synthetic data;
+  const TrainedEstimator model = train_estimator(data.features, data.values, {.pca = {.components = 10}});
+  for (int i = 0; i < data.features.rows(); ++i) {
+    const EstimateResult result = estimate(model, data.features.row(i).transpose(), EstimatorMethod::kPcaNn, 3);
+    EXPECT_FALSE(result.bordering) << "hip " << i << ": Mahalanobis " << result.mahalanobis << " (max "
+                                   << model.max_training_mahalanobis << "), outside on " << result.outside_components;
+  }
+}
+
 TEST(PressureEstimator, RejectsMismatches) {
   const Synthetic data;
   EXPECT_THROW(train_estimator(data.features.topRows(2), data.values.topRows(2), {}), Error);
