@@ -51,3 +51,16 @@ cd \"$2/work\" && \"$1\" run \"$2/scene.yaml\" && test -d \"$2/work/cache\" && l
 || { echo 'no pose cache in the new cache folder' >&2; exit 1; }"
                  sh $<TARGET_FILE:hipfai> ${scene_empty_tmp})
 set_tests_properties(cli.run_model_dir_scene_from_an_empty_folder PROPERTIES LABELS "cli;fast" TIMEOUT 120)
+
+# Every example scene (meshes/scenes: penetration on a generated hip, radial only, FE outputs, the
+# assessment) runs from an empty working folder with the default output and cache folders, and
+# writes its results there.
+set(scene_examples_tmp ${CMAKE_BINARY_DIR}/cli-tmp/example_scenes_from_an_empty_folder)
+add_test(NAME cli.example_scenes_from_an_empty_folder
+         COMMAND sh -c "set -e; for scene in \"$2\"/*.yaml; do \
+name=$(basename \"$scene\" .yaml); rm -rf \"$3/$name\"; mkdir -p \"$3/$name\"; cd \"$3/$name\"; \
+\"$1\" run \"$scene\" > run.log 2>&1 || { echo \"$name failed:\" >&2; tail -5 run.log >&2; exit 1; }; \
+ls -R . | grep -q 'results.h5\\|assessment.json' || { echo \"$name: no results in its folder\" >&2; exit 1; }; \
+done"
+                 sh $<TARGET_FILE:hipfai> ${CMAKE_SOURCE_DIR}/meshes/scenes ${scene_examples_tmp})
+set_tests_properties(cli.example_scenes_from_an_empty_folder PROPERTIES LABELS "cli;slow" TIMEOUT 600)
