@@ -10,6 +10,7 @@
 #include "geometry/hip_measure.h"
 #include "geometry/mesh_io.h"
 #include "studies/assessment.h"
+#include "studies/soft_tissue_model.h"
 #include "studies/assessment_report.h"
 #include "studies/motion.h"
 
@@ -22,7 +23,7 @@ namespace {
 
 struct AssessArgs {
   BonePairArgs bones;
-  std::string motion, out;
+  std::string motion, out, soft_tissue;
   double resect_alpha_deg = -1.0, trim_rim_deg = -1.0;
   int threads = 1;
   bool quiet = false;
@@ -90,6 +91,14 @@ void run(const AssessArgs& args) {
   const studies::AssessmentResult result = studies::assess_hip(request);
   studies::write_assessment(result, {args.bones.femur, args.bones.pelvis, args.bones.frame, args.motion}, args.out);
   print_summary(result, args.out);
+  if (!args.soft_tissue.empty()) {
+    const studies::SoftTissueModel tissues = studies::soft_tissue_model_from(
+        result, anatomy::SoftTissueOptions{}, request.femur_name, request.pelvis_name);
+    studies::write_soft_tissue_model(tissues, args.bones.femur, args.bones.pelvis, args.soft_tissue);
+    std::printf("soft tissue synthesised (%.2f s; articular sphere %.2f mm); hip model folder %s\n",
+                tissues.total_seconds - tissues.assessment_seconds, tissues.report.articular_radius_mm,
+                args.soft_tissue.c_str());
+  }
 }
 
 const CommandRegistrar registrar("assess", [](CLI::App& parent) {
@@ -110,6 +119,9 @@ const CommandRegistrar registrar("assess", [](CLI::App& parent) {
       ->check(CLI::Range(0.1, 60.0));
   command->add_option("--threads", args->threads, "Threads for the range finder (0: all)")->capture_default_str();
   command->add_option("--out", args->out, "Output folder (replaced whole)")->required();
+  command->add_option("--soft-tissue", args->soft_tissue,
+                      "Also write a hip model folder with cartilage and labrum synthesised on the bones here "
+                      "(as `hipfai soft-tissue`; replaced whole)");
   command->add_flag("--quiet", args->quiet, "No progress lines");
   command->callback([args] { run(*args); });
 });

@@ -36,7 +36,16 @@ SoftTissueModel build_soft_tissue_model(const SoftTissueModelRequest& request) {
   assessment.trim_rim_deg.reset();
   assessment.progress = false;
   const AssessmentResult r = assess_hip(assessment);
+  const double assessment_seconds = seconds_since(start);
+  SoftTissueModel out = soft_tissue_model_from(r, request.options, assessment.femur_name, assessment.pelvis_name);
+  out.assessment_seconds = assessment_seconds;
+  out.total_seconds = seconds_since(start);
+  return out;
+}
 
+SoftTissueModel soft_tissue_model_from(const AssessmentResult& r, const anatomy::SoftTissueOptions& options,
+                                       const std::string& femur_name, const std::string& pelvis_name) {
+  const auto start = SteadyClock::now();
   SoftTissueModel out;
   out.side = r.side;
   out.side_source = r.side_source;
@@ -44,14 +53,14 @@ SoftTissueModel build_soft_tissue_model(const SoftTissueModelRequest& request) {
   out.hjc_input_mm = r.point_to_input(r.hjc_mm);
   out.head_radius_mm = r.femur_landmarks.head_radius_mm;
   out.lunate_radius_mm = r.acetabulum.radius_mm;
-  out.assessment_seconds = seconds_since(start);
+  out.assessment_seconds = r.total_seconds;
 
   // The femur at neutral: its head centre moved with it about the HJC.
   anatomy::SoftTissueRequest tissues;
   tissues.femur = &r.femur_neutral;
   tissues.pelvis = &r.pelvis;
-  tissues.femur_name = assessment.femur_name;
-  tissues.pelvis_name = assessment.pelvis_name;
+  tissues.femur_name = femur_name;
+  tissues.pelvis_name = pelvis_name;
   tissues.head_centre_mm = r.hjc_mm + r.neutral_rotation * (r.femur_landmarks.head_centre_mm - r.hjc_mm);
   tissues.joint_centre_mm = r.hjc_mm;
   // The head ends where the assessment's alpha profile says (the femur turned to neutral).
@@ -64,10 +73,10 @@ SoftTissueModel build_soft_tissue_model(const SoftTissueModelRequest& request) {
   tissues.head_radius_mm = r.femur_landmarks.head_radius_mm;
   tissues.head_fit_rms_mm = r.femur_landmarks.head_fit_rms_mm;
   tissues.acetabulum = &r.acetabulum;
-  tissues.options = request.options;
+  tissues.options = options;
   anatomy::SoftTissues made = anatomy::synthesise_soft_tissues(tissues);
   out.report = made.report;
-  out.options = request.options;
+  out.options = options;
 
   // The hip frame: origin the HJC, axes the pelvis frame (orthonormalised: the frame's axes are
   // unit and perpendicular to rounding; the reader checks unit axes).
@@ -108,12 +117,12 @@ SoftTissueModel build_soft_tissue_model(const SoftTissueModelRequest& request) {
   // The common articular sphere of the synthesised layers (anatomy/soft_tissue.h): the studies'
   // striking region and contact tolerance are measured from it.
   p.articular_radius_mm = std::clamp(out.report.articular_radius_mm, 20.0, 30.0);
-  p.femoral_cartilage_mm = request.options.femoral_max_thickness_mm;
-  p.acetabular_cartilage_mm = request.options.acetabular_thickness_mm;
-  p.labrum_height_mm = request.options.labrum_height_mm;
-  p.labrum_base_mm = request.options.labrum_base_mm;
+  p.femoral_cartilage_mm = options.femoral_max_thickness_mm;
+  p.acetabular_cartilage_mm = options.acetabular_thickness_mm;
+  p.labrum_height_mm = options.labrum_height_mm;
+  p.labrum_base_mm = options.labrum_base_mm;
   p.edge_mm = std::clamp(geometry::mean_edge_length(r.femur_neutral), 0.2, 10.0);
-  out.total_seconds = seconds_since(start);
+  out.total_seconds = out.assessment_seconds + seconds_since(start);
   return out;
 }
 

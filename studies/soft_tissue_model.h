@@ -51,6 +51,12 @@ struct SoftTissueModel {
 // acetabulum, ...; anatomy::synthesise_soft_tissues's).
 SoftTissueModel build_soft_tissue_model(const SoftTissueModelRequest& request);
 
+// The same from an assessment already made (hipfai assess --soft-tissue): its bones at neutral,
+// frames, head and acetabulum; `femur_name`, `pelvis_name` for messages. Resections the assessment
+// made do not change the bones used (the tissues dress the bones as scanned).
+SoftTissueModel soft_tissue_model_from(const AssessmentResult& assessment, const anatomy::SoftTissueOptions& options,
+                                       const std::string& femur_name = "femur", const std::string& pelvis_name = "pelvis");
+
 // Writes `dir` atomically (core/atomic_file.h AtomicDirectory: a whole folder or none): the model
 // (geometry::write_hip_model, PLY) and soft_tissue.md; `femur_path`, `pelvis_path` are named in it.
 // An existing `dir` is replaced.

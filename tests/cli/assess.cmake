@@ -35,3 +35,13 @@ add_test(NAME cli.run_plan_assessment_stage
 set_tests_properties(cli.run_plan_assessment_stage PROPERTIES LABELS "cli;fast" TIMEOUT 60)
 hipfai_cli_test(NAME study_soft_tissue_truth_quick EXIT 0
   COMMAND study soft-tissue-truth --quick --out @TMP@/out --cache @TMP@/cache)
+# --soft-tissue: the same hip model folder as `hipfai soft-tissue` writes, from the assessment made.
+set(assess_soft_tmp ${CMAKE_BINARY_DIR}/cli-tmp/assess_soft_tissue)
+add_test(NAME cli.assess_soft_tissue
+         COMMAND sh -c "set -e; rm -rf \"$2\"; mkdir -p \"$2\"; \
+\"$1\" assess --femur \"$3/femur_r.ply\" --pelvis \"$3/pelvis_no_sacrum.ply\" --out \"$2/out\" --soft-tissue \"$2/st\" --quiet > \"$2/log\"; \
+grep -q '\"soft_tissue\": \"synthesised\"' \"$2/st/model.json\" || { echo 'no synthesised model.json' >&2; exit 1; }; \
+\"$1\" soft-tissue --femur \"$3/femur_r.ply\" --pelvis \"$3/pelvis_no_sacrum.ply\" --out \"$2/alone\" > /dev/null; \
+for f in femoral_cartilage.ply acetabular_cartilage.ply labrum.ply model.json; do cmp \"$2/st/$f\" \"$2/alone/$f\"; done"
+                 sh $<TARGET_FILE:hipfai> ${assess_soft_tmp} ${CMAKE_SOURCE_DIR}/meshes/real-hips/LHDL_CT)
+set_tests_properties(cli.assess_soft_tissue PROPERTIES LABELS "cli;fast" TIMEOUT 120)
