@@ -1,5 +1,6 @@
 #include "studies/hip_source.h"
 
+#include "anatomy/frame_file.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/hash.h"
@@ -7,6 +8,9 @@
 #include "core/source_hashes.h"
 #include "geometry/hip_generator.h"
 #include "geometry/hip_model.h"
+#include "geometry/mesh_io.h"
+#include "geometry/mesh_io_common.h"
+#include "studies/soft_tissue_model.h"
 
 #include <Eigen/Geometry>
 
@@ -84,6 +88,34 @@ LoadedHip acquire_hip(const Scene& scene, const std::set<std::string>& tissues,
       geometry::write_hip_model(generated.model, staging.partial_path(), "ply");
       staging.commit([](const std::filesystem::path& dir) { return std::filesystem::exists(dir / "model.json"); });
       log.ran(StageKind::kGenerateHip);
+    }
+  } else if (scene.bones) {
+    // The bones dressed once (studies/soft_tissue_model.h), kept in the cache by the content of
+    // the files and choices that make the folder.
+    const SceneBones& bones = *scene.bones;
+    Hasher key;
+    key.add(std::string_view("dressed-bones-v1")).add(std::string_view(kHipSourceHash));
+    for (const std::filesystem::path& file : {bones.femur, bones.pelvis, bones.frame}) {
+      key.add(file.empty() ? std::string() : geometry::mesh_io::read_file_bytes(file));
+    }
+    key.add(std::string_view(bones.side ? anatomy::side_name(*bones.side) : "found"));
+    hip.id = bones.femur.stem().string();
+    hip.dir = cache_dir / ("dressed-" + hip.id + "-" + key.hex());
+    if (std::filesystem::exists(hip.dir / "model.json")) {
+      log.hit(StageKind::kDressBones);
+    } else {
+      const geometry::TriMesh femur = geometry::read_mesh(bones.femur);
+      const geometry::TriMesh pelvis = geometry::read_mesh(bones.pelvis);
+      SoftTissueModelRequest request;
+      request.assessment.femur = &femur;
+      request.assessment.pelvis = &pelvis;
+      request.assessment.femur_name = bones.femur.string();
+      request.assessment.pelvis_name = bones.pelvis.string();
+      request.assessment.side = bones.side;
+      if (!bones.frame.empty()) request.assessment.frame = anatomy::read_frame_file(bones.frame);
+      std::filesystem::create_directories(cache_dir);
+      write_soft_tissue_model(build_soft_tissue_model(request), bones.femur.string(), bones.pelvis.string(), hip.dir);
+      log.ran(StageKind::kDressBones);
     }
   } else {
     hip.dir = scene.model_dir;

@@ -7,6 +7,7 @@ namespace hipfai::studies {
 const char* stage_kind_name(StageKind kind) {
   switch (kind) {
     case StageKind::kGenerateHip: return "generate-hip";
+    case StageKind::kDressBones: return "dress-bones";
     case StageKind::kLocateHip: return "locate-hip";
     case StageKind::kLoadTissue: return "load-tissue";
     case StageKind::kCylindricalTable: return "cylindrical-table";
@@ -73,6 +74,9 @@ Plan plan_scene(const Scene& scene, const Motion& motion) {
     label << "CE " << scene.parametric->ce_deg << " deg, alpha " << scene.parametric->alpha_deg
           << " deg, edge " << scene.parametric->edge_mm << " mm";
     add(StageKind::kGenerateHip, label.str());
+  } else if (scene.bones) {
+    add(StageKind::kDressBones, "cartilage and labrum synthesised on " + scene.bones->femur.filename().string() +
+                                    " and " + scene.bones->pelvis.filename().string());
   } else {
     add(StageKind::kLocateHip, scene.model_dir.string());
   }

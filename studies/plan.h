@@ -16,6 +16,7 @@ namespace hipfai::studies {
 enum class StageKind {
   kGenerateHip,        // parametric hip -> meshes (cached by parameter hash)
   kLocateHip,          // user model folder with model.json
+  kDressBones,         // segmented bones -> synthesised cartilage and labrum (cached by content)
   kLoadTissue,         // read one tissue mesh
   kCylindricalTable,   // ring table + pose cache (crossings) about one motion axis (cached)
   kCylindricalQuery,   // per step: curvilinear depth of the mobile vertices

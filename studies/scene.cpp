@@ -146,10 +146,10 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& origin) 
   scene.name = root["name"] ? ctx.text(root["name"], "name") : origin.stem().string();
 
   const YAML::Node hip = root["hip"];
-  if (!hip) ctx.fail(root, "hip", "missing: give parametric: {...} or model_dir: path");
-  ctx.only_keys(hip, "hip", {"parametric", "model_dir"});
-  if (hip["parametric"] && hip["model_dir"]) {
-    ctx.fail(hip, "hip", "give either parametric or model_dir, not both");
+  if (!hip) ctx.fail(root, "hip", "missing: give parametric: {...}, model_dir: path or bones: {...}");
+  ctx.only_keys(hip, "hip", {"parametric", "model_dir", "bones"});
+  if ((hip["parametric"] ? 1 : 0) + (hip["model_dir"] ? 1 : 0) + (hip["bones"] ? 1 : 0) > 1) {
+    ctx.fail(hip, "hip", "give one of parametric, model_dir and bones");
   }
   if (const YAML::Node p = hip["parametric"]) {
     ctx.only_keys(p, "hip.parametric", {"ce_deg", "alpha_deg", "edge_mm"});
@@ -166,8 +166,30 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& origin) 
     if (!std::filesystem::exists(scene.model_dir / "model.json", ec)) {
       ctx.fail(dir, "hip.model_dir", "no model.json in " + scene.model_dir.string());
     }
+  } else if (const YAML::Node b = hip["bones"]) {
+    ctx.only_keys(b, "hip.bones", {"femur", "pelvis", "side", "frame"});
+    SceneBones bones;
+    const auto existing = [&](const char* key) {
+      if (!b[key]) ctx.fail(b, std::string("hip.bones.") + key, "missing");
+      const std::filesystem::path path = resolve(origin, ctx.text(b[key], std::string("hip.bones.") + key));
+      std::error_code ec;
+      if (!std::filesystem::is_regular_file(path, ec)) {
+        ctx.fail(b[key], std::string("hip.bones.") + key, "file not found: " + path.string());
+      }
+      return path;
+    };
+    bones.femur = existing("femur");
+    bones.pelvis = existing("pelvis");
+    if (b["frame"]) bones.frame = existing("frame");
+    if (b["side"]) {
+      const std::string side = ctx.text(b["side"], "hip.bones.side");
+      if (side == anatomy::side_name(anatomy::Side::kRight)) bones.side = anatomy::Side::kRight;
+      else if (side == anatomy::side_name(anatomy::Side::kLeft)) bones.side = anatomy::Side::kLeft;
+      else ctx.fail(b["side"], "hip.bones.side", "expected right or left");
+    }
+    scene.bones = bones;
   } else {
-    ctx.fail(hip, "hip", "give parametric: {...} or model_dir: path");
+    ctx.fail(hip, "hip", "give parametric: {...}, model_dir: path or bones: {...}");
   }
 
   const YAML::Node outputs = root["outputs"];

@@ -8,6 +8,9 @@
 //   name: normal-hip
 //   hip:
 //     parametric: {ce_deg: 20, alpha_deg: 40, edge_mm: 2.0}   # or  model_dir: path/with/model.json
+//                                     # or  bones: {femur: f.ply, pelvis: p.ply, side: right, frame: f.json}
+//                                     #     (a segmented hip, dressed with synthesised cartilage and
+//                                     #     labrum into the cache first: studies/soft_tissue_model.h)
 //   tissues: [femur_bone, labrum, femoral_cartilage, acetabular_cartilage]
 //   motion: {builtin: standing_to_sitting, sub_motions: 30}  # or {medical: flexion, max_deg: 90,
 //                                                            #      steps: 18}  or  {csv: file.csv}
@@ -31,6 +34,7 @@
 // work starts, as "<file>:<line>: <key>: <problem>". Relative paths are relative to the scene file.
 #pragma once
 
+#include "anatomy/side.h"
 #include "core/fe_choices.h"
 
 #include "contact/radial_mapping.h"
@@ -83,6 +87,13 @@ struct SceneOptions {
   bool swap_roles = true;         // also run each method with mobile and fixed exchanged (§4.3.2.1)
 };
 
+// A segmented hip (hip.bones): the two bone files, and the side and frame file when given (as
+// `hipfai soft-tissue --side --frame`).
+struct SceneBones {
+  std::filesystem::path femur, pelvis, frame;  // frame empty: found on the bones
+  std::optional<anatomy::Side> side;
+};
+
 // The `fe` block (see the top of this file).
 struct FeSpec {
   FeLevel level = FeLevel::kDefault;  // core/fe_choices.h
@@ -94,6 +105,7 @@ struct Scene {
   std::string name;
   std::optional<ParametricHip> parametric;
   std::filesystem::path model_dir;      // set when the hip is a folder with model.json
+  std::optional<SceneBones> bones;      // set when the hip is a segmented femur and pelvis
   std::set<std::string> tissues;        // as named in the scene
   MotionSpec motion;
   std::set<Output> outputs;

@@ -64,3 +64,15 @@ ls -R . | grep -q 'results.h5\\|assessment.json' || { echo \"$name: no results i
 done"
                  sh $<TARGET_FILE:hipfai> ${CMAKE_SOURCE_DIR}/meshes/scenes ${scene_examples_tmp})
 set_tests_properties(cli.example_scenes_from_an_empty_folder PROPERTIES LABELS "cli;slow" TIMEOUT 600)
+
+# A scene on segmented bones (hip.bones): dressed with synthesised soft tissue into the cache, the
+# depths computed, and the second run takes the dressed folder from the cache.
+set(scene_bones_tmp ${CMAKE_BINARY_DIR}/cli-tmp/scene_on_bones)
+add_test(NAME cli.scene_on_bones
+         COMMAND sh -c "set -e; rm -rf \"$2\"; mkdir -p \"$2\"; cd \"$2\"; \
+printf 'schema_version: 1\\nunits: {length: mm, angle: deg}\\nname: bones\\nhip:\\n  bones: {femur: %s/femur_r.ply, pelvis: %s/pelvis_no_sacrum.ply}\\nmotion: {medical: flexion, max_deg: 120, steps: 6}\\noutputs: [curvilinear_depth, radial_depth]\\n' \"$3\" \"$3\" > scene.yaml; \
+\"$1\" run scene.yaml > first.log; grep -q 'dress-bones x1' first.log || { cat first.log; exit 1; }; \
+\"$1\" run scene.yaml > second.log; grep -q 'from cache: dress-bones x1' second.log || { cat second.log; exit 1; }; \
+ls cache | grep -q '^dressed-femur_r-'"
+                 sh $<TARGET_FILE:hipfai> ${scene_bones_tmp} ${CMAKE_SOURCE_DIR}/meshes/real-hips/LHDL_CT)
+set_tests_properties(cli.scene_on_bones PROPERTIES LABELS "cli;fast" TIMEOUT 120)

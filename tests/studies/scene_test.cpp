@@ -155,5 +155,31 @@ TEST(Scene, FeLevelsAreTheTablesLevels) {
   }
 }
 
+
+// A segmented hip: the two bone files (paths relative to the scene file or absolute), an optional
+// side and frame file; missing files and a bad side are one-line errors naming the line.
+TEST(Scene, BonesAreASegmentedHip) {
+  const std::string lhdl = std::string(HIPFAI_SOURCE_DIR) + "/meshes/real-hips/LHDL_CT/";
+  const std::string head = "schema_version: 1\nunits: {length: mm, angle: deg}\nname: bones\nhip:\n  bones: {femur: " +
+                           lhdl + "femur_r.ply, pelvis: " + lhdl + "pelvis_no_sacrum.ply";
+  const std::string tail = "}\nmotion: {builtin: standing_to_sitting, sub_motions: 3}\noutputs: [curvilinear_depth]\n";
+  const Scene scene = parse_scene(head + ", side: right" + tail, "scene.yaml");
+  ASSERT_TRUE(scene.bones.has_value());
+  EXPECT_EQ(scene.bones->femur, lhdl + "femur_r.ply");
+  EXPECT_EQ(scene.bones->side, anatomy::Side::kRight);
+  EXPECT_TRUE(scene.bones->frame.empty());
+  EXPECT_FALSE(scene.parametric.has_value());
+  std::string message = error_of(head + ", side: middle" + tail);
+  EXPECT_NE(message.find("hip.bones.side: expected right or left"), std::string::npos) << message;
+  message = error_of(head + ", frame: none.json" + tail);
+  EXPECT_NE(message.find("hip.bones.frame: file not found"), std::string::npos) << message;
+  message = error_of("schema_version: 1\nunits: {length: mm, angle: deg}\nhip:\n  bones: {femur: " + lhdl +
+                     "femur_r.ply}\n" + tail.substr(2));
+  EXPECT_NE(message.find("hip.bones.pelvis: missing"), std::string::npos) << message;
+  message = error_of("schema_version: 1\nunits: {length: mm, angle: deg}\nhip:\n  model_dir: .\n  bones: {femur: a}\n" +
+                     tail.substr(2));
+  EXPECT_NE(message.find("give one of parametric, model_dir and bones"), std::string::npos) << message;
+}
+
 }  // namespace
 }  // namespace hipfai::studies
