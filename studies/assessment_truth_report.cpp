@@ -2,6 +2,7 @@
 #include "studies/assessment_truth_report.h"
 
 #include "core/atomic_file.h"
+#include "core/text_format.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,15 +10,6 @@
 #include <sstream>
 
 namespace hipfai::studies {
-namespace {
-
-std::string fixed(double value, int digits) {
-  char buffer[40];
-  std::snprintf(buffer, sizeof(buffer), "%.*f", digits, value);
-  return buffer;
-}
-
-}  // namespace
 
 std::filesystem::path write_assessment_truth(const AssessmentTruthResult& result) {
   std::ostringstream csv;

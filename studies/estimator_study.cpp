@@ -208,9 +208,9 @@ void add_fe_hip(EstimatorModel& model, const std::filesystem::path& dir, const s
   if (model.angle_deg.empty()) model.angle_deg = angles;
   check_same_motion(model.angle_deg, angles, table_file.string() + " vs the other training hips");
   const auto values = validation_fe_measures_of(table, table.rows, table_file)[fe_measure_index(measure, table_file.string())];
-  const std::set<std::string> tissues(model.grid.tissues.begin(), model.grid.tissues.end());
+  // Every tissue: the features read the grid's, the penetration depths the four of the thesis.
   const auto start = std::chrono::steady_clock::now();
-  const geometry::HipModel hip_model = geometry::load_hip_model(dir, tissues);
+  const geometry::HipModel hip_model = geometry::load_hip_model(dir);
   TrainingHip hip;
   hip.name = std::filesystem::path(dir).lexically_normal().filename().string();
   if (hip.name.empty()) hip.name = std::filesystem::path(dir).lexically_normal().parent_path().filename().string();
@@ -226,8 +226,7 @@ void add_fe_hip(EstimatorModel& model, const std::filesystem::path& dir, const s
   hip.feature_ms = features.extraction_ms;
   hip.misses = features.misses;
   hip.values = values;
-  const geometry::HipModel whole = geometry::load_hip_model(dir);
-  const stats::PenetrationDepths depths = penetration_over_motion(model.angle_deg, whole, dir);
+  const stats::PenetrationDepths depths = penetration_over_motion(model.angle_deg, hip_model, dir);
   for (Eigen::Index j = 0; j < depths.curvilinear_mm.cols(); ++j) {
     hip.curvilinear_mm.push_back(depths.curvilinear_mm(0, j));
     hip.radial_mm.push_back(depths.radial_mm(0, j));

@@ -138,7 +138,7 @@ SoftTissueTruthResult run_soft_tissue_truth(const SoftTissueTruthOptions& option
         FeBatchJob job;
         job.id = row.hip + " (" + which + ")";
         job.run.model_dir = (options.out_dir / "hips" / row.hip / which).string();
-        job.run.steps = motion.steps.size() == 0 ? options.sub_motions : static_cast<int>(motion.steps.size());
+        job.run.steps = static_cast<int>(motion.steps.size());
         job.run.level = *options.fe_level;
         // The end pose's fields, as `study validate` keeps them: the two studies share cache entries.
         job.run.vtu_every = static_cast<unsigned int>(job.run.steps);

@@ -2,6 +2,7 @@
 #include "studies/soft_tissue_truth_report.h"
 
 #include "core/atomic_file.h"
+#include "core/text_format.h"
 
 #include <algorithm>
 #include <cmath>
@@ -10,12 +11,6 @@
 
 namespace hipfai::studies {
 namespace {
-
-std::string fixed(double value, int digits) {
-  char buffer[40];
-  std::snprintf(buffer, sizeof(buffer), "%.*f", digits, value);
-  return buffer;
-}
 
 // Relative difference in %, or "-" when both are zero.
 std::string percent(double generated, double synthesised) {
