@@ -266,6 +266,10 @@ const CommandRegistrar registrar{"fem", [](CLI::App& parent) {
   run->add_option("--vtu-every", run_options->vtu_every, "Write VTU every N steps (and the last)")
       ->check(CLI::Range(0, 1000))
       ->needs(vtu_prefix);
+  run->add_option("--threads", run_options->threads,
+                  "Threads of the FE stages (0: every hardware thread); the results do not depend on it")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 256));
   run->add_flag("--verbose", run_options->verbose, "Print active-set iterations");
   run->callback([run_options] { run_fem_hip(*run_options); });
 

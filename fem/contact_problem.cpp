@@ -27,13 +27,19 @@ void ensure_mpi_initialized() {
   int initialized = 0;
   MPI_Initialized(&initialized);
   if (initialized) return;
-  // Held until exit: finalizes PETSc and MPI after every solver object is gone. One thread per
-  // rank: the parallelism we want is MPI, not TBB inside each rank.
+  // Held until exit: finalizes PETSc and MPI after every solver object is gone. No thread limit
+  // of its own (deal.II's default: the hardware threads, or DEAL_II_NUM_THREADS): the FE stages
+  // share them among the ranks (threads_per_rank), limit_threads() lowers it.
   static int argc = 1;
   static char name[] = "hipfai";
   static char* args[] = {name, nullptr};
   static char** argv = args;
-  static dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  static dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, dealii::numbers::invalid_unsigned_int);
+}
+
+void limit_threads(unsigned int threads) {
+  ensure_mpi_initialized();
+  dealii::MultithreadInfo::set_thread_limit(threads == 0 ? dealii::numbers::invalid_unsigned_int : threads);
 }
 
 class ContactProblem::Impl {

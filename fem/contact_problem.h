@@ -118,6 +118,13 @@ class ContactProblem {
 };
 
 // Initializes MPI and PETSc once per process (no-op when already done); safe to call repeatedly.
+// The FE's threads are not limited by it: every hardware thread (or DEAL_II_NUM_THREADS), shared
+// among the ranks on the machine (fem/thread_chunks.h).
 void ensure_mpi_initialized();
+
+// Limits the threads the FE stages of this process use (cell matrices, contact search, the
+// condensed contact problem) to `threads` (0: every hardware thread), after initializing MPI. The
+// results do not depend on it: the threaded stages write per-item slots.
+void limit_threads(unsigned int threads);
 
 }  // namespace hipfai::fem

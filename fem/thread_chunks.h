@@ -9,19 +9,20 @@
 #include "core/parallel.h"
 
 #include <deal.II/base/mpi.h>
+#include <deal.II/base/multithread_info.h>
 
 #include <mpi.h>
 
 #include <algorithm>
 #include <cstddef>
-#include <thread>
 
 namespace hipfai::fem {
 
-// Threads per rank: the hardware threads shared among the ranks, 1 to 8.
+// Threads per rank: the process's thread limit (deal.II's MultithreadInfo: the hardware threads,
+// DEAL_II_NUM_THREADS or limit_threads()) shared among the ranks, 1 to 8.
 inline std::size_t threads_per_rank(MPI_Comm comm) {
   return std::clamp<std::size_t>(
-      std::thread::hardware_concurrency() / dealii::Utilities::MPI::n_mpi_processes(comm), 1, 8);
+      dealii::MultithreadInfo::n_threads() / dealii::Utilities::MPI::n_mpi_processes(comm), 1, 8);
 }
 
 // Items per chunk when [0, n) is split over n_threads (at least 1).

@@ -6,6 +6,7 @@
 #include "core/atomic_file.h"
 #include "core/child_process.h"
 #include "core/error.h"
+#include "core/parallel.h"
 #include "core/stopwatch.h"
 
 
@@ -21,8 +22,8 @@ extern char** environ;
 namespace hipfai::studies {
 namespace {
 
-// The environment of an FE worker: one thread per process (two processes share two cores), and
-// nothing of an MPI launcher the parent may have been started under.
+// The environment of an FE worker: single-threaded BLAS and OpenMP (the worker's own threads are
+// its --threads), and nothing of an MPI launcher the parent may have been started under.
 std::vector<std::string> worker_environment() {
   std::vector<std::string> env;
   for (char** e = environ; e != nullptr && *e != nullptr; ++e) {
@@ -45,9 +46,10 @@ std::string seconds_text(double seconds) {
   return text.str();
 }
 
-// Solves one run into its cache entry (in this process or a worker process); writes the run's
-// wall time beside its table.
-void solve(const FeBatchJob& job, const std::filesystem::path& entry, const FeBatchOptions& options) {
+// Solves one run into its cache entry (in this process or a worker process with `threads` FE
+// threads); writes the run's wall time beside its table.
+void solve(const FeBatchJob& job, const std::filesystem::path& entry, const FeBatchOptions& options,
+           unsigned int threads) {
   AtomicDirectory staging(entry);
   const std::filesystem::path& partial = staging.partial_path();
   HipFeRunOptions run = job.run;
@@ -59,6 +61,7 @@ void solve(const FeBatchJob& job, const std::filesystem::path& entry, const FeBa
     run.progress = false;
     (void)run_hip_fe(run, false);
   } else {
+    run.threads = threads;
     const int status = run_program(options.program, hip_fe_command_arguments(run), partial / "run.log", worker_environment());
     // Exit status 1 with a complete table: some steps did not converge (kept, with their status).
     if (status != 0 && !std::filesystem::exists(partial / "fe.csv")) {
@@ -83,6 +86,9 @@ std::vector<FeBatchEntry> run_fe_batch(const std::vector<FeBatchJob>& jobs, cons
     if (!entries[j].reused) to_solve.push_back(j);
   }
   const int workers = options.program.empty() ? 1 : std::max(1, std::min<int>(options.jobs, static_cast<int>(to_solve.size())));
+  // The machine's threads shared among the workers (one each for two workers on two cores; the
+  // results do not depend on them).
+  const auto worker_threads = static_cast<unsigned int>(std::max(1, resolve_threads(0) / workers));
   if (options.progress) {
     std::printf("%s: FE (level %s) on %zu hips, %zu from the cache, %zu to solve in %d process(es)\n",
                 options.label.c_str(), jobs.empty() ? "-" : to_string(jobs.front().run.level), jobs.size(),
@@ -98,7 +104,7 @@ std::vector<FeBatchEntry> run_fe_batch(const std::vector<FeBatchJob>& jobs, cons
       const std::size_t j = to_solve[k];
       const auto job_start = SteadyClock::now();
       try {
-        solve(jobs[j], entries[j].entry, options);
+        solve(jobs[j], entries[j].entry, options, worker_threads);
       } catch (const std::exception& error) {
         const std::lock_guard<std::mutex> lock(mutex);
         errors.emplace_back(error.what());

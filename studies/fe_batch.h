@@ -2,8 +2,8 @@
 // solves FE runs it does not have yet (studies/hip_fe_run.h has the run, its key and its entry).
 //
 // run_fe_batch() keys every job (hip_fe_cache_key), takes the finished entries from the cache and
-// solves the rest, each in a `hipfai fem run` worker process (`jobs` at once; one thread each, no
-// MPI launcher's environment) or, without a program, one after the other in this process. A
+// solves the rest, each in a `hipfai fem run` worker process (`jobs` at once, sharing the machine's
+// threads; no MPI launcher's environment) or, without a program, one after the other in this process. A
 // worker is killed with the study (PR_SET_PDEATHSIG), and an entry exists only when complete
 // (AtomicDirectory), so a killed batch resumes where it stopped. Each entry holds fe.csv,
 // results.h5, run.log (workers) and timing.txt ("wall_s <seconds>").

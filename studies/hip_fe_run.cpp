@@ -74,7 +74,7 @@ Motion hip_fe_motion(const HipFeRunOptions& options) {
 }
 
 HipFeRunSummary run_hip_fe(const HipFeRunOptions& options, bool throw_on_failure) {
-  fem::ensure_mpi_initialized();
+  fem::limit_threads(options.threads);
   int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   const auto start = std::chrono::steady_clock::now();
@@ -288,6 +288,7 @@ std::vector<std::string> hip_fe_command_arguments(const HipFeRunOptions& options
     args.insert(args.end(), {"--motion", options.motion_file});
   }
   if (!options.csv_file.empty()) args.insert(args.end(), {"--csv", options.csv_file});
+  if (options.threads > 0) args.insert(args.end(), {"--threads", std::to_string(options.threads)});
   if (options.vtu_every > 0) {
     args.insert(args.end(), {"--vtu-prefix", options.vtu_prefix, "--vtu-every", std::to_string(options.vtu_every)});
   }

@@ -53,6 +53,9 @@ struct HipFeRunOptions {
   FeSolver solver = FeSolver::kSubstructured;  // core/fe_choices.h
   unsigned int vtu_every = 0;     // fields to <vtu_prefix>_<step>.vtu every n steps and the last
   std::string vtu_prefix;
+  // Threads of this process's FE stages (0: every hardware thread, shared among MPI ranks); the
+  // results do not depend on it (fem::limit_threads), so it is not part of the cache key.
+  unsigned int threads = 0;
   bool verbose = false;   // active-set iterations on stdout
   bool progress = true;   // progress bar on stderr (rank 0)
   std::string label = "fem run";  // prefix of the progress and summary lines
