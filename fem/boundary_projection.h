@@ -38,6 +38,9 @@ class BoundaryProjector {
   // shared triangulation). The DoF handler must use an FESystem of 3 equal scalar elements.
   BoundaryProjector(const dealii::Mapping<3>& mapping, const dealii::DoFHandler<3>& dof_handler,
                     dealii::types::boundary_id boundary_id);
+  // The same from the boundary's faces already made (fem/contact_surfaces.h).
+  BoundaryProjector(const dealii::DoFHandler<3>& dof_handler, std::vector<FacePatch> faces)
+      : dof_handler_(dof_handler), faces_(std::move(faces)) {}
 
   std::size_t n_faces() const { return faces_.size(); }
   const std::vector<FacePatch>& faces() const { return faces_; }

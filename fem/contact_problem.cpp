@@ -87,6 +87,8 @@ class ContactProblem::Impl {
   bool compliance_failed = false;
   unsigned int factorisations_before_run = 0;
   LinearSolver solver_kind = LinearSolver::kCgAmg;
+  // The contact surfaces' faces, made once and turned with their bodies on later runs.
+  ContactSurfaces surfaces;
   std::vector<SlaveNode> nodes;
   std::vector<bool> active;
   // Of the last run: its solved state, the nodes' forces and gaps (empty: no state solved),
@@ -126,7 +128,8 @@ void ContactProblem::Impl::setup_system() {
 
 void ContactProblem::Impl::find_contact_nodes() {
   dealii::TimerOutput::Scope scope(timer, "contact search");
-  nodes = collect_slave_nodes(system, model, constraints.fixed_dofs(), options.tangent_plane_cull);
+  surfaces.update(system, model);
+  nodes = collect_slave_nodes(system, model, surfaces, constraints.fixed_dofs(), options.tangent_plane_cull);
 }
 
 std::vector<Linearization> ContactProblem::Impl::solve_active_set(

@@ -119,7 +119,7 @@ struct MortarIntegrals {
 };
 
 MortarIntegrals integrate_mortar(const ElasticSystem& system, const BoundaryProjector& projector,
-                                 dealii::types::boundary_id slave_boundary_id,
+                                 const std::vector<FacePatch>& slave_faces,
                                  const PairNodes& pair_nodes, double search_radius_mm,
                                  bool tangent_plane_cull) {
   const std::size_t count = pair_nodes.nodes.size();
@@ -141,10 +141,6 @@ MortarIntegrals integrate_mortar(const ElasticSystem& system, const BoundaryProj
   // The slave faces are integrated independently (threads), each into small dense blocks per
   // master face it sees; the blocks are then added into the sparse rows in face order, so the
   // sums do not depend on the number of threads.
-  struct SlaveFace {
-    dealii::DoFHandler<3>::active_cell_iterator cell;  // the slave cell
-    unsigned int face_no;                              // its face on the slave boundary
-  };
   struct Block {
     const FacePatch* master = nullptr;      // the master face the block couples to
     std::vector<unsigned int> master_base;  // base indices of the master face's nodes
@@ -156,14 +152,6 @@ MortarIntegrals integrate_mortar(const ElasticSystem& system, const BoundaryProj
     std::vector<dealii::Tensor<1, 3>> gap;  // per slave node
     std::vector<Block> blocks;              // one per master face seen, in integration order
   };
-  std::vector<SlaveFace> slave_faces;
-  for (const auto& cell : system.dof_handler().active_cell_iterators()) {
-    for (const unsigned int face_no : cell->face_indices()) {
-      const auto face = cell->face(face_no);
-      if (face->at_boundary() && face->boundary_id() == slave_boundary_id)
-        slave_faces.push_back({cell, face_no});
-    }
-  }
   const auto face_base_indices = [&](unsigned int face_no) {
     std::vector<unsigned int> indices;
     for (unsigned int i = 0; i < fe.n_dofs_per_cell(); ++i) {
@@ -175,13 +163,12 @@ MortarIntegrals integrate_mortar(const ElasticSystem& system, const BoundaryProj
   std::vector<FaceResult> face_results(slave_faces.size());
   auto integrate_faces = [&](std::size_t first, std::size_t last) {
     for (std::size_t f = first; f < last; ++f) {
-      const SlaveFace& slave_face = slave_faces[f];
+      const FacePatch& slave = slave_faces[f];
       FaceResult& result = face_results[f];
-      result.slave_base = face_base_indices(slave_face.face_no);
+      result.slave_base = face_base_indices(slave.face_no);
       const std::size_t ns = result.slave_base.size();
       result.covered.assign(ns, 0.0);
       result.gap.assign(ns, dealii::Tensor<1, 3>());
-      const FacePatch slave(system.mapping(), slave_face.cell, slave_face.face_no);
       std::vector<double> slave_values(ns);
       std::array<std::array<double, 8>, 3> slave_l{}, master_l{};
       for (const MortarPoint& point : segmenter.integrate(slave)) {
@@ -262,6 +249,15 @@ bool choose_constrained_component(SlaveNode& node, const std::vector<bool>& fixe
 std::vector<SlaveNode> collect_slave_nodes(const ElasticSystem& system, const ContactModel& model,
                                            const std::vector<bool>& fixed_dof,
                                            bool tangent_plane_cull) {
+  ContactSurfaces surfaces;
+  surfaces.update(system, model);
+  return collect_slave_nodes(system, model, surfaces, fixed_dof, tangent_plane_cull);
+}
+
+std::vector<SlaveNode> collect_slave_nodes(const ElasticSystem& system, const ContactModel& model,
+                                           const ContactSurfaces& surfaces,
+                                           const std::vector<bool>& fixed_dof,
+                                           bool tangent_plane_cull) {
   std::vector<SlaveNode> nodes;
   // Search radius: contact partners are close; 5 % of the model size is generous.
   const double search_radius_mm = 0.05 * dealii::GridTools::diameter(system.triangulation());
@@ -269,8 +265,8 @@ std::vector<SlaveNode> collect_slave_nodes(const ElasticSystem& system, const Co
     const ContactPair& pair = model.contact_pairs[p];
     std::unique_ptr<BoundaryProjector> projector;
     if (pair.master_rigid_body < 0) {
-      projector = std::make_unique<BoundaryProjector>(system.mapping(), system.dof_handler(),
-                                                      pair.master_boundary_id);
+      projector = std::make_unique<BoundaryProjector>(system.dof_handler(),
+                                                      surfaces.faces(pair.master_boundary_id));
       if (projector->n_faces() == 0) {
         throw_error("fem model: contact pair ", p, ": master boundary ",
                     static_cast<int>(pair.master_boundary_id), " has no faces");
@@ -283,8 +279,8 @@ std::vector<SlaveNode> collect_slave_nodes(const ElasticSystem& system, const Co
     }
     MortarIntegrals integrals;
     if (projector)
-      integrals = integrate_mortar(system, *projector, pair.slave_boundary_id, pair_nodes,
-                                   search_radius_mm, tangent_plane_cull);
+      integrals = integrate_mortar(system, *projector, surfaces.faces(pair.slave_boundary_id),
+                                   pair_nodes, search_radius_mm, tangent_plane_cull);
 
     // Project, choose the constrained component, drop nodes that cannot be constrained.
     for (std::size_t local = 0; local < pair_nodes.nodes.size(); ++local) {

@@ -18,6 +18,7 @@
 #pragma once
 
 #include "fem/contact_model.h"
+#include "fem/contact_surfaces.h"
 #include "fem/elastic_system.h"
 
 #include <deal.II/base/point.h>
@@ -51,6 +52,12 @@ struct SlaveNode {
 // tangent_plane_cull: MortarSegmentOptions::tangent_plane_cull (off only to check that it changes
 // nothing).
 std::vector<SlaveNode> collect_slave_nodes(const ElasticSystem& system, const ContactModel& model,
+                                           const std::vector<bool>& fixed_dof,
+                                           bool tangent_plane_cull = true);
+// The same with the contact surfaces' faces kept across runs (`surfaces` brought to the
+// system's placement with ContactSurfaces::update).
+std::vector<SlaveNode> collect_slave_nodes(const ElasticSystem& system, const ContactModel& model,
+                                           const ContactSurfaces& surfaces,
                                            const std::vector<bool>& fixed_dof,
                                            bool tangent_plane_cull = true);
 

@@ -248,8 +248,9 @@ std::vector<MortarPoint> MortarSegmenter::integrate(const FacePatch& slave) cons
           const double jacobian = area_vector.norm();
           point.jxw = orientation * gauss_w_[qu] * gauss_w_[qv] * u * det * jacobian;
           double sm = start_sm, tm = start_tm, lambda = start_lambda;
+          dealii::Tensor<1, 3> dsm, dtm;
           if (!master.intersect_line_from(point.slave_point_mm, area_vector / jacobian, sm, tm,
-                                          lambda))
+                                          lambda, point.master_point_mm, dsm, dtm))
             continue;
           start_sm = sm;
           start_tm = tm;
@@ -257,8 +258,6 @@ std::vector<MortarPoint> MortarSegmenter::integrate(const FacePatch& slave) cons
           point.slave_unit_point = slave.unit_cell_point(s, t);
           point.master = &master;
           point.master_unit_point = master.unit_cell_point(sm, tm);
-          dealii::Tensor<1, 3> dsm, dtm;
-          master.evaluate(sm, tm, point.master_point_mm, dsm, dtm);
           point.master_normal = master.normal(dsm, dtm);
           points.push_back(point);
         }

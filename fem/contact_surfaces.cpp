@@ -1,0 +1,107 @@
+#include "fem/contact_surfaces.h"
+
+#include <deal.II/dofs/dof_accessor.h>
+#include <deal.II/grid/grid_tools.h>
+#include <deal.II/grid/tria_accessor.h>
+
+#include <algorithm>
+#include <cstddef>
+#include <set>
+
+namespace hipfai::fem {
+
+namespace {
+
+// The x-component dofs of the nodes on face `face_no` of a cell, in the cell's dof order.
+std::vector<dealii::types::global_dof_index> face_support_dofs(
+    const ElasticSystem& system, const dealii::DoFHandler<3>::active_cell_iterator& cell,
+    unsigned int face_no, std::vector<dealii::types::global_dof_index>& scratch) {
+  cell->get_dof_indices(scratch);
+  std::vector<dealii::types::global_dof_index> dofs;
+  for (unsigned int i = 0; i < scratch.size(); ++i) {
+    if (system.support_on_face(face_no, i) && system.component_of(i) == 0) dofs.push_back(scratch[i]);
+  }
+  return dofs;
+}
+
+}  // namespace
+
+ContactSurfaces::MadeFace ContactSurfaces::make(const ElasticSystem& system,
+                                                const dealii::DoFHandler<3>::active_cell_iterator& cell,
+                                                unsigned int face_no, const dealii::Tensor<2, 3>& rotation) {
+  ++faces_made_;
+  MadeFace face{FacePatch(system.mapping(), cell, face_no), rotation, {}, {}};
+  std::vector<dealii::types::global_dof_index> scratch(system.fe().n_dofs_per_cell());
+  face.support_dofs = face_support_dofs(system, cell, face_no, scratch);
+  for (const auto dof : face.support_dofs) face.support_points.push_back(system.support_points()[dof]);
+  return face;
+}
+
+void ContactSurfaces::update(const ElasticSystem& system, const ContactModel& model) {
+  std::set<dealii::types::boundary_id> boundaries;
+  for (const ContactPair& pair : model.contact_pairs) {
+    boundaries.insert(pair.slave_boundary_id);
+    if (pair.master_rigid_body < 0) boundaries.insert(pair.master_boundary_id);
+  }
+  // Each cell's bone: the rotation and centre its vertices were placed with.
+  std::map<dealii::types::material_id, int> rigid_of_material;
+  for (const Body& body : model.bodies) rigid_of_material[body.material_id] = body.bonded_rigid_body;
+  const dealii::Tensor<2, 3> identity = dealii::unit_symmetric_tensor<3>();
+  // Support points agree to round-off when the mapping turns with the body.
+  const double tolerance = 1e-10 * dealii::GridTools::diameter(system.triangulation());
+  // A face is determined by its support points only if the element's nodes on it can carry the
+  // mapping's polynomial.
+  const bool checkable = system.mapping().get_degree() <= system.fe().degree;
+  std::vector<dealii::types::global_dof_index> scratch(system.fe().n_dofs_per_cell());
+
+  current_.clear();
+  for (const dealii::types::boundary_id id : boundaries) {
+    std::vector<MadeFace>& made = made_[id];
+    std::vector<FacePatch>& current = current_[id];
+    std::size_t index = 0;
+    for (const auto& cell : system.dof_handler().active_cell_iterators()) {
+      for (const unsigned int face_no : cell->face_indices()) {
+        const auto face = cell->face(face_no);
+        if (!face->at_boundary() || face->boundary_id() != id) continue;
+        const auto it = rigid_of_material.find(cell->material_id());
+        const int rigid = it == rigid_of_material.end() ? -1 : it->second;
+        const dealii::Tensor<2, 3>& rotation = rigid < 0 ? identity : model.rigid_bodies[rigid].rotation;
+        const dealii::Point<3> centre = rigid < 0 ? dealii::Point<3>() : model.rigid_bodies[rigid].rotation_center_mm;
+        const bool known = index < made.size() && made[index].patch.cell == cell &&
+                           made[index].patch.face_no == face_no;
+        if (!known) {
+          made.erase(made.begin() + static_cast<std::ptrdiff_t>(index), made.end());  // the rest: new faces
+          made.push_back(make(system, cell, face_no, rotation));
+          current.push_back(made.back().patch);
+          ++index;
+          continue;
+        }
+        MadeFace& old = made[index];
+        const dealii::Tensor<2, 3> turn = rotation * dealii::transpose(old.rotation);
+        bool same = checkable && face_support_dofs(system, cell, face_no, scratch) == old.support_dofs;
+        for (std::size_t k = 0; same && k < old.support_dofs.size(); ++k) {
+          const dealii::Point<3> expected = centre + turn * (old.support_points[k] - centre);
+          same = system.support_points()[old.support_dofs[k]].distance(expected) <= tolerance;
+        }
+        if (!same) {
+          old = make(system, cell, face_no, rotation);
+          current.push_back(old.patch);
+        } else if (rotation == old.rotation) {
+          current.push_back(old.patch);
+        } else {
+          current.push_back(old.patch.turned(turn, centre));
+        }
+        ++index;
+      }
+    }
+    made.erase(made.begin() + static_cast<std::ptrdiff_t>(std::min(index, made.size())), made.end());
+  }
+}
+
+const std::vector<FacePatch>& ContactSurfaces::faces(dealii::types::boundary_id boundary_id) const {
+  static const std::vector<FacePatch> kNone;
+  const auto it = current_.find(boundary_id);
+  return it == current_.end() ? kNone : it->second;
+}
+
+}  // namespace hipfai::fem
