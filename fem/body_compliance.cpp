@@ -157,7 +157,7 @@ void BodyCompliance::begin_run(const ElasticSystem& system, const ContactConstra
   const std::vector<bool>& fixed = constraints.fixed_dofs();
   std::vector<double> extra_now(n_dofs, 0.0);
   for (const BondedDof& bonded : constraints.bonded_dofs()) extra_now[bonded.dof] = bonded.extra;
-  const double scale = std::max(1.0, dealii::GridTools::diameter(system.triangulation()));
+  const double scale = std::max(1.0, system.diameter());
   for (std::size_t b = 0; b < bodies_.size(); ++b) {
     Body& body = bodies_[b];
     body.rigid_body = model.bodies[b].bonded_rigid_body;

@@ -89,12 +89,12 @@ void CondensedContact::compute_h(std::size_t n) {
     const double* columns = bodies_->columns(term.node);
     const std::size_t size = 3 * bodies_->n_surface_nodes(term.body);
     double* target = out.data() + body_offset_[term.body];
-    for (unsigned int c = 0; c < 3; ++c) {
-      const double weight = term.local[c];
-      if (weight == 0.0) continue;
-      const double* column = columns + c * size;
-      for (std::size_t i = 0; i < size; ++i) target[i] += weight * column[i];
-    }
+    // The three columns in one pass over the target (a third of the memory traffic).
+    const double w0 = term.local[0], w1 = term.local[1], w2 = term.local[2];
+    const double* c0 = columns;
+    const double* c1 = columns + size;
+    const double* c2 = columns + 2 * size;
+    for (std::size_t i = 0; i < size; ++i) target[i] += w0 * c0[i] + w1 * c1[i] + w2 * c2[i];
   }
 }
 

@@ -155,7 +155,7 @@ std::vector<Linearization> ContactProblem::Impl::solve_active_set(
 void ContactProblem::Impl::start_active_sets(const std::vector<dealii::Tensor<1, 3>>& translations,
                                              const ContactResult& result, const std::string& path) {
   // Gaps well below the solver's resolution of the displacement count as closed.
-  const double gap_tolerance = 1e-10 * dealii::GridTools::diameter(system.triangulation());
+  const double gap_tolerance = 1e-10 * system.diameter();
   strategy.begin_run({options.holder_switch_mm, options.warm_start_active_set}, gap_tolerance);
   active = strategy.initial(nodes, translations, system.dof_handler().n_dofs());
   pcout << "fem: " << result.statistics.n_cells << " cells, " << result.statistics.n_dofs

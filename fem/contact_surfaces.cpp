@@ -48,7 +48,7 @@ void ContactSurfaces::update(const ElasticSystem& system, const ContactModel& mo
   for (const Body& body : model.bodies) rigid_of_material[body.material_id] = body.bonded_rigid_body;
   const dealii::Tensor<2, 3> identity = dealii::unit_symmetric_tensor<3>();
   // Support points agree to round-off when the mapping turns with the body.
-  const double tolerance = 1e-10 * dealii::GridTools::diameter(system.triangulation());
+  const double tolerance = 1e-10 * system.diameter();
   // A face is determined by its support points only if the element's nodes on it can carry the
   // mapping's polynomial.
   const bool checkable = system.mapping().get_degree() <= system.fe().degree;

@@ -1,5 +1,7 @@
 #include "fem/elastic_system.h"
 
+#include <deal.II/grid/grid_tools.h>
+
 #include "core/error.h"
 #include "fem/thread_chunks.h"
 
@@ -45,7 +47,13 @@ ElasticSystem::ElasticSystem(MPI_Comm communicator, unsigned int fe_degree,
   }
 }
 
+double ElasticSystem::diameter() const {
+  if (diameter_ < 0.0) diameter_ = dealii::GridTools::diameter(triangulation_);
+  return diameter_;
+}
+
 void ElasticSystem::place_bodies(const ContactModel& model) {
+  diameter_ = -1.0;
   if (reference_vertices_.empty()) reference_vertices_ = triangulation_.get_vertices();
   std::map<dealii::types::material_id, int> rigid_of_material;
   for (const Body& body : model.bodies)
@@ -70,6 +78,7 @@ void ElasticSystem::place_bodies(const ContactModel& model) {
 }
 
 void ElasticSystem::setup(const ContactModel& model) {
+  diameter_ = -1.0;  // the mesh may have been changed since it was placed
   lame_by_material_.clear();
   for (const Body& body : model.bodies) {
     lame_by_material_[body.material_id] = {body.material.lame_lambda_mpa(),

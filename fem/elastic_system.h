@@ -52,6 +52,9 @@ class ElasticSystem {
   // Moves the mesh to the model's pose: the cells of a body bonded to a rigid body rotated with
   // it from the reference vertices (saved on the first call, so rotations do not accumulate).
   void place_bodies(const ContactModel& model);
+  // The triangulation's diameter in its current placement (GridTools::diameter, a pairwise scan
+  // of the boundary vertices), computed once per set-up: the contact stages of a run ask for it several times.
+  double diameter() const;
   // Lame constants per material, dofs and their support points. Throws hipfai::Error for a cell
   // whose material id belongs to no body.
   void setup(const ContactModel& model);
@@ -117,6 +120,7 @@ class ElasticSystem {
   dealii::IndexSet owned_dofs_, all_dofs_;
   std::vector<dealii::Point<3>> support_points_;  // of every dof
   std::vector<dealii::Point<3>> reference_vertices_;
+  mutable double diameter_ = -1.0;  // of the current placement, < 0 until asked
   // Stiffness of every locally owned cell (by active cell index) in the configuration of this
   // run, with the vertices and Lame constants each was computed with: a cell whose vertices have
   // not moved since (the tissues of the fixed bodies) keeps its matrix in the next run — the

@@ -260,7 +260,7 @@ std::vector<SlaveNode> collect_slave_nodes(const ElasticSystem& system, const Co
                                            bool tangent_plane_cull) {
   std::vector<SlaveNode> nodes;
   // Search radius: contact partners are close; 5 % of the model size is generous.
-  const double search_radius_mm = 0.05 * dealii::GridTools::diameter(system.triangulation());
+  const double search_radius_mm = 0.05 * system.diameter();
   for (unsigned int p = 0; p < model.contact_pairs.size(); ++p) {
     const ContactPair& pair = model.contact_pairs[p];
     std::unique_ptr<BoundaryProjector> projector;
