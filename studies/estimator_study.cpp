@@ -10,6 +10,7 @@
 #include "studies/penetration_run.h"
 #include "studies/results_file.h"
 #include "studies/segmented_hip.h"
+#include "studies/table_number.h"
 #include "studies/validation_study.h"
 
 #include <algorithm>
@@ -31,17 +32,6 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 double elapsed_ms(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-}
-
-double parse_number(const std::string& cell) {
-  if (cell.empty()) return kNaN;
-  try {
-    std::size_t used = 0;
-    const double value = std::stod(cell, &used);
-    return used == cell.size() ? value : kNaN;
-  } catch (const std::exception&) {
-    return kNaN;
-  }
 }
 
 std::string hip_name(double ce, double alpha) { return parametric_hip_id(ce, alpha); }
@@ -69,8 +59,8 @@ std::map<std::pair<double, double>, double> read_edges(const std::filesystem::pa
   while (std::getline(in, line)) {
     const auto cells = split_csv_line(line);
     if (static_cast<int>(cells.size()) <= std::max({ce, alpha, edge})) continue;
-    edges[{parse_number(cells[static_cast<std::size_t>(ce)]), parse_number(cells[static_cast<std::size_t>(alpha)])}] =
-        parse_number(cells[static_cast<std::size_t>(edge)]);
+    edges[{table_number(cells[static_cast<std::size_t>(ce)]), table_number(cells[static_cast<std::size_t>(alpha)])}] =
+        table_number(cells[static_cast<std::size_t>(edge)]);
   }
   return edges;
 }
@@ -132,8 +122,8 @@ bool is_fem_sweep_folder(const std::filesystem::path& dir) {
 bool angles_of_model_name(const std::string& name, double& ce, double& alpha) {
   const std::size_t split = name.find("_alpha");
   if (name.rfind("ce", 0) != 0 || split == std::string::npos) return false;
-  ce = parse_number(name.substr(2, split - 2));
-  alpha = parse_number(name.substr(split + 6));
+  ce = table_number(name.substr(2, split - 2));
+  alpha = table_number(name.substr(split + 6));
   return std::isfinite(ce) && std::isfinite(alpha);
 }
 
@@ -157,10 +147,11 @@ std::vector<double> fem_run_angles(const std::filesystem::path& h5, std::size_t 
 // Index of `measure` among the FE measures of `fem run` tables; throws naming `where` otherwise.
 std::size_t fe_measure_index(const std::string& measure, const std::string& where) {
   const auto& measures = validation_fe_measures();
-  const auto which = std::find(measures.begin(), measures.end(), measure);
+  const auto which = std::find_if(measures.begin(), measures.end(),
+                                  [&](const FeMeasure& candidate) { return fe_measure_name(candidate) == measure; });
   if (which == measures.end()) {
-    throw_error(where, ": ", measure, " is not one of the FE measures of `fem run` tables (", measures.front(),
-                ", ...)");
+    throw_error(where, ": ", measure, " is not one of the FE measures of `fem run` tables (",
+                fe_measure_name(measures.front()), ", ...)");
   }
   return static_cast<std::size_t>(which - measures.begin());
 }
@@ -183,8 +174,8 @@ FeSweep read_fem_sweep_folder(const std::filesystem::path& dir, const std::strin
     const std::filesystem::path csv = dir / (model + ".csv"), h5 = dir / (model + ".h5");
     if (!std::filesystem::exists(csv)) continue;  // the model stopped before its table was written
     const HipFeTable table = read_hip_fe_csv(csv);
-    const auto values = validation_fe_measures_of(table, table.rows, csv);
-    const std::vector<double> angles = fem_run_angles(h5, table.rows, csv);
+    const auto values = validation_fe_measures_of(table, table.steps.size(), csv);
+    const std::vector<double> angles = fem_run_angles(h5, table.steps.size(), csv);
     if (sweep.hips.empty()) sweep.angle_deg = angles;
     check_same_motion(sweep.angle_deg, angles, csv.string() + " vs the sweep's other models");
     // fem-sweep tables have no penetration depths: they stay empty (impinging unknown).
@@ -204,10 +195,11 @@ void add_fe_hip(EstimatorModel& model, const std::filesystem::path& dir, const s
 #ifdef HIPFAI_WITH_FEM
   const HipFeTable table = read_hip_fe_csv(table_file);
   const std::filesystem::path h5 = std::filesystem::path(table_file).replace_extension(".h5");
-  const std::vector<double> angles = fem_run_angles(h5, table.rows, table_file);
+  const std::vector<double> angles = fem_run_angles(h5, table.steps.size(), table_file);
   if (model.angle_deg.empty()) model.angle_deg = angles;
   check_same_motion(model.angle_deg, angles, table_file.string() + " vs the other training hips");
-  const auto values = validation_fe_measures_of(table, table.rows, table_file)[fe_measure_index(measure, table_file.string())];
+  const auto values =
+      validation_fe_measures_of(table, table.steps.size(), table_file)[fe_measure_index(measure, table_file.string())];
   // Every tissue: the features read the grid's, the penetration depths the four of the thesis.
   const auto start = std::chrono::steady_clock::now();
   const geometry::HipModel hip_model = geometry::load_hip_model(dir);
@@ -290,21 +282,21 @@ FeSweep read_fe_sweep(const std::filesystem::path& fe, const std::string& measur
     if (cells.size() != header.size()) {
       throw_error(file.string(), ":", line_number, ": ", cells.size(), " cells, the header has ", header.size());
     }
-    const double c = parse_number(cells[ce]), a = parse_number(cells[alpha]), s = parse_number(cells[step]),
-                 g = parse_number(cells[angle]);
+    const double c = table_number(cells[ce]), a = table_number(cells[alpha]), s = table_number(cells[step]),
+                 g = table_number(cells[angle]);
     if (!std::isfinite(c) || !std::isfinite(a) || !std::isfinite(s) || !std::isfinite(g) || s < 1 ||
         s != std::floor(s)) {
       throw_error(file.string(), ":", line_number, ": bad ce_deg, alpha_deg, step or angle_deg");
     }
     double c_mm = kNaN, r_mm = kNaN;
     if (curvilinear < header.size() && radial < header.size()) {
-      c_mm = parse_number(cells[curvilinear]);
-      r_mm = parse_number(cells[radial]);
+      c_mm = table_number(cells[curvilinear]);
+      r_mm = table_number(cells[radial]);
       if (!(c_mm >= 0.0) || !(r_mm >= 0.0) || !std::isfinite(c_mm) || !std::isfinite(r_mm)) {
         throw_error(file.string(), ":", line_number, ": bad max_curvilinear_mm or max_radial_mm (a depth >= 0 in mm)");
       }
     }
-    rows[{c, a}][static_cast<int>(s)] = {g, parse_number(cells[value]), c_mm, r_mm};
+    rows[{c, a}][static_cast<int>(s)] = {g, table_number(cells[value]), c_mm, r_mm};
   }
   if (rows.empty()) throw_error(file.string(), ": no rows");
   int steps = 0;

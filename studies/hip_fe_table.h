@@ -1,25 +1,31 @@
 // hipfai — the per-step table of an FE run (fe.csv, written by studies/hip_fe_run.h's
-// write_hip_fe_csv; columns in docs/results-layout.md, "fem run --csv"), read back. Free of the FE
-// module, so the readers of stored results (the estimator's FE sweep, the validation study's
-// cache) and the fuzzer use it without deal.II.
+// write_hip_fe_csv; columns in docs/results-layout.md, "fem run --csv"), read back once into typed
+// step records (studies/fe_step_record.h), so that its readers (scenes, the validation study and
+// its cache, the estimator's FE sweeps, the soft-tissue study) never look a column up by name.
+// Free of the FE module, so the readers of stored results and the fuzzer use it without deal.II.
 #pragma once
 
+#include "studies/fe_step_record.h"
+
 #include <filesystem>
-#include <map>
+#include <istream>
 #include <string>
 #include <vector>
 
 namespace hipfai::studies {
 
-// A per-step table read back: column name -> one value per step (NaN where a cell is not a
-// number, e.g. the surface-name columns). Throws hipfai::Error naming the file when it is
-// missing, empty or has rows of the wrong width.
+// A per-step table read back. The columns the records do not hold (translations, peak positions,
+// surface names, solver counts) are not read.
 struct HipFeTable {
-  std::vector<std::string> columns;
-  std::map<std::string, std::vector<double>> values;
-  std::size_t rows = 0;
-  const std::vector<double>& column(const std::string& name) const;  // throws when missing
+  std::vector<FeTissue> tissues;    // the tissues the run has, in the order of their columns
+  std::vector<FeStepRecord> steps;  // one per row, in the table's order (step 1 first)
 };
+
+// Throws a one-line hipfai::Error naming the file when it is missing or empty, lacks a column the
+// records need (naming the column), names a column twice, has a row of the wrong width or a status
+// that is not a whole number. A cell of a measure that is not a number reads as NaN.
 HipFeTable read_hip_fe_csv(const std::filesystem::path& file);
+// The same from a stream; `source` names it in the errors.
+HipFeTable parse_hip_fe_csv(std::istream& in, const std::string& source);
 
 }  // namespace hipfai::studies

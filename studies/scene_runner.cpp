@@ -37,7 +37,7 @@ void write_steps_csv(const std::filesystem::path& path, const Motion& motion, co
     }
     if (fe.ran) {
       out << ",fe_status";
-      for (const auto& [name, values] : fe.columns) out << ',' << name;
+      for (const SceneFeColumn& column : fe.columns) out << ',' << fe_measure_name(column.measure);
     }
     out << '\n';
     out << std::setprecision(10);
@@ -52,20 +52,26 @@ void write_steps_csv(const std::filesystem::path& path, const Motion& motion, co
       }
       if (fe.ran) {
         out << ',' << fe.status[k];
-        for (const auto& [name, values] : fe.columns) out << ',' << values[k];
+        for (const SceneFeColumn& column : fe.columns) out << ',' << column.values[k];
       }
       out << '\n';
     }
   });
 }
 
-#ifdef HIPFAI_WITH_FEM
-// "femoral cartilage" (an FE body name) -> "femoral_cartilage" (a tissue name).
-std::string snake_case(std::string name) {
-  std::replace(name.begin(), name.end(), ' ', '_');
-  return name;
+// The units attribute of an FE column in results.h5: MPa, and how the peak was taken when it is
+// not the plain largest value.
+const char* units_of(const FeMeasure& measure) {
+  const auto* von_mises = std::get_if<VonMisesMeasure>(&measure);
+  const auto* pressure = std::get_if<PressureStat>(&measure);
+  if ((von_mises && von_mises->stat == VonMisesStat::kBall) || (pressure && *pressure == PressureStat::kBall)) {
+    return "MPa (averaged over a ball about the peak)";
+  }
+  if (von_mises && von_mises->stat == VonMisesStat::kP95) return "MPa (95th percentile over the tissue)";
+  return "MPa";
 }
 
+#ifdef HIPFAI_WITH_FEM
 // Runs (or reuses) the hip FE over the motion and picks the columns the outputs ask for.
 SceneFeResult run_fe(const Scene& scene, const Motion& motion, const LoadedHip& hip,
                      const SceneRunOptions& options, StageLog& log) {
@@ -83,8 +89,8 @@ SceneFeResult run_fe(const Scene& scene, const Motion& motion, const LoadedHip& 
     log.ran(StageKind::kFiniteElement);
   }
   const HipFeTable& table = cached.table;
-  if (table.rows != motion.steps.size()) {
-    throw_error((cached.entry / "fe.csv").string(), ": ", table.rows, " steps, the motion has ",
+  if (table.steps.size() != motion.steps.size()) {
+    throw_error((cached.entry / "fe.csv").string(), ": ", table.steps.size(), " steps, the motion has ",
                 motion.steps.size());
   }
 
@@ -95,30 +101,32 @@ SceneFeResult run_fe(const Scene& scene, const Motion& motion, const LoadedHip& 
   fe.level = scene.fe.level;
   fe.seconds = cached.seconds;
   fe.load = fe_load_description(scene, motion);
-  for (const double code : table.column("status")) {
-    const int status = std::isfinite(code) ? static_cast<int>(code) : -1;
-    const bool known = status >= 0 && status <= static_cast<int>(fem::ContactStatus::kNonFinite);
-    fe.status_code.push_back(status);
-    fe.status.push_back(known ? fem::to_string(static_cast<fem::ContactStatus>(status)) : "unknown");
-    fe.not_converged += status != static_cast<int>(fem::ContactStatus::kConverged);
+  for (const FeStepRecord& step : table.steps) {
+    const bool known = step.status >= 0 && step.status <= static_cast<int>(fem::ContactStatus::kNonFinite);
+    fe.status_code.push_back(step.status);
+    fe.status.push_back(known ? fem::to_string(static_cast<fem::ContactStatus>(step.status)) : "unknown");
+    fe.not_converged += !step.converged();
+    fe.step_seconds.push_back(step.wall_time_s);
   }
-  fe.step_seconds = table.column("wall_time_s");
+  // One column per measure, each a value per step.
+  const auto add_column = [&](const FeMeasure& measure, const auto& value_of) {
+    SceneFeColumn column{measure, {}};
+    for (const FeStepRecord& step : table.steps) column.values.push_back(value_of(step));
+    fe.columns.push_back(std::move(column));
+  };
   if (scene.outputs.count(Output::kVonMises)) {
-    // The deformable bodies the model has, in the table's order ("max_von_mises_mpa <body>").
-    const std::string prefix = "max_von_mises_mpa ";
-    for (const std::string& column : table.columns) {
-      if (column.rfind(prefix, 0) != 0) continue;
-      const std::string body = column.substr(prefix.size());
-      const std::string tissue = snake_case(body);
-      fe.columns.emplace_back("von_mises_max_" + tissue + "_mpa", table.column("max_von_mises_mpa " + body));
-      fe.columns.emplace_back("von_mises_ball_" + tissue + "_mpa", table.column("ball_peak_von_mises_mpa " + body));
-      fe.columns.emplace_back("von_mises_p95_" + tissue + "_mpa", table.column("p95_von_mises_mpa " + body));
+    // The tissues the model has, in the table's order.
+    for (const FeTissue tissue : table.tissues) {
+      for (const VonMisesStat stat : kVonMisesStats) {
+        add_column(VonMisesMeasure{stat, tissue},
+                   [&](const FeStepRecord& step) { return step.von_mises(stat, tissue); });
+      }
     }
   }
   if (scene.outputs.count(Output::kContactPressure)) {
-    fe.columns.emplace_back("pressure_max_mpa", table.column("max_pressure_mpa"));
-    fe.columns.emplace_back("pressure_mean_mpa", table.column("mean_pressure_mpa"));
-    fe.columns.emplace_back("pressure_ball_mpa", table.column("ball_peak_pressure_mpa"));
+    for (const PressureStat stat : kPressureStats) {
+      add_column(stat, [&](const FeStepRecord& step) { return step.pressure(stat); });
+    }
   }
   return fe;
 }
@@ -148,11 +156,11 @@ Motion fe_motion_of(const Scene& scene, const Motion& motion) {
   return fe_motion;
 }
 
-const std::vector<double>& SceneFeResult::column(const std::string& name) const {
-  for (const auto& [column_name, values] : columns) {
-    if (column_name == name) return values;
+const std::vector<double>& SceneFeResult::column(const FeMeasure& measure) const {
+  for (const SceneFeColumn& column : columns) {
+    if (column.measure == measure) return column.values;
   }
-  throw_error("scene FE results: no column '", name, "'");
+  throw_error("scene FE results: no column '", fe_measure_name(measure), "'");
 }
 
 SceneRunSummary run_scene(const Scene& scene, const Motion& motion, const SceneRunOptions& options) {
@@ -286,13 +294,8 @@ SceneRunSummary run_scene(const Scene& scene, const Motion& motion, const SceneR
                           "fem::ContactStatus: 0 converged, 1 active set not converged, 2 linear solver "
                           "failed, 3 no contact, 4 non-finite");
       file.write_strings("/fe/status_name", fe.status);
-      for (const auto& [name, values] : fe.columns) {
-        const bool ball = name.find("_ball_") != std::string::npos;
-        const bool p95 = name.find("_p95_") != std::string::npos;
-        file.write("/fe/" + name, values, 1,
-                   ball  ? "MPa (averaged over a ball about the peak)"
-                   : p95 ? "MPa (95th percentile over the tissue)"
-                         : "MPa");
+      for (const SceneFeColumn& column : fe.columns) {
+        file.write("/fe/" + fe_measure_name(column.measure), column.values, 1, units_of(column.measure));
       }
       file.write("/fe/step_time_s", fe.step_seconds, 1, "s (solve time per step when computed)");
     }
@@ -338,17 +341,17 @@ SceneRunSummary run_scene(const Scene& scene, const Motion& motion, const SceneR
       for (double v : values) p = std::isfinite(v) ? std::max(p, v) : p;
       return p;
     };
-    const std::string von_mises = "von_mises_max_";
     bool first = true;
-    for (const auto& [name, values] : fe.columns) {
-      if (name.rfind(von_mises, 0) != 0) continue;
-      text << (first ? "  peak von Mises (MPa): " : ", ")
-           << name.substr(von_mises.size(), name.size() - von_mises.size() - 4) << ' ' << peak(values);
+    for (const SceneFeColumn& column : fe.columns) {
+      const auto* von_mises = std::get_if<VonMisesMeasure>(&column.measure);
+      if (!von_mises || von_mises->stat != VonMisesStat::kMax) continue;
+      text << (first ? "  peak von Mises (MPa): " : ", ") << to_string(*von_mises->tissue) << ' '
+           << peak(column.values);
       first = false;
     }
     if (!first) text << '\n';
     if (scene.outputs.count(Output::kContactPressure)) {
-      text << "  peak contact pressure " << peak(fe.column("pressure_max_mpa")) << " MPa\n";
+      text << "  peak contact pressure " << peak(fe.column(PressureStat::kMax)) << " MPa\n";
     }
   }
   text << "  stages executed:";

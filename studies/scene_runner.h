@@ -17,6 +17,7 @@
 
 #include "core/fe_choices.h"
 
+#include "studies/fe_step_record.h"
 #include "studies/hip_source.h"
 #include "studies/motion.h"
 #include "studies/penetration_run.h"
@@ -38,6 +39,12 @@ struct SceneRunOptions {
   bool progress = true;         // FE progress: summary lines on stdout, a bar on stderr
 };
 
+// One FE column of steps.csv: its measure (the column's name is fe_measure_name's) and its values.
+struct SceneFeColumn {
+  FeMeasure measure;
+  std::vector<double> values;  // one per step, as the FE table has it (NaN where it has no number)
+};
+
 // The FE part of a run, without FE types (the runner builds without the FE module too).
 struct SceneFeResult {
   bool ran = false;                   // the scene asked for FE outputs
@@ -49,11 +56,10 @@ struct SceneFeResult {
   std::vector<std::string> status;    // per step: "converged", ...
   std::vector<int> status_code;       // per step: fem::ContactStatus
   std::size_t not_converged = 0;
-  // steps.csv column name (see above) -> one value per step, in column order.
-  std::vector<std::pair<std::string, std::vector<double>>> columns;
+  std::vector<SceneFeColumn> columns; // the outputs' columns (see above), in column order
   std::vector<double> step_seconds;   // per step solve time (s), as computed (also when reused)
 
-  const std::vector<double>& column(const std::string& name) const;  // throws when missing
+  const std::vector<double>& column(const FeMeasure& measure) const;  // throws when missing
 };
 
 struct SceneRunSummary {

@@ -41,24 +41,25 @@ PenetrationRun depths(const geometry::HipModel& model, const std::string& id, co
 SoftTissueFePeaks fe_peaks(const std::filesystem::path& entry) {
   const HipFeTable table = read_hip_fe_csv(entry / "fe.csv");
   SoftTissueFePeaks peaks;
-  peaks.steps = static_cast<int>(table.rows);
-  const auto& status = table.column("status");
-  const auto peak_of = [&](const std::string& column) {
+  peaks.steps = static_cast<int>(table.steps.size());
+  // The largest over the converged steps; 0 when none has a number (a tissue the run lacks).
+  const auto peak_of = [&](const auto& value_of) {
     double peak = 0.0;
-    if (table.values.count(column) == 0) return peak;
-    const auto& values = table.column(column);
-    for (std::size_t k = 0; k < table.rows; ++k) {
-      if (status[k] == 0.0 && std::isfinite(values[k])) peak = std::max(peak, values[k]);
+    for (const FeStepRecord& step : table.steps) {
+      const double value = value_of(step);
+      if (step.converged() && std::isfinite(value)) peak = std::max(peak, value);
     }
     return peak;
   };
-  for (std::size_t k = 0; k < table.rows; ++k) peaks.unconverged += status[k] != 0.0;
-  peaks.pressure_mpa = peak_of("max_pressure_mpa");
-  peaks.ball_pressure_mpa = peak_of("ball_peak_pressure_mpa");
-  for (std::size_t t = 0; t < 3; ++t) {
-    const std::string body = soft_tissue_fe_tissues()[t];
-    peaks.von_mises_mpa[t] = peak_of("max_von_mises_mpa " + body);
-    peaks.ball_von_mises_mpa[t] = peak_of("ball_peak_von_mises_mpa " + body);
+  for (const FeStepRecord& step : table.steps) peaks.unconverged += !step.converged();
+  peaks.pressure_mpa = peak_of([](const FeStepRecord& step) { return step.pressure(PressureStat::kMax); });
+  peaks.ball_pressure_mpa = peak_of([](const FeStepRecord& step) { return step.pressure(PressureStat::kBall); });
+  for (const FeTissue tissue : kFeTissues) {
+    const auto t = static_cast<std::size_t>(tissue);
+    peaks.von_mises_mpa[t] =
+        peak_of([&](const FeStepRecord& step) { return step.von_mises(VonMisesStat::kMax, tissue); });
+    peaks.ball_von_mises_mpa[t] =
+        peak_of([&](const FeStepRecord& step) { return step.von_mises(VonMisesStat::kBall, tissue); });
   }
   std::ifstream timing(entry / "timing.txt");
   std::string word;
@@ -68,11 +69,6 @@ SoftTissueFePeaks fe_peaks(const std::filesystem::path& entry) {
 #endif
 
 }  // namespace
-
-const std::array<const char*, 3>& soft_tissue_fe_tissues() {
-  static const std::array<const char*, 3> names{"femoral cartilage", "acetabular cartilage", "labrum"};
-  return names;
-}
 
 SoftTissueTruthResult run_soft_tissue_truth(const SoftTissueTruthOptions& options) {
   const auto start = SteadyClock::now();

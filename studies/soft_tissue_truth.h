@@ -11,6 +11,7 @@
 #pragma once
 
 #include "core/fe_choices.h"
+#include "studies/fe_step_record.h"
 
 #include <array>
 #include <filesystem>
@@ -37,8 +38,8 @@ struct SoftTissueTruthOptions {
 // Peaks over the motion of one FE run (MPa), over its converged steps.
 struct SoftTissueFePeaks {
   double pressure_mpa = 0.0, ball_pressure_mpa = 0.0;
-  // Per tissue: femoral cartilage, acetabular cartilage, labrum.
-  std::array<double, 3> von_mises_mpa{}, ball_von_mises_mpa{};
+  // Per tissue, indexed by FeTissue (0 for a tissue the run lacks).
+  std::array<double, kFeTissues.size()> von_mises_mpa{}, ball_von_mises_mpa{};
   int steps = 0, unconverged = 0;
   double seconds = 0.0;  // the run's wall time (from its cache entry)
 };
@@ -62,9 +63,6 @@ struct SoftTissueTruthResult {
   double contact_tolerance_mm = 0.0;  // the generated hips' (applied to both runs), largest over the hips
   double seconds = 0.0;
 };
-
-// The FE tissues' names in SoftTissueFePeaks order.
-const std::array<const char*, 3>& soft_tissue_fe_tissues();
 
 SoftTissueTruthResult run_soft_tissue_truth(const SoftTissueTruthOptions& options);
 

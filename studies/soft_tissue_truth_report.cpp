@@ -4,7 +4,6 @@
 #include "core/atomic_file.h"
 #include "core/text_format.h"
 
-#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -20,26 +19,26 @@ std::string percent(double generated, double synthesised) {
 }
 
 // The FE measures compared, in column order: name, and the value of a run's peaks.
-struct FeMeasure {
+struct PeakMeasure {
   std::string name, label;
   double (*of)(const SoftTissueFePeaks&, std::size_t tissue);
   std::size_t tissue;
 };
-std::vector<FeMeasure> fe_measures() {
-  std::vector<FeMeasure> measures{
+std::vector<PeakMeasure> fe_measures() {
+  std::vector<PeakMeasure> measures{
       {"fe_ball_pressure_mpa", "ball-averaged peak pressure", [](const SoftTissueFePeaks& p, std::size_t) { return p.ball_pressure_mpa; }, 0},
       {"fe_pressure_mpa", "peak pressure", [](const SoftTissueFePeaks& p, std::size_t) { return p.pressure_mpa; }, 0}};
-  for (std::size_t t = 0; t < 3; ++t) {
-    std::string tissue = soft_tissue_fe_tissues()[t];
-    std::replace(tissue.begin(), tissue.end(), ' ', '_');
-    measures.push_back({"fe_ball_von_mises_" + tissue + "_mpa", std::string("ball-averaged peak von Mises, ") + soft_tissue_fe_tissues()[t],
-                        [](const SoftTissueFePeaks& p, std::size_t i) { return p.ball_von_mises_mpa[i]; }, t});
+  for (const FeTissue tissue : kFeTissues) {
+    measures.push_back({std::string("fe_ball_von_mises_") + to_string(tissue) + "_mpa",
+                        std::string("ball-averaged peak von Mises, ") + fe_body_name(tissue),
+                        [](const SoftTissueFePeaks& p, std::size_t i) { return p.ball_von_mises_mpa[i]; },
+                        static_cast<std::size_t>(tissue)});
   }
-  for (std::size_t t = 0; t < 3; ++t) {
-    std::string tissue = soft_tissue_fe_tissues()[t];
-    std::replace(tissue.begin(), tissue.end(), ' ', '_');
-    measures.push_back({"fe_von_mises_" + tissue + "_mpa", std::string("peak von Mises, ") + soft_tissue_fe_tissues()[t],
-                        [](const SoftTissueFePeaks& p, std::size_t i) { return p.von_mises_mpa[i]; }, t});
+  for (const FeTissue tissue : kFeTissues) {
+    measures.push_back({std::string("fe_von_mises_") + to_string(tissue) + "_mpa",
+                        std::string("peak von Mises, ") + fe_body_name(tissue),
+                        [](const SoftTissueFePeaks& p, std::size_t i) { return p.von_mises_mpa[i]; },
+                        static_cast<std::size_t>(tissue)});
   }
   return measures;
 }
@@ -59,11 +58,11 @@ std::filesystem::path write_soft_tissue_truth(const SoftTissueTruthResult& resul
          "synthesised_acetabular_cartilage_mm3,generated_labrum_mm3,synthesised_labrum_mm3,"
          "synthesised_femoral_mean_thickness_mm,synthesised_acetabular_mean_thickness_mm,generated_curvilinear_mm,"
          "synthesised_curvilinear_mm,generated_radial_mm,synthesised_radial_mm,synthesis_seconds";
-  const std::vector<FeMeasure> measures = fe_measures();
+  const std::vector<PeakMeasure> measures = fe_measures();
   const bool with_fe = result.options.fe_level.has_value();
   if (with_fe) {
     for (const char* which : {"generated_", "synthesised_"}) {
-      for (const FeMeasure& m : measures) csv << ',' << which << m.name;
+      for (const PeakMeasure& m : measures) csv << ',' << which << m.name;
       csv << ',' << which << "fe_unconverged_steps," << which << "fe_seconds";
     }
   }
@@ -85,7 +84,7 @@ std::filesystem::path write_soft_tissue_truth(const SoftTissueTruthResult& resul
           csv << std::string(measures.size() + 2, ',');  // not solved (fe_error in the report)
           continue;
         }
-        for (const FeMeasure& m : measures) csv << ',' << m.of(**peaks, m.tissue);
+        for (const PeakMeasure& m : measures) csv << ',' << m.of(**peaks, m.tissue);
         csv << ',' << (*peaks)->unconverged << ',' << (*peaks)->seconds;
       }
     }

@@ -5,6 +5,7 @@
 #include "core/error.h"
 #include "studies/fai_reference.h"
 #include "studies/fai_study.h"
+#include "studies/fe_step_record.h"
 #include "studies/hip_source.h"
 #include "studies/svg_plot.h"
 
@@ -30,7 +31,7 @@ const std::vector<std::string> kDepths{"curvilinear", "radial"};
 // the tissues). The thesis correlates with "the maximum von Mises stress"; a Gauss-point maximum
 // sits at the singular bonded corners and grows with refinement, the ball average converges
 // (fem/peak_measures.h, docs/fem-levels.md).
-const std::string kPrimary = "von_mises_ball_model_mpa";
+const std::string kPrimary = fe_measure_name(VonMisesMeasure{VonMisesStat::kBall, std::nullopt});
 
 std::string fixed(double value, int digits) {
   if (!std::isfinite(value)) return "–";

@@ -18,7 +18,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <fstream>
 #include <iomanip>
 #include <limits>
@@ -115,47 +114,32 @@ std::string number(double value) {
 
 #ifdef HIPFAI_WITH_FEM
 
-// Body names of the FE model ("femoral cartilage") -> the column names' tissue ("femoral_cartilage").
-const std::vector<std::pair<std::string, std::string>>& fe_bodies() {
-  static const std::vector<std::pair<std::string, std::string>> bodies{
-      {"labrum", "labrum"}, {"femoral cartilage", "femoral_cartilage"},
-      {"acetabular cartilage", "acetabular_cartilage"}};
-  return bodies;
+// A validation measure of one step: a pressure as the table has it; a von Mises statistic as the
+// largest over the measure's tissues (its one, or all of the model's), from 0, so that a tissue
+// the run does not have (NaN in the record) counts as no stress.
+double validation_value(const FeStepRecord& step, const FeMeasure& measure) {
+  if (const auto* pressure = std::get_if<PressureStat>(&measure)) return step.pressure(*pressure);
+  const auto& von_mises = std::get<VonMisesMeasure>(measure);
+  double value = 0.0;
+  for (const FeTissue tissue : kFeTissues) {
+    if (von_mises.tissue && *von_mises.tissue != tissue) continue;
+    value = std::max(value, step.von_mises(von_mises.stat, tissue));
+  }
+  return value;
 }
 
 }  // namespace
 
 std::vector<std::vector<double>> validation_fe_measures_of(const HipFeTable& table, std::size_t steps,
                                                            const std::filesystem::path& file) {
-  if (table.rows != steps) {
-    throw_error(file.string(), ": ", table.rows, " FE steps, the motion has ", steps);
+  if (table.steps.size() != steps) {
+    throw_error(file.string(), ": ", table.steps.size(), " FE steps, the motion has ", steps);
   }
-  const std::vector<double>& status = table.column("status");
-  const auto body_column = [&](const std::string& kind, const std::string& body) -> std::vector<double> {
-    const std::string name = kind + "_von_mises_mpa " + body;
-    if (table.values.count(name) == 0) return std::vector<double>(steps, 0.0);  // tissue absent
-    return table.column(name);
-  };
   std::vector<std::vector<double>> out;
-  for (const std::string& measure : validation_fe_measures()) {
-    std::vector<double> values(steps, 0.0);
-    if (measure == "pressure_max_mpa") values = table.column("max_pressure_mpa");
-    else if (measure == "pressure_ball_mpa") values = table.column("ball_peak_pressure_mpa");
-    else if (measure == "pressure_mean_mpa") values = table.column("mean_pressure_mpa");
-    else {
-      // von_mises_<kind>_<tissue|model>_mpa
-      const std::string rest = measure.substr(std::strlen("von_mises_"));
-      const std::string kind_name = rest.substr(0, rest.find('_'));
-      const std::string kind = kind_name == "ball" ? "ball_peak" : kind_name;  // max, p95, ball_peak
-      const std::string where = rest.substr(rest.find('_') + 1, rest.size() - rest.find('_') - 1 - 4);
-      for (const auto& [body, tissue] : fe_bodies()) {
-        if (where != "model" && where != tissue) continue;
-        const std::vector<double> column = body_column(kind, body);
-        for (std::size_t k = 0; k < steps; ++k) values[k] = std::max(values[k], column[k]);
-      }
-    }
-    for (std::size_t k = 0; k < steps; ++k) {
-      if (status[k] != 0.0) values[k] = std::numeric_limits<double>::quiet_NaN();
+  for (const FeMeasure& measure : validation_fe_measures()) {
+    std::vector<double> values;
+    for (const FeStepRecord& step : table.steps) {
+      values.push_back(step.converged() ? validation_value(step, measure) : std::numeric_limits<double>::quiet_NaN());
     }
     out.push_back(std::move(values));
   }
@@ -194,11 +178,11 @@ void run_fe_stage(std::vector<HipRun>& hips, const Motion& motion, const Validat
     const std::filesystem::path& entry = entries[h];
     const HipFeTable table = read_hip_fe_csv(entry / "fe.csv");
     run.fe = validation_fe_measures_of(table, motion.steps.size(), entry / "fe.csv");
-    for (std::size_t k = 0; k < table.rows; ++k) {
-      run.timing.fe_step_s += table.column("wall_time_s")[k];
-      run.timing.fe_steps_failed += table.column("status")[k] != 0.0;
+    for (const FeStepRecord& step : table.steps) {
+      run.timing.fe_step_s += step.wall_time_s;
+      run.timing.fe_steps_failed += !step.converged();
     }
-    run.timing.fe_dofs = table.rows > 0 ? table.column("dofs")[0] : 0.0;
+    run.timing.fe_dofs = table.steps.empty() ? 0.0 : table.steps.front().dofs;
     std::ifstream timing(entry / "timing.txt");
     std::string word;
     if (timing >> word >> run.timing.fe_s; !timing) run.timing.fe_s = run.timing.fe_step_s;
@@ -219,7 +203,7 @@ void run_fe_stage(std::vector<HipRun>& hips, const Motion& motion, const Validat
 void write_steps_csv(const std::vector<HipRun>& hips, const Motion& motion, const std::filesystem::path& path) {
   std::ostringstream csv;
   csv << "ce_deg,alpha_deg,step,angle_deg,max_curvilinear_mm,max_radial_mm";
-  for (const std::string& measure : validation_fe_measures()) csv << ',' << measure;
+  for (const FeMeasure& measure : validation_fe_measures()) csv << ',' << fe_measure_name(measure);
   csv << '\n';
   for (const HipRun& run : hips) {
     for (std::size_t k = 0; k < motion.steps.size(); ++k) {
@@ -268,15 +252,23 @@ void check_options(const ValidationOptions& options) {
 
 }  // namespace
 
-const std::vector<std::string>& validation_fe_measures() {
-  static const std::vector<std::string> measures{
-      "von_mises_ball_model_mpa",          "von_mises_max_model_mpa",
-      "von_mises_ball_labrum_mpa",         "von_mises_max_labrum_mpa",
-      "von_mises_p95_labrum_mpa",          "von_mises_ball_femoral_cartilage_mpa",
-      "von_mises_max_femoral_cartilage_mpa", "von_mises_p95_femoral_cartilage_mpa",
-      "von_mises_ball_acetabular_cartilage_mpa", "von_mises_max_acetabular_cartilage_mpa",
-      "von_mises_p95_acetabular_cartilage_mpa", "pressure_max_mpa",
-      "pressure_ball_mpa",                 "pressure_mean_mpa"};
+const std::vector<FeMeasure>& validation_fe_measures() {
+  using enum VonMisesStat;
+  static const std::vector<FeMeasure> measures{
+      VonMisesMeasure{kBall, std::nullopt},
+      VonMisesMeasure{kMax, std::nullopt},
+      VonMisesMeasure{kBall, FeTissue::kLabrum},
+      VonMisesMeasure{kMax, FeTissue::kLabrum},
+      VonMisesMeasure{kP95, FeTissue::kLabrum},
+      VonMisesMeasure{kBall, FeTissue::kFemoralCartilage},
+      VonMisesMeasure{kMax, FeTissue::kFemoralCartilage},
+      VonMisesMeasure{kP95, FeTissue::kFemoralCartilage},
+      VonMisesMeasure{kBall, FeTissue::kAcetabularCartilage},
+      VonMisesMeasure{kMax, FeTissue::kAcetabularCartilage},
+      VonMisesMeasure{kP95, FeTissue::kAcetabularCartilage},
+      PressureStat::kMax,
+      PressureStat::kBall,
+      PressureStat::kMean};
   return measures;
 }
 

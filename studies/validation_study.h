@@ -20,6 +20,7 @@
 #pragma once
 
 #include "core/fe_choices.h"
+#include "studies/fe_step_record.h"
 
 #ifdef HIPFAI_WITH_FEM
 #include "studies/hip_fe_run.h"
@@ -51,12 +52,14 @@ struct ValidationOptions {
   bool progress = true;
 };
 
-// The FE measures of steps.csv, in column order (names end in _mpa); the first is the primary one.
-const std::vector<std::string>& validation_fe_measures();
+// The FE measures of steps.csv, in column order (named by fe_measure_name, so the names end in
+// _mpa); the first is the primary one.
+const std::vector<FeMeasure>& validation_fe_measures();
 
 #ifdef HIPFAI_WITH_FEM
 // Every measure of validation_fe_measures() per step of an `fem run --csv` table, [measure][step];
-// NaN where the step did not converge. Throws hipfai::Error naming `file` when the table has
+// NaN where the step did not converge. A von Mises measure is the largest over its tissues and 0
+// (a tissue the run lacks counts as 0). Throws hipfai::Error naming `file` when the table has
 // another number of steps than `steps`.
 std::vector<std::vector<double>> validation_fe_measures_of(const HipFeTable& table, std::size_t steps,
                                                            const std::filesystem::path& file);

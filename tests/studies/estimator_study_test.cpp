@@ -406,10 +406,11 @@ namespace {
 void write_sweep_model(const fs::path& dir, const std::string& model, const std::vector<double>& angles_deg,
                        double pressure_scale, const Eigen::Vector3d& axis) {
   std::ofstream csv(dir / (model + ".csv"));
-  csv << "step,status,max_pressure_mpa,ball_peak_pressure_mpa,mean_pressure_mpa\n";
+  // The columns the table's reader needs (studies/hip_fe_table.h), no tissue's von Mises.
+  csv << "step,status,dofs,max_pressure_mpa,ball_peak_pressure_mpa,mean_pressure_mpa,wall_time_s\n";
   std::vector<double> rotation;
   for (std::size_t k = 0; k < angles_deg.size(); ++k) {
-    csv << k + 1 << ",0," << pressure_scale * (k + 1) << ',' << 0.5 * pressure_scale * (k + 1) << ",0.1\n";
+    csv << k + 1 << ",0,1200," << pressure_scale * (k + 1) << ',' << 0.5 * pressure_scale * (k + 1) << ",0.1,0.5\n";
     const Eigen::Matrix3d r = Eigen::AngleAxisd(angles_deg[k] * M_PI / 180.0, axis.normalized()).toRotationMatrix();
     for (int i = 0; i < 3; ++i) {
       for (int j = 0; j < 3; ++j) rotation.push_back(r(i, j));

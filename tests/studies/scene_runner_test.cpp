@@ -230,8 +230,9 @@ TEST(SceneRunner, FeSceneRunsTheFeOnceAndReusesItFromTheCache) {
   EXPECT_TRUE(steps.has("pressure_ball_mpa"));
   // results.h5 has the same values at full precision, with units.
   const auto file = options.out_dir / "results.h5";
-  EXPECT_EQ(read_dataset(file, "/fe/von_mises_max_labrum_mpa"), a.fe.column("von_mises_max_labrum_mpa"));
-  EXPECT_EQ(read_dataset(file, "/fe/pressure_max_mpa"), a.fe.column("pressure_max_mpa"));
+  EXPECT_EQ(read_dataset(file, "/fe/von_mises_max_labrum_mpa"),
+            a.fe.column(VonMisesMeasure{VonMisesStat::kMax, FeTissue::kLabrum}));
+  EXPECT_EQ(read_dataset(file, "/fe/pressure_max_mpa"), a.fe.column(PressureStat::kMax));
   EXPECT_EQ(read_string_attribute(file, "/fe/pressure_max_mpa", "units"), "MPa");
   EXPECT_EQ(read_string_attribute(file, "/fe", "level"), "coarse");
   EXPECT_NE(a.text.find("FE level coarse"), std::string::npos) << a.text;
@@ -252,10 +253,11 @@ TEST(SceneRunner, FeSceneRunsTheFeOnceAndReusesItFromTheCache) {
   const StepsCsv again = read_steps_csv(options.out_dir / "steps.csv");
   EXPECT_TRUE(again.has("max_radial_mm"));
   EXPECT_FALSE(again.has("pressure_max_mpa"));
-  for (const std::string tissue : {"femoral_cartilage", "acetabular_cartilage", "labrum"}) {
-    for (const std::string kind : {"max", "ball", "p95"}) {
-      const std::string name = "von_mises_" + kind + "_" + tissue + "_mpa";
-      EXPECT_EQ(b.fe.column(name), a.fe.column(name)) << name;
+  for (const FeTissue tissue : kFeTissues) {
+    for (const VonMisesStat stat : kVonMisesStats) {
+      const VonMisesMeasure measure{stat, tissue};
+      const std::string name = fe_measure_name(measure);
+      EXPECT_EQ(b.fe.column(measure), a.fe.column(measure)) << name;
       EXPECT_EQ(again.column(name), steps.column(name)) << name;
     }
   }
