@@ -55,8 +55,9 @@ class CholeskySolve {
   bool solve(Vec rhs, Vec x, dealii::ConditionalOStream& log);
   // k right-hand sides at once (one rank): rhs and x are n x k, column-major. MUMPS runs the
   // forward and backward substitutions on the block, which costs little more than one column:
-  // the factor is read once instead of k times. False, with the reason on `log`, when the
-  // factorisation or the solve failed.
+  // the factor is read once instead of k times. A right-hand side block with at most 1 % nonzeros
+  // is handed over sparse (MUMPS then prunes the forward substitution). False, with the reason
+  // on `log`, when the factorisation or the solve failed.
   bool solve_block(PetscInt n, PetscInt k, double* rhs, double* x, dealii::ConditionalOStream& log);
   // MUMPS's blocking of many right-hand sides in one solve (ICNTL(27); its default, 32, is set
   // for a few): after factorise().
