@@ -11,7 +11,8 @@
 
 
 #include <algorithm>
-#include <atomic>
+#include <condition_variable>
+#include <deque>
 #include <cstdio>
 #include <mutex>
 #include <sstream>
@@ -76,59 +77,121 @@ void solve(const FeBatchJob& job, const std::filesystem::path& entry, const FeBa
 
 }  // namespace
 
-std::vector<FeBatchEntry> run_fe_batch(const std::vector<FeBatchJob>& jobs, const FeBatchOptions& options) {
-  if (options.jobs < 1) throw_error(options.label, ": --jobs must be at least 1");
-  std::vector<FeBatchEntry> entries(jobs.size());
-  std::vector<std::size_t> to_solve;
-  for (std::size_t j = 0; j < jobs.size(); ++j) {
-    entries[j].entry = hip_fe_cache_entry(options.cache_dir, hip_fe_cache_key(jobs[j].run));
-    entries[j].reused = std::filesystem::exists(entries[j].entry / "fe.csv");
-    if (!entries[j].reused) to_solve.push_back(j);
-  }
-  const int workers = options.program.empty() ? 1 : std::max(1, std::min<int>(options.jobs, static_cast<int>(to_solve.size())));
-  // The machine's threads shared among the workers (one each for two workers on two cores; the
-  // results do not depend on them).
-  const auto worker_threads = static_cast<unsigned int>(std::max(1, resolve_threads(0) / workers));
-  if (options.progress) {
-    std::printf("%s: FE (level %s) on %zu hips, %zu from the cache, %zu to solve in %d process(es)\n",
-                options.label.c_str(), jobs.empty() ? "-" : to_string(jobs.front().run.level), jobs.size(),
-                jobs.size() - to_solve.size(), to_solve.size(), workers);
-    std::fflush(stdout);
-  }
-  std::atomic<std::size_t> next{0}, done{0};
-  std::mutex mutex;
+struct FeBatch::State {
+  FeBatchOptions options;
+  int workers = 1;
+  unsigned int worker_threads = 1;  // FE threads of each worker process
+  // Every job added, in order (deques: the workers hold references while add() appends).
+  std::deque<FeBatchJob> jobs;
+  std::deque<FeBatchEntry> entries;
+  std::deque<std::size_t> queue;    // jobs to solve, not yet taken
+  std::size_t queued = 0, reused = 0, finished = 0;
+  bool closed = false;              // no more jobs
   std::vector<std::string> errors;
-  const auto start = SteadyClock::now();
-  auto worker = [&] {
-    for (std::size_t k = next++; k < to_solve.size(); k = next++) {
-      const std::size_t j = to_solve[k];
+  std::mutex mutex;
+  std::condition_variable wake;
+  SteadyClock::time_point start = SteadyClock::now();
+  std::vector<std::thread> threads;
+
+  void work() {
+    for (;;) {
+      std::size_t j = 0;
+      {
+        std::unique_lock<std::mutex> lock(mutex);
+        wake.wait(lock, [&] { return closed || !queue.empty(); });
+        if (queue.empty()) return;
+        j = queue.front();
+        queue.pop_front();
+      }
       const auto job_start = SteadyClock::now();
+      std::string error;
       try {
         solve(jobs[j], entries[j].entry, options, worker_threads);
-      } catch (const std::exception& error) {
-        const std::lock_guard<std::mutex> lock(mutex);
-        errors.emplace_back(error.what());
-        entries[j].error = error.what();
-        continue;
+      } catch (const std::exception& e) {
+        error = e.what();
       }
       const std::lock_guard<std::mutex> lock(mutex);
+      if (!error.empty()) {
+        errors.push_back(error);
+        entries[j].error = error;
+        continue;
+      }
       if (options.progress) {
-        const std::size_t finished = ++done;
-        std::printf("%s: FE [%zu/%zu] %s in %.0f s (%.0f s elapsed)\n", options.label.c_str(), finished,
-                    to_solve.size(), jobs[j].id.c_str(), seconds_since(job_start), seconds_since(start));
+        std::printf("%s: FE [%zu/%zu] %s in %.0f s (%.0f s elapsed)\n", options.label.c_str(), ++finished,
+                    queued, jobs[j].id.c_str(), seconds_since(job_start), seconds_since(start));
         std::fflush(stdout);
       }
     }
-  };
-  std::vector<std::thread> threads;
-  for (int w = 0; w < workers; ++w) threads.emplace_back(worker);
-  for (std::thread& thread : threads) thread.join();
-  if (!errors.empty() && !options.keep_going) {
-    std::string text;
-    for (const std::string& e : errors) text += (text.empty() ? "" : "; ") + e;
-    throw_error(options.label, ": ", errors.size(), " FE run(s) failed: ", text);
   }
-  return entries;
+  // drain: solve the queued jobs first; otherwise drop them (the batch is abandoned).
+  void stop(bool drain) {
+    {
+      const std::lock_guard<std::mutex> lock(mutex);
+      closed = true;
+      if (!drain) queue.clear();
+    }
+    wake.notify_all();
+    for (std::thread& thread : threads) thread.join();
+    threads.clear();
+  }
+};
+
+FeBatch::FeBatch(FeBatchOptions options) : state_(std::make_unique<State>()) {
+  if (options.jobs < 1) throw_error(options.label, ": --jobs must be at least 1");
+  State& s = *state_;
+  s.options = std::move(options);
+  s.workers = s.options.program.empty() ? 1 : s.options.jobs;
+  // The machine's threads shared among the workers (one each for two workers on two cores; the
+  // results do not depend on them).
+  s.worker_threads = static_cast<unsigned int>(std::max(1, resolve_threads(0) / s.workers));
+  for (int w = 0; w < s.workers; ++w) s.threads.emplace_back([&s] { s.work(); });
+}
+
+FeBatch::~FeBatch() {
+  if (state_) state_->stop(false);  // after finish() there is nothing left to stop
+}
+
+void FeBatch::add(FeBatchJob job) {
+  State& s = *state_;
+  FeBatchEntry entry;
+  entry.entry = hip_fe_cache_entry(s.options.cache_dir, hip_fe_cache_key(job.run));
+  entry.reused = std::filesystem::exists(entry.entry / "fe.csv");
+  {
+    const std::lock_guard<std::mutex> lock(s.mutex);
+    if (s.closed) throw_error(s.options.label, ": a job added to a finished FE batch");
+    s.jobs.push_back(std::move(job));
+    s.entries.push_back(std::move(entry));
+    if (s.entries.back().reused) {
+      ++s.reused;
+    } else {
+      s.queue.push_back(s.jobs.size() - 1);
+      ++s.queued;
+    }
+  }
+  s.wake.notify_one();
+}
+
+std::vector<FeBatchEntry> FeBatch::finish() {
+  State& s = *state_;
+  s.stop(true);
+  if (s.options.progress) {
+    std::printf("%s: FE (level %s) on %zu hips: %zu from the cache, %zu solved in %d process(es), %.0f s\n",
+                s.options.label.c_str(), s.jobs.empty() ? "-" : to_string(s.jobs.front().run.level), s.jobs.size(),
+                s.reused, s.queued, s.options.program.empty() ? 1 : s.workers, seconds_since(s.start));
+    std::fflush(stdout);
+  }
+  if (!s.errors.empty() && !s.options.keep_going) {
+    std::string text;
+    for (const std::string& e : s.errors) text += (text.empty() ? "" : "; ") + e;
+    throw_error(s.options.label, ": ", s.errors.size(), " FE run(s) failed: ", text);
+  }
+  return {s.entries.begin(), s.entries.end()};
+}
+
+std::vector<FeBatchEntry> run_fe_batch(const std::vector<FeBatchJob>& jobs, const FeBatchOptions& options) {
+  FeBatch batch(options);
+  for (const FeBatchJob& job : jobs) batch.add(job);
+  return batch.finish();
 }
 
 }  // namespace hipfai::studies

@@ -14,6 +14,7 @@
 #include "studies/hip_fe_run.h"
 
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -42,9 +43,29 @@ struct FeBatchEntry {
   std::string error;                 // keep_going: why the run failed (empty: it did not)
 };
 
-// One entry per job, in the jobs' order. Throws hipfai::Error naming every run that failed (a
-// worker that left no table: its run.log is kept and named), unless keep_going; the other runs
-// stay cached.
+// A batch that takes its jobs while it runs: its workers start at once and solve each job as it
+// is added, so a study can make its next hip while the FE of the earlier ones runs (the machine's
+// cores are shared by both). Jobs are solved in the order they are added.
+class FeBatch {
+ public:
+  explicit FeBatch(FeBatchOptions options);
+  ~FeBatch();  // without finish(): the queued jobs are dropped, the running ones end
+  FeBatch(const FeBatch&) = delete;
+  FeBatch& operator=(const FeBatch&) = delete;
+
+  // Keys the job and queues it, unless its entry is in the cache already.
+  void add(FeBatchJob job);
+  // No more jobs: waits for the workers. One entry per job, in the order added. Throws
+  // hipfai::Error naming every run that failed (a worker that left no table: its run.log is kept
+  // and named), unless keep_going; the other runs stay cached.
+  std::vector<FeBatchEntry> finish();
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
+// The jobs through one FeBatch: one entry per job, in the jobs' order (see FeBatch::finish).
 std::vector<FeBatchEntry> run_fe_batch(const std::vector<FeBatchJob>& jobs, const FeBatchOptions& options);
 
 }  // namespace hipfai::studies

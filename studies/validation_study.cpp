@@ -148,25 +148,31 @@ std::vector<std::vector<double>> validation_fe_measures_of(const HipFeTable& tab
 
 namespace {
 
-void run_fe_stage(std::vector<HipRun>& hips, const Motion& motion, const ValidationOptions& options) {
-  std::vector<FeBatchJob> jobs;
-  for (const HipRun& hip : hips) {
-    FeBatchJob job;
-    job.id = hip.hip.id;
-    job.run.model_dir = hip.hip.dir.string();
-    job.run.steps = options.sub_motions;
-    job.run.level = options.fe_level;
-    if (options.body_weight_n > 0) job.run.body_weight_n = options.body_weight_n;
-    job.run.vtu_every = static_cast<unsigned int>(options.sub_motions);  // the end pose only
-    jobs.push_back(std::move(job));
-  }
+// The FE run of one hip, for the batch.
+FeBatchJob validation_fe_job(const HipRun& hip, const ValidationOptions& options) {
+  FeBatchJob job;
+  job.id = hip.hip.id;
+  job.run.model_dir = hip.hip.dir.string();
+  job.run.steps = options.sub_motions;
+  job.run.level = options.fe_level;
+  if (options.body_weight_n > 0) job.run.body_weight_n = options.body_weight_n;
+  job.run.vtu_every = static_cast<unsigned int>(options.sub_motions);  // the end pose only
+  return job;
+}
+
+FeBatchOptions validation_fe_batch(const ValidationOptions& options) {
   FeBatchOptions batch;
   batch.cache_dir = options.cache_dir;
   batch.program = options.program;
   batch.jobs = options.jobs;
   batch.progress = options.progress;
   batch.label = "validate";
-  const std::vector<FeBatchEntry> done = run_fe_batch(jobs, batch);
+  return batch;
+}
+
+// Every hip's FE results from its cache entry (one entry per hip, in the hips' order).
+void read_fe_entries(std::vector<HipRun>& hips, const std::vector<FeBatchEntry>& done, const Motion& motion,
+                     const ValidationOptions& options) {
   std::vector<std::filesystem::path> entries;
   for (std::size_t h = 0; h < hips.size(); ++h) {
     hips[h].timing.fe_reused = done[h].reused;
@@ -285,6 +291,10 @@ ValidationResult run_validation_study(const ValidationOptions& options) {
       for (double alpha : options.alpha_deg) grid.emplace_back(ce, alpha);
     }
   }
+#ifdef HIPFAI_WITH_FEM
+  // Each hip's FE starts in a worker as soon as the hip is made, while the next ones are made.
+  FeBatch fe(validation_fe_batch(options));
+#endif
   for (const auto& [ce, alpha] : grid) {
     const auto hip_start = Clock::now();
     hips.push_back(run_penetration(ce, alpha, motion, options, log));
@@ -294,9 +304,12 @@ ValidationResult run_validation_study(const ValidationOptions& options) {
                   hips.back().penetration.max_radial_mm(), seconds_since(hip_start));
       std::fflush(stdout);
     }
+#ifdef HIPFAI_WITH_FEM
+    fe.add(validation_fe_job(hips.back(), options));
+#endif
   }
 #ifdef HIPFAI_WITH_FEM
-  run_fe_stage(hips, motion, options);
+  read_fe_entries(hips, fe.finish(), motion, options);
 #endif
   write_steps_csv(hips, motion, options.out_dir / "steps.csv");
   write_timings_csv(hips, options, static_cast<int>(motion.steps.size()), options.out_dir / "timings.csv");

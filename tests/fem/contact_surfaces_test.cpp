@@ -106,6 +106,27 @@ TEST(ContactSurfaces, FacesTheMappingDoesNotTurnAreMadeAnew) {
   expect_faces_as_made_now(shell, surfaces, 1e-12);
 }
 
+// A face of a degree-2 mapping is interpolated at degree 2 (9 points): it is the mapping itself,
+// inside the face and on its polynomial extension, to round-off.
+TEST(ContactSurfaces, APatchIsItsMappingInsideAndOutsideTheFace) {
+  Shell shell;
+  ContactSurfaces surfaces;
+  surfaces.update(*shell.system, shell.model);
+  for (const FacePatch& face : surfaces.faces(kOuter)) {
+    ASSERT_EQ(face.degree(), 2u);
+    for (const double s : {-0.4, 0.13, 0.5, 0.91, 1.35}) {
+      for (const double t : {-0.25, 0.0, 0.77, 1.4}) {
+        dealii::Point<3> x;
+        dealii::Tensor<1, 3> xs, xt;
+        face.evaluate(s, t, x, xs, xt);
+        const dealii::Point<3> mapped =
+            shell.system->mapping().transform_unit_to_real_cell(face.cell, face.unit_cell_point(s, t));
+        EXPECT_LT(x.distance(mapped), 1e-12);
+      }
+    }
+  }
+}
+
 TEST(ContactSurfaces, AFixedBodyKeepsItsFaces) {
   Shell shell;
   shell.model.bodies[0].bonded_rigid_body = -1;
