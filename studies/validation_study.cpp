@@ -21,6 +21,7 @@
 #include <fstream>
 #include <iomanip>
 #include <limits>
+#include <numeric>
 #include <sstream>
 
 
@@ -291,25 +292,38 @@ ValidationResult run_validation_study(const ValidationOptions& options) {
       for (double alpha : options.alpha_deg) grid.emplace_back(ce, alpha);
     }
   }
+  // The hips are made, and their FE started, in decreasing CE then alpha: a larger socket has a
+  // larger contact zone and a longer FE run (15 s at CE 0 to 29 s at CE 40 at default), so with
+  // the workers busy from the start the short runs fill the end (longest first). The results
+  // keep the grid's order.
+  std::vector<std::size_t> order(grid.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::stable_sort(order.begin(), order.end(), [&grid](std::size_t a, std::size_t b) { return grid[a] > grid[b]; });
+  hips.resize(grid.size());
 #ifdef HIPFAI_WITH_FEM
   // Each hip's FE starts in a worker as soon as the hip is made, while the next ones are made.
   FeBatch fe(validation_fe_batch(options));
 #endif
-  for (const auto& [ce, alpha] : grid) {
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    const auto [ce, alpha] = grid[order[k]];
     const auto hip_start = Clock::now();
-    hips.push_back(run_penetration(ce, alpha, motion, options, log));
+    HipRun& hip = hips[order[k]];
+    hip = run_penetration(ce, alpha, motion, options, log);
     if (options.progress) {
       std::printf("validate: penetration [%zu/%zu] %s: max curvilinear %.2f mm, radial %.2f mm (%.1f s)\n",
-                  hips.size(), grid.size(), hips.back().hip.id.c_str(), hips.back().penetration.max_curvilinear_mm(),
-                  hips.back().penetration.max_radial_mm(), seconds_since(hip_start));
+                  k + 1, grid.size(), hip.hip.id.c_str(), hip.penetration.max_curvilinear_mm(),
+                  hip.penetration.max_radial_mm(), seconds_since(hip_start));
       std::fflush(stdout);
     }
 #ifdef HIPFAI_WITH_FEM
-    fe.add(validation_fe_job(hips.back(), options));
+    fe.add(validation_fe_job(hip, options));
 #endif
   }
 #ifdef HIPFAI_WITH_FEM
-  read_fe_entries(hips, fe.finish(), motion, options);
+  const std::vector<FeBatchEntry> done = fe.finish();
+  std::vector<FeBatchEntry> by_hip(done.size());
+  for (std::size_t k = 0; k < order.size(); ++k) by_hip[order[k]] = done[k];
+  read_fe_entries(hips, by_hip, motion, options);
 #endif
   write_steps_csv(hips, motion, options.out_dir / "steps.csv");
   write_timings_csv(hips, options, static_cast<int>(motion.steps.size()), options.out_dir / "timings.csv");

@@ -153,6 +153,30 @@ TEST(BallAveragedPeak, ConvergesForAnIntegrableSingularityWhereTheRawMaximumDive
   EXPECT_NEAR(averaged[2], exact, 0.01 * exact);
 }
 
+// Samples far apart for the radius (two clusters 300 mm apart, r = 0.5 mm: 2e8 cells) are hashed
+// instead of counted into a dense grid: the same balls either way.
+TEST(BallAveragedPeak, SparseSamplesGiveTheBruteForceBalls) {
+  std::mt19937 rng(5);
+  std::normal_distribution<double> cluster(0.0, 0.8);
+  std::uniform_real_distribution<double> weight(0.01, 1.0), value(-3.0, 8.0);
+  std::vector<FieldSample> samples;
+  for (const double offset : {0.0, 300.0}) {
+    for (int i = 0; i < 400; ++i) {
+      samples.push_back({Vec3(offset + cluster(rng), offset + cluster(rng), offset + cluster(rng)), value(rng),
+                         weight(rng)});
+    }
+  }
+  const std::vector<BallAverage> fast = ball_averages(samples, 0.5);
+  const std::vector<BallAverage> reference = brute_force_ball_averages(samples, 0.5);
+  std::size_t crowded = 0;
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    ASSERT_EQ(fast[i].samples, reference[i].samples) << "sample " << i;
+    EXPECT_NEAR(fast[i].value, reference[i].value, 1e-12);
+    crowded += fast[i].samples > 1;
+  }
+  EXPECT_GE(crowded, 100u);
+}
+
 TEST(BallAveragedPeak, GridSearchEqualsBruteForceOnRandomPoints) {
   // Clustered and uniform points, a flat set (a contact surface is 2D in 3D) and duplicates;
   // radius below, near and above the typical spacing.
