@@ -1,7 +1,7 @@
 // hipfai — the contact-pressure estimator of thesis §4.5 as a pipeline: FE results and hip folders
 // in, a model file out (train), a hip in and per-step estimates out (predict), and the
-// leave-one-out validation of Tables 12-13 and Figs. 72-74 with baselines (validate; report in
-// studies/estimator_report.cpp). The maths are in stats/ (pca, pca_nn_estimator, knn_regression,
+// leave-one-out validation of Tables 12-13 and Figs. 72-74 with baselines (validate: computed in
+// studies/estimator_validate.h, written by studies/estimator_validate_report.h). The maths are in stats/ (pca, pca_nn_estimator, knn_regression,
 // ridge_regression, pressure_estimator); the features in studies/pressure_features.h.
 //
 // INPUTS ACCEPTED
