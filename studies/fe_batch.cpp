@@ -144,6 +144,9 @@ FeBatch::FeBatch(FeBatchOptions options) : state_(std::make_unique<State>()) {
   // The machine's threads shared among the workers (one each for two workers on two cores; the
   // results do not depend on them).
   s.worker_threads = static_cast<unsigned int>(std::max(1, resolve_threads(0) / s.workers));
+  // Without a program the runs are solved in this process, on the thread that calls finish():
+  // never beside the caller's own work (making a hip forks its mesher).
+  if (s.options.program.empty()) return;
   for (int w = 0; w < s.workers; ++w) s.threads.emplace_back([&s] { s.work(); });
 }
 
@@ -174,10 +177,11 @@ void FeBatch::add(FeBatchJob job) {
 std::vector<FeBatchEntry> FeBatch::finish() {
   State& s = *state_;
   s.stop(true);
+  if (s.options.program.empty()) s.work();  // closed: solves the queue, then returns
   if (s.options.progress) {
     std::printf("%s: FE (level %s) on %zu hips: %zu from the cache, %zu solved in %d process(es), %.0f s\n",
                 s.options.label.c_str(), s.jobs.empty() ? "-" : to_string(s.jobs.front().run.level), s.jobs.size(),
-                s.reused, s.queued, s.options.program.empty() ? 1 : s.workers, seconds_since(s.start));
+                s.reused, s.queued, s.workers, seconds_since(s.start));
     std::fflush(stdout);
   }
   if (!s.errors.empty() && !s.options.keep_going) {

@@ -45,7 +45,8 @@ struct FeBatchEntry {
 
 // A batch that takes its jobs while it runs: its workers start at once and solve each job as it
 // is added, so a study can make its next hip while the FE of the earlier ones runs (the machine's
-// cores are shared by both). Jobs are solved in the order they are added.
+// cores are shared by both). Jobs are solved in the order they are added. Without a program the
+// runs are solved in this process, one after the other, when finish() is called.
 class FeBatch {
  public:
   explicit FeBatch(FeBatchOptions options);
