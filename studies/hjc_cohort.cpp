@@ -1,15 +1,13 @@
 #include "studies/hjc_cohort.h"
 
-#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/literature.h"
 #include "core/progress.h"
 #include "core/stopwatch.h"
-#include "core/version.h"
 #include "geometry/hip_generator.h"
 #include "geometry/hjc.h"
 #include "geometry/hjc_regions.h"
-#include "studies/results_file.h"
+#include "studies/hjc_cohort_report.h"
 
 #include <Eigen/Geometry>
 
@@ -21,7 +19,6 @@
 #include <limits>
 #include <map>
 #include <random>
-#include <sstream>
 
 namespace hipfai::studies {
 namespace {
@@ -145,15 +142,156 @@ std::vector<Perturbation> perturbations(bool include_fine) {
   return list;
 }
 
-std::string csv_escape(const std::string& s) {
-  return s.find(',') == std::string::npos ? s : "\"" + s + "\"";
+// The two surface sets fitted: (femur tissue, pelvis tissue).
+const std::vector<std::pair<std::string, std::pair<std::string, std::string>>>& surface_sets() {
+  static const std::vector<std::pair<std::string, std::pair<std::string, std::string>>> surfaces{
+      {"articular", {"femoral_cartilage", "acetabular_cartilage"}}, {"bone", {"femur_bone", "acetabular_bone"}}};
+  return surfaces;
 }
 
-std::string fmt(double value, int digits = 3) {
-  if (!std::isfinite(value)) return "-";
-  char buffer[64];
-  std::snprintf(buffer, sizeof(buffer), "%.*f", digits, value);
-  return buffer;
+// Fine and coarse meshes only for the middle CE (generation is the slow part).
+bool runs_on_hip(const HjcCohortOptions& options, const Perturbation& perturbation, std::size_t h) {
+  return !((perturbation.level == "coarse" || perturbation.level == "fine") && h != options.ce_deg.size() / 2);
+}
+
+std::size_t cohort_jobs(const HjcCohortOptions& options, const std::vector<Perturbation>& list) {
+  std::size_t jobs = 0;
+  for (std::size_t h = 0; h < options.ce_deg.size(); ++h) {
+    for (const auto& p : list) {
+      if (!runs_on_hip(options, p, h)) continue;
+      jobs += (p.random ? options.replicates : 1) * surface_sets().size();
+    }
+  }
+  return jobs;
+}
+
+// One row per method of one estimate: its error against the true centre, in the hip frame.
+void add_method_rows(const std::vector<geometry::HjcMethodResult>& methods, const geometry::HipModel& model,
+                     HjcCohortRow base, std::vector<HjcCohortRow>& rows) {
+  const Eigen::Matrix3d frame = (Eigen::Matrix3d() << model.axes.flexion_axis, model.axes.adduction_axis,
+                                 model.axes.internal_rotation_axis).finished();
+  base.error_mm = std::numeric_limits<double>::quiet_NaN();
+  base.residual_motion_rms_mm = std::numeric_limits<double>::quiet_NaN();
+  for (const auto& name : geometry::hjc_method_names()) {
+    HjcCohortRow row = base;
+    row.method = name;
+    for (const auto& m : methods) {
+      if (m.name != name || !m.ok) continue;
+      row.ok = true;
+      row.error_vector_mm = frame.transpose() * (m.center_mm - model.hjc_mm);
+      row.error_mm = row.error_vector_mm.norm();
+      row.rms_mm = m.rms_mm;
+      row.max_mm = m.max_mm;
+      row.residual_motion_rms_mm = m.residual_motion_rms_mm;
+    }
+    rows.push_back(row);
+  }
+}
+
+// The five methods on one perturbed surface set; a method that throws fails every row.
+std::vector<geometry::HjcMethodResult> estimate_perturbed(const geometry::HipModel& model, const std::string& hip_name,
+                                                          const std::pair<std::string, std::string>& tissues,
+                                                          const Perturbation& perturbation, std::mt19937& rng) {
+  TriMesh femur = model.tissue(tissues.first);
+  TriMesh pelvis = model.tissue(tissues.second);
+  perturbation.apply(femur, pelvis, model, rng);
+  geometry::HjcRequest request;
+  request.femur = &femur;
+  request.pelvis = &pelvis;
+  request.femur_long_axis = model.superior;
+  request.femur_name = hip_name + " " + tissues.first;
+  request.pelvis_name = hip_name + " " + tissues.second;
+  try {
+    return geometry::estimate_hjc(request).methods;
+  } catch (const Error&) {
+    return {};
+  }
+}
+
+// Every perturbation, surface set and replicate of the base hip of CE options.ce_deg[h].
+void hip_rows(const HjcCohortOptions& options, std::size_t h, const std::vector<Perturbation>& list,
+              ProgressBar& progress, std::vector<HjcCohortRow>& rows) {
+  const double ce = options.ce_deg[h];
+  std::map<std::string, geometry::HipModel> models;
+  auto model_for = [&](const std::string& level) -> const geometry::HipModel& {
+    auto it = models.find(level);
+    if (it != models.end()) return it->second;
+    geometry::HipParameters parameters;
+    parameters.ce_deg = ce;
+    parameters.alpha_deg = level == "cam" ? 80.0 : 40.0;
+    parameters.edge_mm = level == "coarse" ? options.coarse_edge_mm : level == "fine" ? options.fine_edge_mm : options.edge_mm;
+    return models.emplace(level, geometry::generate_hip(parameters).model).first->second;
+  };
+  char hip_name[32];
+  std::snprintf(hip_name, sizeof(hip_name), "ce%.0f", ce);
+  for (std::size_t pi = 0; pi < list.size(); ++pi) {
+    const Perturbation& perturbation = list[pi];
+    if (!runs_on_hip(options, perturbation, h)) continue;
+    const geometry::HipModel& model = model_for(perturbation.level);
+    const int replicates = perturbation.random ? options.replicates : 1;
+    for (const auto& [surface, tissues] : surface_sets()) {
+      for (int r = 0; r < replicates; ++r) {
+        std::mt19937 rng(static_cast<unsigned>(1000003u * (h + 1) + 7919u * pi + 31u * static_cast<unsigned>(r)));
+        const auto methods = estimate_perturbed(model, hip_name, tissues, perturbation, rng);
+        HjcCohortRow base;
+        base.hip = hip_name;
+        base.surface = surface;
+        base.perturbation = perturbation.name;
+        base.replicate = r;
+        add_method_rows(methods, model, base, rows);
+        progress.advance();
+      }
+    }
+  }
+}
+
+// Count, mean, SD (n - 1) and maximum of the errors; 0 where there are none.
+void summarise_errors(const std::vector<double>& e, HjcCohortSummary& s) {
+  s.count = static_cast<int>(e.size());
+  double sum = 0.0, max = 0.0;
+  for (const double x : e) { sum += x; max = std::max(max, x); }
+  s.mean_mm = e.empty() ? 0.0 : sum / static_cast<double>(e.size());
+  double var = 0.0;
+  for (const double x : e) var += (x - s.mean_mm) * (x - s.mean_mm);
+  s.sd_mm = e.size() > 1 ? std::sqrt(var / static_cast<double>(e.size() - 1)) : 0.0;
+  s.max_mm = max;
+}
+
+// Per (surface, perturbation, method), in the order met.
+std::vector<HjcCohortSummary> summarise(const std::vector<HjcCohortRow>& rows) {
+  std::vector<std::string> order;
+  std::map<std::string, HjcCohortSummary> summary;
+  std::map<std::string, std::vector<double>> errors;
+  for (const auto& row : rows) {
+    const std::string key = row.surface + "|" + row.perturbation + "|" + row.method;
+    if (!summary.count(key)) {
+      order.push_back(key);
+      summary[key] = {row.surface, row.perturbation, row.method};
+    }
+    if (row.ok) errors[key].push_back(row.error_mm); else ++summary[key].failed;
+  }
+  std::vector<HjcCohortSummary> out;
+  for (const auto& key : order) {
+    if (errors[key].empty()) continue;
+    summarise_errors(errors[key], summary[key]);
+    out.push_back(summary[key]);
+  }
+  return out;
+}
+
+std::vector<HjcCohortSummary> overall(const std::vector<HjcCohortRow>& rows) {
+  std::vector<HjcCohortSummary> out;
+  for (const auto& m : geometry::hjc_method_names()) {
+    HjcCohortSummary s{"", "", m};
+    std::vector<double> e;
+    for (const auto& r : rows) {
+      if (r.method != m) continue;
+      if (r.ok) e.push_back(r.error_mm); else ++s.failed;
+    }
+    summarise_errors(e, s);
+    out.push_back(s);
+  }
+  return out;
 }
 
 }  // namespace
@@ -171,225 +309,24 @@ void perturb_like_segmentation(TriMesh& head_surface, TriMesh& socket_surface, c
   }
 }
 
-HjcCohortResult run_hjc_cohort(const HjcCohortOptions& options) {
-  const auto start = std::chrono::steady_clock::now();
+HjcCohortResult compute_hjc_cohort(const HjcCohortOptions& options) {
   if (options.ce_deg.empty()) throw_error("hjc cohort: no base hips");
   if (options.replicates < 1) throw_error("hjc cohort: replicates must be at least 1");
   HjcCohortResult result;
+  result.options = options;
   const std::vector<Perturbation> list = perturbations(options.include_fine);
-  const std::vector<std::pair<std::string, std::pair<std::string, std::string>>> surfaces{
-      {"articular", {"femoral_cartilage", "acetabular_cartilage"}}, {"bone", {"femur_bone", "acetabular_bone"}}};
-
-  // Generated hips per (ce, level); fine and coarse only for the middle CE (generation is the slow part).
-  std::size_t jobs = 0;
-  for (std::size_t h = 0; h < options.ce_deg.size(); ++h) {
-    for (const auto& p : list) {
-      if ((p.level == "coarse" || p.level == "fine") && h != options.ce_deg.size() / 2) continue;
-      jobs += (p.random ? options.replicates : 1) * surfaces.size();
-    }
-  }
-  ProgressBar progress("hjc cohort", jobs, options.progress);
-  for (std::size_t h = 0; h < options.ce_deg.size(); ++h) {
-    const double ce = options.ce_deg[h];
-    std::map<std::string, geometry::HipModel> models;
-    auto model_for = [&](const std::string& level) -> const geometry::HipModel& {
-      auto it = models.find(level);
-      if (it != models.end()) return it->second;
-      geometry::HipParameters parameters;
-      parameters.ce_deg = ce;
-      parameters.alpha_deg = level == "cam" ? 80.0 : 40.0;
-      parameters.edge_mm = level == "coarse" ? options.coarse_edge_mm : level == "fine" ? options.fine_edge_mm : options.edge_mm;
-      return models.emplace(level, geometry::generate_hip(parameters).model).first->second;
-    };
-    char hip_name[32];
-    std::snprintf(hip_name, sizeof(hip_name), "ce%.0f", ce);
-    for (std::size_t pi = 0; pi < list.size(); ++pi) {
-      const Perturbation& perturbation = list[pi];
-      if ((perturbation.level == "coarse" || perturbation.level == "fine") && h != options.ce_deg.size() / 2) continue;
-      const geometry::HipModel& model = model_for(perturbation.level);
-      const Eigen::Matrix3d frame = (Eigen::Matrix3d() << model.axes.flexion_axis, model.axes.adduction_axis,
-                                     model.axes.internal_rotation_axis).finished();
-      const int replicates = perturbation.random ? options.replicates : 1;
-      for (const auto& [surface, tissues] : surfaces) {
-        for (int r = 0; r < replicates; ++r) {
-          std::mt19937 rng(static_cast<unsigned>(1000003u * (h + 1) + 7919u * pi + 31u * static_cast<unsigned>(r)));
-          TriMesh femur = model.tissue(tissues.first);
-          TriMesh pelvis = model.tissue(tissues.second);
-          perturbation.apply(femur, pelvis, model, rng);
-          geometry::HjcRequest request;
-          request.femur = &femur;
-          request.pelvis = &pelvis;
-          request.femur_long_axis = model.superior;
-          request.femur_name = std::string(hip_name) + " " + tissues.first;
-          request.pelvis_name = std::string(hip_name) + " " + tissues.second;
-          std::vector<geometry::HjcMethodResult> methods;
-          std::string failure;
-          try {
-            methods = geometry::estimate_hjc(request).methods;
-          } catch (const Error& e) {
-            failure = e.what();
-          }
-          for (const auto& name : geometry::hjc_method_names()) {
-            HjcCohortRow row;
-            row.hip = hip_name;
-            row.surface = surface;
-            row.perturbation = perturbation.name;
-            row.method = name;
-            row.replicate = r;
-            row.error_mm = std::numeric_limits<double>::quiet_NaN();
-            row.residual_motion_rms_mm = std::numeric_limits<double>::quiet_NaN();
-            for (const auto& m : methods) {
-              if (m.name != name || !m.ok) continue;
-              row.ok = true;
-              row.error_vector_mm = frame.transpose() * (m.center_mm - model.hjc_mm);
-              row.error_mm = row.error_vector_mm.norm();
-              row.rms_mm = m.rms_mm;
-              row.max_mm = m.max_mm;
-              row.residual_motion_rms_mm = m.residual_motion_rms_mm;
-            }
-            result.rows.push_back(row);
-          }
-          progress.advance();
-        }
-      }
-    }
-  }
+  ProgressBar progress("hjc cohort", cohort_jobs(options, list), options.progress);
+  for (std::size_t h = 0; h < options.ce_deg.size(); ++h) hip_rows(options, h, list, progress, result.rows);
   progress.finish();
+  result.summary = summarise(result.rows);
+  result.overall = overall(result.rows);
+  return result;
+}
 
-  // Summary per (surface, perturbation, method), in the order met.
-  std::vector<std::string> order;
-  std::map<std::string, HjcCohortSummary> summary;
-  std::map<std::string, std::vector<double>> errors;
-  for (const auto& row : result.rows) {
-    const std::string key = row.surface + "|" + row.perturbation + "|" + row.method;
-    if (!summary.count(key)) {
-      order.push_back(key);
-      summary[key] = {row.surface, row.perturbation, row.method};
-    }
-    if (row.ok) errors[key].push_back(row.error_mm); else ++summary[key].failed;
-  }
-  for (const auto& key : order) {
-    HjcCohortSummary& s = summary[key];
-    const auto& e = errors[key];
-    s.count = static_cast<int>(e.size());
-    if (e.empty()) continue;
-    double sum = 0.0, max = 0.0;
-    for (const double x : e) { sum += x; max = std::max(max, x); }
-    s.mean_mm = sum / static_cast<double>(e.size());
-    double var = 0.0;
-    for (const double x : e) var += (x - s.mean_mm) * (x - s.mean_mm);
-    s.sd_mm = e.size() > 1 ? std::sqrt(var / static_cast<double>(e.size() - 1)) : 0.0;
-    s.max_mm = max;
-    result.summary.push_back(s);
-  }
-
-  // Files.
-  std::filesystem::create_directories(options.out_dir);
-  std::ostringstream rows_csv;
-  rows_csv << "hip,surface,perturbation,replicate,method,ok,error_mm,error_x_mm,error_y_mm,error_z_mm,fit_rms_mm,"
-              "fit_max_mm,residual_motion_rms_mm\n";
-  rows_csv.precision(6);
-  for (const auto& r : result.rows) {
-    rows_csv << r.hip << ',' << r.surface << ',' << csv_escape(r.perturbation) << ',' << r.replicate << ',' << r.method
-             << ',' << (r.ok ? 1 : 0) << ',' << r.error_mm << ',' << r.error_vector_mm.x() << ','
-             << r.error_vector_mm.y() << ',' << r.error_vector_mm.z() << ',' << r.rms_mm << ',' << r.max_mm << ','
-             << r.residual_motion_rms_mm << '\n';
-  }
-  write_file_atomically(options.out_dir / "cohort.csv", rows_csv.str());
-  std::ostringstream summary_csv;
-  summary_csv << "surface,perturbation,method,n,failed,mean_error_mm,sd_error_mm,max_error_mm\n";
-  for (const auto& s : result.summary) {
-    summary_csv << s.surface << ',' << csv_escape(s.perturbation) << ',' << s.method << ',' << s.count << ','
-                << s.failed << ',' << fmt(s.mean_mm, 4) << ',' << fmt(s.sd_mm, 4) << ',' << fmt(s.max_mm, 4) << '\n';
-  }
-  write_file_atomically(options.out_dir / "cohort_summary.csv", summary_csv.str());
-
-  // Markdown: one table per surface, perturbations as rows, methods as columns (mean +- SD (max)),
-  // then the winner per row and its margin over the runner-up.
-  std::ostringstream md;
-  md << "# HJC estimators against a known centre\n\n"
-     << "Generated hips CE " ;
-  for (std::size_t i = 0; i < options.ce_deg.size(); ++i) md << (i ? ", " : "") << options.ce_deg[i];
-  md << " deg (alpha 40; cam: alpha 80), " << options.edge_mm << " mm edges (coarse " << options.coarse_edge_mm
-     << ", fine " << options.fine_edge_mm << " mm, CE " << options.ce_deg[options.ce_deg.size() / 2]
-     << " only); random perturbations " << options.replicates
-     << " replicates per hip. Error = |estimate - true centre| in mm: mean +- SD (max). Code " << kGitSha
-     << ". Definitions: studies/hjc_cohort.h.\n\n";
-  for (const std::string surface : {"articular", "bone"}) {
-    md << "## " << (surface == "articular" ? "Articular surfaces (femoral and acetabular cartilage)"
-                                           : "Bones (femur bone, acetabular bone)")
-       << "\n\n| perturbation | n |";
-    for (const auto& m : geometry::hjc_method_names()) md << ' ' << m << " |";
-    md << " best | margin to 2nd |\n|---|---|";
-    for (std::size_t i = 0; i < geometry::hjc_method_names().size() + 2; ++i) md << "---|";
-    md << '\n';
-    std::vector<std::string> seen;
-    for (const auto& s : result.summary) {
-      if (s.surface != surface || std::find(seen.begin(), seen.end(), s.perturbation) != seen.end()) continue;
-      seen.push_back(s.perturbation);
-      std::vector<std::pair<double, std::string>> ranking;
-      int n = 0;
-      md << "| " << s.perturbation << " |";
-      std::ostringstream cells;
-      for (const auto& m : geometry::hjc_method_names()) {
-        const auto& t = summary[surface + "|" + s.perturbation + "|" + m];
-        n = std::max(n, t.count + t.failed);
-        if (t.count == 0) { cells << " failed |"; continue; }
-        cells << ' ' << fmt(t.mean_mm, 2) << " +- " << fmt(t.sd_mm, 2) << " (" << fmt(t.max_mm, 2) << ")"
-              << (t.failed ? " [" + std::to_string(t.failed) + " failed]" : "") << " |";
-        ranking.push_back({t.mean_mm, m});
-      }
-      std::sort(ranking.begin(), ranking.end());
-      md << ' ' << n << " |" << cells.str();
-      if (ranking.size() >= 2) {
-        md << ' ' << ranking[0].second << " | " << fmt(ranking[1].first - ranking[0].first, 2) << " mm vs "
-           << ranking[1].second << " |\n";
-      } else {
-        md << " - | - |\n";
-      }
-    }
-    md << '\n';
-  }
-  // Overall: mean error of each method over every perturbation and surface.
-  md << "## Overall (every perturbation, both surfaces)\n\n| method | n | mean error (mm) | SD | max |\n|---|---|---|---|---|\n";
-  for (const auto& m : geometry::hjc_method_names()) {
-    std::vector<double> e;
-    for (const auto& r : result.rows) if (r.method == m && r.ok) e.push_back(r.error_mm);
-    double sum = 0.0, max = 0.0;
-    for (const double x : e) { sum += x; max = std::max(max, x); }
-    const double mean = e.empty() ? 0.0 : sum / static_cast<double>(e.size());
-    double var = 0.0;
-    for (const double x : e) var += (x - mean) * (x - mean);
-    md << "| " << m << " | " << e.size() << " | " << fmt(mean, 3) << " | "
-       << fmt(e.size() > 1 ? std::sqrt(var / static_cast<double>(e.size() - 1)) : 0.0, 3) << " | " << fmt(max, 3) << " |\n";
-  }
-  result.report_path = options.out_dir / "cohort.md";
-  write_file_atomically(result.report_path, md.str());
-
-  {
-    ResultsFile h5(options.out_dir / "cohort.h5");
-    h5.set_attribute("/", "units", "mm");
-    h5.set_attribute("/", "git_sha", kGitSha);
-    h5.set_attribute("/", "study", "hjc cohort: HJC estimators against a known centre");
-    std::vector<std::string> hip, surface, perturbation, method;
-    std::vector<double> values;
-    for (const auto& r : result.rows) {
-      hip.push_back(r.hip);
-      surface.push_back(r.surface);
-      perturbation.push_back(r.perturbation);
-      method.push_back(r.method);
-      values.insert(values.end(), {r.error_mm, r.error_vector_mm.x(), r.error_vector_mm.y(), r.error_vector_mm.z(),
-                                   r.rms_mm, r.max_mm, r.residual_motion_rms_mm, static_cast<double>(r.replicate)});
-    }
-    h5.write_strings("/rows/hip", hip);
-    h5.write_strings("/rows/surface", surface);
-    h5.write_strings("/rows/perturbation", perturbation);
-    h5.write_strings("/rows/method", method);
-    h5.write("/rows/values", values, 8, "mm");
-    h5.set_attribute("/rows/values", "columns",
-                     "error_mm,error_x_mm,error_y_mm,error_z_mm,fit_rms_mm,fit_max_mm,residual_motion_rms_mm,replicate");
-    h5.commit();
-  }
+HjcCohortResult run_hjc_cohort(const HjcCohortOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  HjcCohortResult result = compute_hjc_cohort(options);
+  result.report_path = write_hjc_cohort_report(result, options.out_dir);
   result.seconds = seconds_since(start);
   return result;
 }

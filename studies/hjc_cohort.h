@@ -77,13 +77,19 @@ struct HjcCohortSummary {
 };
 
 struct HjcCohortResult {
+  HjcCohortOptions options;  // as run
   std::vector<HjcCohortRow> rows;
+  // Per (surface, perturbation, method) with at least one estimate, in the order met; a group
+  // whose every estimate failed has rows only.
   std::vector<HjcCohortSummary> summary;
+  std::vector<HjcCohortSummary> overall;  // per method over every perturbation and surface
   std::filesystem::path report_path;
   double seconds = 0.0;
 };
 
-// Runs the cohort and writes out_dir/{cohort.csv, cohort_summary.csv, cohort.md, cohort.h5}.
+HjcCohortResult compute_hjc_cohort(const HjcCohortOptions& options);
+
+// Computes, then writes the report (studies/hjc_cohort_report.h) into options.out_dir.
 HjcCohortResult run_hjc_cohort(const HjcCohortOptions& options);
 
 }  // namespace hipfai::studies

@@ -26,6 +26,8 @@
 // stated in the report.
 #pragma once
 
+#include "geometry/hjc.h"
+
 #include <Eigen/Core>
 
 #include <array>
@@ -51,6 +53,11 @@ struct HjcStudyOptions {
   bool progress = true;
 };
 
+// The segmentation perturbation of every subject's articular surfaces (see above).
+inline constexpr double kHjcSegmentationNoiseMm = 1.0;
+inline constexpr double kHjcSegmentationAsphericityMm = 0.5;
+inline constexpr double kHjcSegmentationUnevenGapMm = 0.5;
+
 // Test-sized study: two generated subjects (CE 20 / alpha 40, CE 30 / alpha 70) at 3 mm, 5 deg
 // steps, one centre offset (2 mm); the other fields kept from `base`.
 HjcStudyOptions quick_hjc_study_options(HjcStudyOptions base);
@@ -73,16 +80,43 @@ struct HjcRomRow {
   double rom_deg = 0.0;
 };
 
+// Bones-only mode, one femur ("whole femur", or "head removed": only neck and trochanter can meet
+// the pelvis): per method and rotation the range of motion and where its first contact lies ("h"
+// within the head radius + 4 mm of the centre, "r" farther out, "-" none).
+struct HjcBonesVariant {
+  std::string femur;
+  std::map<std::string, std::map<std::string, double>> rom_deg;     // method -> rotation -> deg
+  std::map<std::string, std::map<std::string, std::string>> site;  // method -> rotation -> h/r/-
+};
+
+struct HjcBonesResult {
+  geometry::HjcResult hjc;
+  Eigen::Matrix3d frame = Eigen::Matrix3d::Identity();  // approximate hip frame, columns X, Y, Z
+  std::vector<HjcBonesVariant> variants;                // whole femur, head removed
+};
+
 struct HjcStudyResult {
+  HjcStudyOptions options;                        // as run
   std::vector<HjcSubjectResult> subjects;
-  std::vector<HjcRomRow> rom;                     // bones-only mode
+  std::vector<HjcRomRow> rom;                     // bones-only mode, head removed
+  HjcBonesResult bones;                           // bones-only mode
   std::filesystem::path report_path;
   double seconds = 0.0;
 };
 
+
 // The six rotations in the thesis' Eq. 12 order (FL, EX, IR, ER, AD, AB) and their amplitudes.
 const std::vector<std::pair<std::string, double>>& hjc_study_rotations();
 
+// The six directions of the centre offsets in the hip frame (+X, -X, +Y, -Y, +Z, -Z), and the
+// centre label of the true centre displaced by offset_mm along one: "truth +X 2mm".
+const std::array<std::pair<const char*, Eigen::Vector3d>, 6>& hjc_offset_directions();
+std::string hjc_offset_label(const char* direction, double offset_mm);
+
+// The subjects' centres and depths, or in bones-only mode the centres and ranges of motion.
+HjcStudyResult compute_hjc_study(const HjcStudyOptions& options);
+
+// Computes, then writes the report (studies/hjc_study_report.h) into options.out_dir.
 HjcStudyResult run_hjc_study(const HjcStudyOptions& options);
 
 }  // namespace hipfai::studies
