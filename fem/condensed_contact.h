@@ -83,7 +83,10 @@ class CondensedContact {
     unsigned int component = 0;                 // constrained component
     double normal_component = 1.0;
   };
-  void compute_h(std::size_t n);  // h_[n] = K0^-1 B_n^T over all surface dofs
+  // h_[n] = K0^-1 B_n^T over all surface dofs, for `count` constraints at once.
+  void compute_h(const std::size_t* nodes, std::size_t count);
+  static constexpr std::size_t kBlock = 16;       // constraints per block of compute_h
+  static constexpr std::size_t kRowChunk = 256;   // rows per chunk: a block's columns stay cached
 
   BodyCompliance* bodies_ = nullptr;
   const ContactModel* model_ = nullptr;
@@ -93,6 +96,9 @@ class CondensedContact {
   int n_threads_ = 1;
   std::vector<dealii::Tensor<1, 3>> t0_;
   std::vector<std::vector<double>> h_;    // per node, empty until needed
+  // The last solved set's W (column-major, m x m) and its constraints, for the next iteration.
+  std::vector<std::size_t> w_set_;
+  std::vector<double> w_values_;
   std::vector<dealii::Tensor<1, 3>> node_force_;
   // Free directions of the load-controlled bones.
   struct Direction {
