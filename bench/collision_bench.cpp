@@ -14,6 +14,7 @@
 #include "bench/timing.h"
 #include "contact/cylindrical_segmenting.h"
 #include "contact/cylindrical_table.h"
+#include "contact/detail/ablation.h"
 #include "contact/oracle_cylindrical.h"
 #include "contact/oracle_radial.h"
 #include "contact/radial_segmenting.h"
@@ -270,26 +271,29 @@ void Bench::bench_striking(const Scenario& s) {
     measured_.rows.push_back(cluster_row);
     BenchRow plain_row = row;
     plain_row.method = "cylindrical_no_clusters";
-    contact::CylindricalQueryOptions plain_q = q;
-    plain_q.mobile_clusters = false;
+    contact::detail::CylindricalAblation plain;
+    plain.mobile_clusters = false;
     contact::PenetrationResult plain_result;
-    plain_row.query = time_query([&] { plain_result = contact::cylindrical_segmenting(table, s.posed_mobile(), plain_q); });
+    plain_row.query =
+        time_query([&] { plain_result = contact::detail::cylindrical_segmenting(table, s.posed_mobile(), q, plain); });
     plain_row.note = "the one-pass query without the table's mobile clusters (every vertex on its own)";
     measured_.rows.push_back(plain_row);
     BenchRow walk_row = row;
     walk_row.method = "cylindrical_no_regions";
-    contact::CylindricalQueryOptions walk_q = plain_q;
-    walk_q.outside_regions = false;
+    contact::detail::CylindricalAblation walk = plain;
+    walk.outside_regions = false;
     contact::PenetrationResult walk_result;
-    walk_row.query = time_query([&] { walk_result = contact::cylindrical_segmenting(table, s.posed_mobile(), walk_q); });
+    walk_row.query =
+        time_query([&] { walk_result = contact::detail::cylindrical_segmenting(table, s.posed_mobile(), q, walk); });
     walk_row.note = "the one-pass query without the clusters or the outside regions (every circle in a non-empty cell walked)";
     measured_.rows.push_back(walk_row);
     BenchRow every_row = row;
     every_row.method = "cylindrical_every_candidate";
-    contact::CylindricalQueryOptions every_q = walk_q;
-    every_q.angular_walk = false;
+    contact::detail::CylindricalAblation every = walk;
+    every.angular_walk = false;
     contact::PenetrationResult every_result;
-    every_row.query = time_query([&] { every_result = contact::cylindrical_segmenting(table, s.posed_mobile(), every_q); });
+    every_row.query =
+        time_query([&] { every_result = contact::detail::cylindrical_segmenting(table, s.posed_mobile(), q, every); });
     every_row.note = "the one-pass query without the angular walk, the regions or the clusters (every candidate of the ring cell tested)";
     measured_.rows.push_back(every_row);
     // The pose cache (§3.2.3.2): crossings pre-computed per axis, the query is a pass over them.

@@ -10,7 +10,7 @@
 // must match exactly, depths to rounding. CGAL's types stay in peer_cgal.cpp.
 #pragma once
 
-#include "contact/penetration.h"
+#include "contact/penetration_result.h"
 #include "contact/radial_segmenting.h"
 #include "geometry/tri_mesh.h"
 

@@ -16,7 +16,7 @@
 // peer_embree.cpp.
 #pragma once
 
-#include "contact/penetration.h"
+#include "contact/penetration_result.h"
 #include "contact/radial_segmenting.h"
 #include "geometry/tri_mesh.h"
 

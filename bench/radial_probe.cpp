@@ -3,6 +3,7 @@
 #include "bench/peer_embree.h"
 #include "bench/scenarios.h"
 #include "bench/timing.h"
+#include "contact/detail/ablation.h"
 #include "contact/radial_segmenting.h"
 #include "contact/radial_table.h"
 #include "core/error.h"
@@ -101,9 +102,11 @@ RadialProbeReport run_radial_probe(const RadialProbeOptions& options) {
     contact::RadialQueryOptions q;
     q.configuration = s.configuration;
     q.num_threads = options.threads;
-    q.cull = variant.cull;
+    contact::detail::RadialAblation ablation;
+    ablation.cull = variant.cull;
     contact::PenetrationResult result;
-    const TimingStats query = time_repeated([&] { result = contact::radial_segmenting(table, s.fixed, posed, q); },
+    const TimingStats query =
+        time_repeated([&] { result = contact::detail::radial_segmenting(table, s.fixed, posed, q, ablation); },
                                             options.repeats, options.repeats, 1e12);
     const bool same = vertices_of(result) == vertices_of(reference);
     if (!same) report.mismatched.push_back(name);

@@ -25,7 +25,7 @@
 //     edge of one against the other triangle), stopping at the first (the thesis' Table 7 setup).
 #pragma once
 
-#include "contact/penetration.h"
+#include "contact/penetration_result.h"
 #include "contact/radial_segmenting.h"
 #include "geometry/tri_mesh.h"
 

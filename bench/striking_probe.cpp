@@ -6,6 +6,7 @@
 #include "bench/timing.h"
 #include "contact/cylindrical_segmenting.h"
 #include "contact/cylindrical_table.h"
+#include "contact/detail/ablation.h"
 #include "core/error.h"
 
 #include <cmath>
@@ -73,47 +74,48 @@ StrikingProbeReport run_striking_probe(const StrikingProbeOptions& options) {
       << "| method | query ms (median [min-max]) | pairs | same pairs as every-candidate |\n|---|---|---|---|\n";
   const contact::CylindricalTable table = contact::CylindricalTable::build(s.fixed, s.centre, s.axis, {}, &s.mobile);
   const int repeats = options.repeats;
-  contact::CylindricalQueryOptions every;
-  every.num_threads = options.threads;
+  contact::CylindricalQueryOptions q;
+  q.num_threads = options.threads;
+  contact::detail::CylindricalAblation every;
   every.angular_walk = false;
   every.outside_regions = false;
   every.mobile_clusters = false;
-  contact::CylindricalQueryOptions walk = every;
+  contact::detail::CylindricalAblation walk = every;
   walk.angular_walk = true;
 
   contact::PenetrationResult reference;
   const TimingStats reference_time = time_repeated(
-      [&] { reference = contact::cylindrical_segmenting(table, s.posed_mobile(), every); }, repeats, repeats, 1e12);
+      [&] { reference = contact::detail::cylindrical_segmenting(table, s.posed_mobile(), q, every); }, repeats, repeats, 1e12);
   const auto row = [&](const std::string& name, const TimingStats& time, const contact::PenetrationResult& result) {
     const bool same = same_pairs(result, reference);
     if (!same) report.mismatched.push_back(name);
     out << "| " << name << " | " << fmt_ms(time) << " | " << result.pairs.size() << " | " << (same ? "yes" : "NO") << " |\n";
   };
   row("cylindrical, posed copy, every candidate", reference_time, reference);
-  contact::CylindricalQueryOptions regions = walk;
+  contact::detail::CylindricalAblation regions = walk;
   regions.outside_regions = true;
-  contact::CylindricalQueryOptions clustered = regions;
+  contact::detail::CylindricalAblation clustered = regions;
   clustered.mobile_clusters = true;
   const Eigen::Isometry3d pose = s.pose();
   contact::PenetrationResult result;
   TimingStats time;
-  const std::pair<const char*, const contact::CylindricalQueryOptions*> methods[] = {
+  const std::pair<const char*, const contact::detail::CylindricalAblation*> methods[] = {
       {"every candidate", &every},
       {"angular walk", &walk},
       {"angular walk + outside regions", &regions},
       {"angular walk + outside regions + the table's mobile clusters", &clustered}};
-  for (const auto& [method, method_options] : methods) {
-    if (method_options != &every) {
-      time = time_repeated([&] { result = contact::cylindrical_segmenting(table, s.posed_mobile(), *method_options); },
+  for (const auto& [method, ablation] : methods) {
+    if (ablation != &every) {
+      time = time_repeated([&] { result = contact::detail::cylindrical_segmenting(table, s.posed_mobile(), q, *ablation); },
                            repeats, repeats, 1e12);
       row(std::string("cylindrical, posed copy, ") + method, time, result);
     }
-    time = time_repeated([&] { result = contact::cylindrical_segmenting(table, s.mobile, pose, *method_options); },
+    time = time_repeated([&] { result = contact::detail::cylindrical_segmenting(table, s.mobile, pose, q, *ablation); },
                          repeats, repeats, 1e12);
     row(std::string("cylindrical, pose given, ") + method, time, result);
   }
   const contact::VertexClusters clusters = contact::VertexClusters::build(s.mobile);
-  time = time_repeated([&] { result = contact::cylindrical_segmenting(table, clusters, pose, regions); }, repeats,
+  time = time_repeated([&] { result = contact::detail::cylindrical_segmenting(table, clusters, pose, q, regions); }, repeats,
                        repeats, 1e12);
   row("cylindrical, vertex clusters at rest and pose, angular walk + outside regions", time, result);
   geometry::TriMesh posed;

@@ -1,5 +1,7 @@
 #include "contact/cylindrical_segmenting.h"
 
+#include "contact/detail/ablation.h"
+
 #include "core/parallel.h"
 
 #include <algorithm>
@@ -43,14 +45,15 @@ PenetrationResult join_chunks(std::vector<std::vector<PenetrationPair>>& chunks)
 // The one-pass test of mobile vertex v at `position` (fixed frame): its pair into `out` if it
 // penetrates.
 void visit_vertex(const CylindricalTable& table, std::int32_t v, const Vec3& position,
-                  const CylindricalQueryOptions& options, std::vector<PenetrationPair>& out) {
+                  const CylindricalQueryOptions& options, const detail::CylindricalAblation& ablation,
+                  std::vector<PenetrationPair>& out) {
   const Vec3 local = table.frame().to_local(position);
   if (!table.distance_may_touch(local.norm())) return;
   // r and z first: most circles meet an empty cell, and then no angle is needed.
   if (!table.has_candidates(std::hypot(local.x(), local.y()), local.z())) return;
   const Cylindrical cyl = to_cylindrical(local);
-  if (options.outside_regions && table.outside_every_shell(cyl.r, cyl.z, cyl.theta)) return;
-  const NearestCrossing nearest = options.angular_walk
+  if (ablation.outside_regions && table.outside_every_shell(cyl.r, cyl.z, cyl.theta)) return;
+  const NearestCrossing nearest = ablation.angular_walk
                                       ? table.nearest_crossing(cyl.r, cyl.z, cyl.theta)
                                       : table.nearest_crossing_of_every_candidate(cyl.r, cyl.z, cyl.theta);
   if (!nearest.found()) return;
@@ -94,7 +97,8 @@ PenetrationResult cluster_pass(const VertexClusters& mobile, const CylindricalQu
 // of the box and of the frame change, is tested before any of them.
 template <typename Position>
 PenetrationResult one_pass_by_clusters(const CylindricalTable& table, Position&& position,
-                                       const CylindricalQueryOptions& options) {
+                                       const CylindricalQueryOptions& options,
+                                       const detail::CylindricalAblation& ablation) {
   const VertexClusters& mobile = table.mobile_clusters();
   const double scale = 1.0 + table.frame().centre.norm();
   return cluster_pass(mobile, options, [&](const VertexCluster& cluster, std::vector<PenetrationPair>& out) {
@@ -114,7 +118,7 @@ PenetrationResult one_pass_by_clusters(const CylindricalTable& table, Position&&
       return;
     }
     for (std::uint32_t i = cluster.first; i < cluster.last; ++i) {
-      visit_vertex(table, mobile.mesh_index(i), posed[i - cluster.first], options, out);
+      visit_vertex(table, mobile.mesh_index(i), posed[i - cluster.first], options, ablation, out);
     }
   });
 }
@@ -122,10 +126,10 @@ PenetrationResult one_pass_by_clusters(const CylindricalTable& table, Position&&
 // The one-pass query over `count` mobile vertices, vertex v at position(v) in the fixed frame.
 template <typename Position>
 PenetrationResult one_pass(const CylindricalTable& table, std::size_t count, Position&& position,
-                           const CylindricalQueryOptions& options) {
+                           const CylindricalQueryOptions& options, const detail::CylindricalAblation& ablation) {
   if (std::optional<PenetrationResult> answer = no_overlap(table)) return std::move(*answer);
-  if (options.mobile_clusters && count > 0 && table.mobile_clusters().num_vertices() == count) {
-    return one_pass_by_clusters(table, position, options);
+  if (ablation.mobile_clusters && count > 0 && table.mobile_clusters().num_vertices() == count) {
+    return one_pass_by_clusters(table, position, options, ablation);
   }
   const int threads = resolve_threads(options.num_threads);
   // Blocks of vertices taken dynamically: the circles that need a walk cluster in a few parts of
@@ -136,7 +140,7 @@ PenetrationResult one_pass(const CylindricalTable& table, std::size_t count, Pos
     for (std::size_t block = first; block < last; ++block) {
       const std::size_t end = std::min(count, (block + 1) * kBlock);
       for (std::size_t v = block * kBlock; v < end; ++v) {
-        visit_vertex(table, static_cast<std::int32_t>(v), position(v), options, chunks[block]);
+        visit_vertex(table, static_cast<std::int32_t>(v), position(v), options, ablation, chunks[block]);
       }
     }
   });
@@ -148,24 +152,44 @@ PenetrationResult one_pass(const CylindricalTable& table, std::size_t count, Pos
 PenetrationResult cylindrical_segmenting(const CylindricalTable& table,
                                          const geometry::TriMesh& posed_mobile,
                                          const CylindricalQueryOptions& options) {
-  if (table.status() == QueryStatus::kInvalidInput) return invalid(table.message());
-  if (!finite_vertices(posed_mobile)) return invalid("mobile mesh has a non-finite coordinate");
-  return one_pass(table, posed_mobile.vertices.size(),
-                  [&](std::size_t v) -> const Vec3& { return posed_mobile.vertices[v]; }, options);
+  return detail::cylindrical_segmenting(table, posed_mobile, options, {});
 }
 
 PenetrationResult cylindrical_segmenting(const CylindricalTable& table, const geometry::TriMesh& mobile,
                                          const Eigen::Isometry3d& pose,
                                          const CylindricalQueryOptions& options) {
-  if (table.status() == QueryStatus::kInvalidInput) return invalid(table.message());
-  if (!finite_vertices(mobile)) return invalid("mobile mesh has a non-finite coordinate");
-  if (!pose.matrix().allFinite()) return invalid("pose has a non-finite entry");
-  return one_pass(table, mobile.vertices.size(), [&](std::size_t v) -> Vec3 { return pose * mobile.vertices[v]; },
-                  options);
+  return detail::cylindrical_segmenting(table, mobile, pose, options, {});
 }
 
 PenetrationResult cylindrical_segmenting(const CylindricalTable& table, const VertexClusters& mobile,
                                          const Eigen::Isometry3d& pose, const CylindricalQueryOptions& options) {
+  return detail::cylindrical_segmenting(table, mobile, pose, options, {});
+}
+
+PenetrationResult detail::cylindrical_segmenting(const CylindricalTable& table,
+                                                 const geometry::TriMesh& posed_mobile,
+                                                 const CylindricalQueryOptions& options,
+                                                 const CylindricalAblation& ablation) {
+  if (table.status() == QueryStatus::kInvalidInput) return invalid(table.message());
+  if (!finite_vertices(posed_mobile)) return invalid("mobile mesh has a non-finite coordinate");
+  return one_pass(table, posed_mobile.vertices.size(),
+                  [&](std::size_t v) -> const Vec3& { return posed_mobile.vertices[v]; }, options, ablation);
+}
+
+PenetrationResult detail::cylindrical_segmenting(const CylindricalTable& table, const geometry::TriMesh& mobile,
+                                                 const Eigen::Isometry3d& pose,
+                                                 const CylindricalQueryOptions& options,
+                                                 const CylindricalAblation& ablation) {
+  if (table.status() == QueryStatus::kInvalidInput) return invalid(table.message());
+  if (!finite_vertices(mobile)) return invalid("mobile mesh has a non-finite coordinate");
+  if (!pose.matrix().allFinite()) return invalid("pose has a non-finite entry");
+  return one_pass(table, mobile.vertices.size(), [&](std::size_t v) -> Vec3 { return pose * mobile.vertices[v]; },
+                  options, ablation);
+}
+
+PenetrationResult detail::cylindrical_segmenting(const CylindricalTable& table, const VertexClusters& mobile,
+                                                 const Eigen::Isometry3d& pose, const CylindricalQueryOptions& options,
+                                                 const CylindricalAblation& ablation) {
   if (table.status() == QueryStatus::kInvalidInput) return invalid(table.message());
   if (!pose.matrix().allFinite()) return invalid("pose has a non-finite entry");
   if (std::optional<PenetrationResult> answer = no_overlap(table)) return std::move(*answer);
@@ -177,7 +201,7 @@ PenetrationResult cylindrical_segmenting(const CylindricalTable& table, const Ve
     const double margin = 1e-9 * (scale + cluster.centre.norm() + cluster.radius_mm);
     if (!table.ball_may_touch(frame.to_local(pose * cluster.centre), cluster.radius_mm + margin)) return;
     for (std::size_t i = cluster.first; i < cluster.last; ++i) {
-      visit_vertex(table, mobile.mesh_index(i), pose * mobile.vertex(i), options, out);
+      visit_vertex(table, mobile.mesh_index(i), pose * mobile.vertex(i), options, ablation, out);
     }
   });
 }

@@ -56,7 +56,7 @@
 #include "contact/angular_interval_index.h"
 #include "contact/arc_triangle.h"
 #include "contact/cylindrical_table.h"
-#include "contact/penetration.h"
+#include "contact/penetration_result.h"
 #include "contact/vertex_clusters.h"
 #include "geometry/tri_mesh.h"
 
@@ -75,19 +75,8 @@ struct CylindricalQueryOptions {
   // finder reads the crossings and never queries a pose, so it turns this off; without the index
   // query() is query_every_vertex(). Not stored in cache files (a loaded cache has its index).
   bool pose_index = true;
-  // One-pass query: find each circle's nearest crossing through the table's angular index
-  // (true) or by offering every candidate of its cell (false: the reference the index is tested
-  // against, and the benchmark's ablation). The answer is the same.
-  bool angular_walk = true;
-  // One-pass query: skip the walk of a vertex that lies in an outside region of its ring cell
-  // (CylindricalTable::outside_every_shell: no fixed surface there, outside every closed shell),
-  // whose nearest crossing can only say "outside". False: every circle gets its nearest crossing
-  // (the reference these regions are tested against, and the benchmark's ablation).
-  bool outside_regions = true;
-  // One-pass query: when the table keeps the clusters of a mobile mesh with as many vertices
-  // (CylindricalTable::mobile_clusters), test each cluster's posed bounding ball before its
-  // vertices. False: every vertex on its own (the reference, and the benchmark's ablation).
-  bool mobile_clusters = true;
+  // (The speed-ups of the one-pass query are always on here; the benchmark and the tests switch
+  // them off through contact/detail/ablation.h.)
 };
 
 // Posed mobile mesh (already rotated by the caller) against a table built for the same axis.

@@ -31,7 +31,7 @@
 #pragma once
 
 #include "contact/arc_triangle.h"
-#include "contact/penetration.h"
+#include "contact/penetration_result.h"
 #include "contact/vertex_clusters.h"
 #include "geometry/tri_mesh.h"
 

@@ -7,7 +7,7 @@
 #pragma once
 
 #include "contact/arc_triangle.h"
-#include "contact/penetration.h"
+#include "contact/penetration_result.h"
 #include "contact/range_finder.h"
 #include "geometry/tri_mesh.h"
 

@@ -7,7 +7,7 @@
 // primitive with the method under test, no table and no mapping. O(#V x #T).
 #pragma once
 
-#include "contact/penetration.h"
+#include "contact/penetration_result.h"
 #include "contact/radial_segmenting.h"
 #include "geometry/tri_mesh.h"
 

@@ -1,4 +1,4 @@
-#include "contact/penetration.h"
+#include "contact/penetration_result.h"
 
 #include <algorithm>
 

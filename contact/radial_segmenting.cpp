@@ -1,5 +1,7 @@
 #include "contact/radial_segmenting.h"
 
+#include "contact/detail/ablation.h"
+#include "contact/detail/radial_pose_state.h"
 #include "contact/ray_triangle.h"
 #include "core/error.h"
 #include "core/parallel.h"
@@ -509,13 +511,19 @@ RadialConfiguration swapped(RadialConfiguration configuration) {
 PenetrationResult radial_segmenting(const RadialTable& table, const geometry::TriMesh& fixed,
                                     const geometry::TriMesh& mobile,
                                     const RadialQueryOptions& options) {
+  return detail::radial_segmenting(table, fixed, mobile, options, {});
+}
+
+PenetrationResult detail::radial_segmenting(const RadialTable& table, const geometry::TriMesh& fixed,
+                                            const geometry::TriMesh& mobile, const RadialQueryOptions& options,
+                                            const RadialAblation& ablation) {
   PenetrationResult result;
   result.message = check_inputs(table, fixed, mobile, options);
   if (!result.message.empty()) {
     result.status = QueryStatus::kInvalidInput;
     return result;
   }
-  const bool use_spans = options.cull && radial_spans_valid(table.spans, fixed);
+  const bool use_spans = ablation.cull && radial_spans_valid(table.spans, fixed);
   const VertexQuery query(table, fixed, options, use_spans);
   constexpr std::size_t kBlock = 2048;
   const std::size_t count = mobile.num_vertices();
@@ -541,17 +549,37 @@ PenetrationResult radial_swap_roles(const geometry::TriMesh& fixed,
   return radial_segmenting(table, mobile, fixed, swapped_options);
 }
 
+RadialPoseQuery::RadialPoseQuery(const RadialTable& table, const geometry::TriMesh& fixed,
+                                 const geometry::TriMesh& mobile, const RadialQueryOptions& options)
+    : state_(std::make_shared<const detail::RadialPoseState>(table, fixed, mobile, options)) {}
+
+QueryStatus RadialPoseQuery::status() const { return state_->status(); }
+
+const std::string& RadialPoseQuery::message() const { return state_->message(); }
+
+std::size_t RadialPoseQuery::num_kept_vertices() const { return state_->num_kept_vertices(); }
+
+PenetrationResult RadialPoseQuery::query(const Eigen::Isometry3d& pose) const { return state_->query(pose); }
+
+PenetrationResult RadialPoseQuery::query_rotation(const Eigen::Matrix3d& rotation) const {
+  return state_->query_rotation(rotation);
+}
+
+std::size_t RadialPoseQuery::num_tested_vertices(const Eigen::Isometry3d& pose) const {
+  return state_->num_tested_vertices(pose);
+}
+
 }  // namespace hipfai::contact
 
-namespace hipfai::contact {
+namespace hipfai::contact::detail {
 
-RadialPoseQuery::RadialPoseQuery(const RadialTable& table, const geometry::TriMesh& fixed,
+RadialPoseState::RadialPoseState(const RadialTable& table, const geometry::TriMesh& fixed,
                                  const geometry::TriMesh& mobile, const RadialQueryOptions& options)
     : table_(&table), fixed_(&fixed), options_(options) {
   message_ = check_inputs(table, fixed, mobile, options);
   if (!message_.empty()) return;
   status_ = QueryStatus::kOk;
-  use_spans_ = options.cull && radial_spans_valid(table.spans, fixed);
+  use_spans_ = radial_spans_valid(table.spans, fixed);
   // Buckets: the rest direction's cell on a coarse cube map (about kBucketVertices vertices per
   // cell over the sphere) and the rest distance in shells of kShellMm. Vertices are stored bucket by
   // bucket, coarse cell by coarse cell, and by the table's own cell inside a bucket: a rotation keeps
@@ -627,7 +655,7 @@ RadialPoseQuery::RadialPoseQuery(const RadialTable& table, const geometry::TriMe
   }
 }
 
-void RadialPoseQuery::build_distance_map() {
+void RadialPoseState::build_distance_map() {
   const RadialSpans& spans = table_->spans;
   const RadialGrid& grid = coarse_grid_;
   const int n = grid.dimension;
@@ -745,7 +773,7 @@ void RadialPoseQuery::build_distance_map() {
   }
 }
 
-bool RadialPoseQuery::map_culled(const Bucket& bucket, const Vec3& axis, double shift_mm, double scale_mm) const {
+bool RadialPoseState::map_culled(const Bucket& bucket, const Vec3& axis, double shift_mm, double scale_mm) const {
   if (map_lo_.empty() || !(bucket.half_angle_rad < 4.0) || !(shift_mm < bucket.r_lo)) return false;
   // The posed directions lie within half_angle + asin(x) of axis, x = shift / r_lo; asin(x) <=
   // tan(asin(x)) = x / sqrt(1 - x^2) (x < 1 above), by far more than rounding except for x so small
@@ -769,7 +797,7 @@ bool RadialPoseQuery::map_culled(const Bucket& bucket, const Vec3& axis, double 
   return from_plane - cone_rad > wedge.angle_rad + 1e-9;
 }
 
-bool RadialPoseQuery::distance_culled(const Bucket& bucket, double shift_mm, double scale_mm) const {
+bool RadialPoseState::distance_culled(const Bucket& bucket, double shift_mm, double scale_mm) const {
   if (!use_spans_) return false;
   const RadialSpans& spans = table_->spans;
   // The full query culls a vertex whose computed |d| is outside the span (radial_spans.h); a
@@ -780,7 +808,7 @@ bool RadialPoseQuery::distance_culled(const Bucket& bucket, double shift_mm, dou
   return bucket.r_lo - slack > spans.hi * (1.0 + 1e-12);
 }
 
-bool RadialPoseQuery::cap_culled(const Bucket& bucket, const Vec3& rest_cap_axis, const CapAngle& cap,
+bool RadialPoseState::cap_culled(const Bucket& bucket, const Vec3& rest_cap_axis, const CapAngle& cap,
                                  double shift_mm) const {
   // Posed, a vertex's direction is R (v - c') with c' = pose^-1 O, |c' - O| = shift_mm: (v - c')
   // turns away from (v - O) by at most asin(shift / |v - O|), and (v - O) lies within the bucket's
@@ -799,7 +827,7 @@ bool RadialPoseQuery::cap_culled(const Bucket& bucket, const Vec3& rest_cap_axis
   return bucket.axis.dot(rest_cap_axis) < cos_total;
 }
 
-RadialPoseQuery::KeptBuckets RadialPoseQuery::kept_buckets(const Eigen::Isometry3d& pose) const {
+RadialPoseState::KeptBuckets RadialPoseState::kept_buckets(const Eigen::Isometry3d& pose) const {
   // |pose v - O| = |v - c'| with c' = pose^-1 O: the rest distance moves by at most |c' - O|.
   const Vec3& centre = table_->centre;
   const Vec3 moved_centre = pose.inverse(Eigen::Isometry) * centre;
@@ -835,23 +863,23 @@ RadialPoseQuery::KeptBuckets RadialPoseQuery::kept_buckets(const Eigen::Isometry
   return kept;
 }
 
-std::size_t RadialPoseQuery::num_tested_vertices(const Eigen::Isometry3d& pose) const {
+std::size_t RadialPoseState::num_tested_vertices(const Eigen::Isometry3d& pose) const {
   if (status_ != QueryStatus::kOk || !pose.matrix().allFinite()) return 0;
   return kept_buckets(pose).num_vertices;
 }
 
-PenetrationResult RadialPoseQuery::query(const Eigen::Isometry3d& pose) const {
+PenetrationResult RadialPoseState::query(const Eigen::Isometry3d& pose) const {
   return run(pose, [&pose](const Vec3& v) -> Vec3 { return pose * v; });
 }
 
-PenetrationResult RadialPoseQuery::query_rotation(const Eigen::Matrix3d& rotation) const {
+PenetrationResult RadialPoseState::query_rotation(const Eigen::Matrix3d& rotation) const {
   const Vec3 centre = table_ != nullptr ? table_->centre : Vec3::Zero();
   const Eigen::Isometry3d pose = Eigen::Translation3d(centre) * Eigen::Isometry3d(rotation) * Eigen::Translation3d(-centre);
   return run(pose, [&rotation, &centre](const Vec3& v) -> Vec3 { return centre + rotation * (v - centre); });
 }
 
 template <typename Posing>
-PenetrationResult RadialPoseQuery::run(const Eigen::Isometry3d& pose, const Posing& posing) const {
+PenetrationResult RadialPoseState::run(const Eigen::Isometry3d& pose, const Posing& posing) const {
   PenetrationResult result;
   if (status_ != QueryStatus::kOk) {
     result.status = QueryStatus::kInvalidInput;
@@ -909,4 +937,4 @@ PenetrationResult RadialPoseQuery::run(const Eigen::Isometry3d& pose, const Posi
   return result;
 }
 
-}  // namespace hipfai::contact
+}  // namespace hipfai::contact::detail

@@ -32,16 +32,20 @@
 // sorted by vertex, one per penetrating vertex; angle_deg is NaN.
 #pragma once
 
-#include "contact/penetration.h"
+#include "contact/penetration_result.h"
 #include "contact/radial_table.h"
 #include "geometry/tri_mesh.h"
 
-#include <limits>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
 
 namespace hipfai::contact {
+
+namespace detail {
+class RadialPoseState;
+}  // namespace detail
 
 enum class RadialConfiguration { kMobileInsideFixed, kFixedInsideMobile };
 
@@ -88,10 +92,9 @@ struct RadialQueryOptions {
   // around its direction, across seams, poles and faces). A fixed triangle whose points have
   // turned by less than that angle since the table was built is still found.
   int neighbour_cells = 0;
-  // Radial spans (radial_spans.h): vertices outside the table's cap, or at a distance from O
-  // where the rule cannot find its crossing, are decided without a triangle test. Same answers
-  // bit for bit; false tests every vertex (equality tests, ablation in the benchmark).
-  bool cull = true;
+  // (Radial spans, radial_spans.h, decide the vertices outside the table's cap or at a distance
+  // from O where the rule cannot find its crossing without a triangle test: the same answers bit
+  // for bit. The benchmark and the tests switch them off through contact/detail/ablation.h.)
 };
 
 // The per-pose query. `fixed` must have the triangles the table was built from (coordinates may
@@ -121,10 +124,10 @@ class RadialPoseQuery {
  public:
   RadialPoseQuery(const RadialTable& table, const geometry::TriMesh& fixed, const geometry::TriMesh& mobile,
                   const RadialQueryOptions& options);
-  QueryStatus status() const { return status_; }
-  const std::string& message() const { return message_; }
+  QueryStatus status() const;
+  const std::string& message() const;
   // Mobile vertices that may penetrate at some pose (the others were dropped once).
-  std::size_t num_kept_vertices() const { return num_kept_; }
+  std::size_t num_kept_vertices() const;
   PenetrationResult query(const Eigen::Isometry3d& pose) const;
   // A rotation about the table's centre O, each kept vertex posed as O + rotation (v - O) (as the
   // studies pose a femur): the same answer as radial_segmenting on the mesh posed that way, bit for bit.
@@ -133,75 +136,9 @@ class RadialPoseQuery {
   std::size_t num_tested_vertices(const Eigen::Isometry3d& pose) const;
 
  private:
-  // A run of stored vertices sharing a coarse rest direction and a shell of rest distance.
-  struct Bucket {
-    std::uint32_t begin = 0, end = 0;  // [begin, end) of sorted_position_ / sorted_index_
-    double r_lo = std::numeric_limits<double>::infinity(), r_hi = 0.0;  // rest distances from O
-    Vec3 axis = Vec3::UnitZ();  // unit mean rest direction
-    double half_angle_rad = 8.0;  // every member's direction within this of axis (8: no cone)
-    double cos_half_angle = -1.0, sin_half_angle = 0.0;  // of half_angle_rad
-  };
-  // The buckets a pose keeps, in blocks of about kBlockVertices vertices (block b: buckets
-  // [block_start[b], block_start[b + 1]) of `buckets`).
-  struct KeptBuckets {
-    std::vector<std::uint32_t> buckets;
-    std::vector<std::size_t> block_start;
-    std::size_t num_vertices = 0;
-  };
-  KeptBuckets kept_buckets(const Eigen::Isometry3d& pose) const;
-  // The query at `pose` (for the culls), each kept vertex posed by posing(v).
-  template <typename Posing>
-  PenetrationResult run(const Eigen::Isometry3d& pose, const Posing& posing) const;
-  // Is every vertex of the bucket culled by the spans' distance test, its distance moved by <= shift_mm?
-  bool distance_culled(const Bucket& bucket, double shift_mm, double scale_mm) const;
-  // The spans' cap half-angle + 1e-4 rad, with its cosine and sine.
-  struct CapAngle {
-    double angle_rad = 0.0, cos = 1.0, sin = 0.0;
-  };
-  // Is every vertex of the bucket culled by the spans of the triangles its posed directions can
-  // meet (the bucket's coarse cell of the distance map, see map_lo_)? `axis` is the bucket's
-  // posed axis R axis, shift_mm and scale_mm as for distance_culled.
-  bool map_culled(const Bucket& bucket, const Vec3& axis, double shift_mm, double scale_mm) const;
-  void build_distance_map();
-  // Is every vertex of the bucket outside the spans' cap (radial_spans.h) at a pose whose rotation
-  // takes rest_cap_axis to the cap's axis and whose centre moves by shift_mm?
-  bool cap_culled(const Bucket& bucket, const Vec3& rest_cap_axis, const CapAngle& cap, double shift_mm) const;
-
-  const RadialTable* table_ = nullptr;
-  const geometry::TriMesh* fixed_ = nullptr;
-  RadialQueryOptions options_;
-  QueryStatus status_ = QueryStatus::kInvalidInput;
-  std::string message_;
-  bool use_spans_ = false;
-  static constexpr double kShellMm = 0.5;
-  static constexpr std::size_t kBucketVertices = 32;  // mean vertices per coarse direction cell
-  static constexpr std::size_t kBlockVertices = 2048;  // vertices per unit of parallel work
-  std::vector<Bucket> buckets_;
-  std::vector<Vec3> sorted_position_;
-  std::vector<std::int32_t> sorted_index_;
-  // THE DISTANCE MAP (radial spans for whole buckets, so a culled bucket is never posed): on the
-  // buckets' coarse cube grid, map_lo_[g] (map_hi_[g]) is the least lo (largest hi) of every fixed
-  // triangle whose cone reaches within map_dilation_rad_ of coarse cell g, and of the
-  // always-checked ones. A bucket whose posed directions all lie within map_dilation_rad_ of its
-  // posed axis (its half-angle plus asin(shift / r_lo)) meets only such triangles, so when its
-  // distances are beyond that span on the rule's side every one of its vertices is decided as the
-  // per-vertex test decides it (no qualifying crossing). The dilation is a speed trade only: a
-  // wider one covers larger translations with looser spans; the answers never change.
-  // Triangles without a span (planes through O up to rounding, the socket's rim faces) would make
-  // those spans [0, inf] near the rim; where the ones within the dilation of cell g fit in a thin
-  // flat wedge (radial_spans.h, FLAT WEDGES), map_wedge_[g] holds it and they are left out of
-  // map_lo_ / map_hi_: a bucket whose posed cone stays clear of the wedge cannot meet them.
-  struct MapWedge {
-    Vec3 normal = Vec3::Zero();
-    double angle_rad = -1.0;  // asin of the wedge's sin_bound; < 0: no wedge at this cell
-  };
-  RadialGrid coarse_grid_;
-  RadialSpans::CubeLocator coarse_locator_;  // the coarse grid's cells without atan
-  double map_dilation_rad_ = 0.0;
-  std::vector<double> map_lo_, map_hi_;  // per coarse cell; empty: no map
-  std::vector<MapWedge> map_wedge_;       // per coarse cell
-  std::size_t num_kept_ = 0;  // vertices kept at a pose about O (for num_kept_vertices)
-  double largest_distance_ = 0.0;  // largest rest distance from O
+  // The buckets and the distance map (contact/detail/radial_pose_state.h), shared by copies: they
+  // never change after construction.
+  std::shared_ptr<const detail::RadialPoseState> state_;
 };
 
 // Role swap (thesis §3.3.1, §4.3: "repeated by exchanging the role"): the vertices of `fixed`

@@ -1,4 +1,4 @@
-#include "studies/radial_table_cache.h"
+#include "contact/radial_table_io.h"
 
 #include "core/atomic_file.h"
 #include "core/error.h"
@@ -14,7 +14,7 @@
 #include <utility>
 #include <vector>
 
-namespace hipfai::studies {
+namespace hipfai::contact {
 
 namespace {
 
@@ -169,4 +169,4 @@ std::optional<contact::RadialTable> load_radial_table(const std::filesystem::pat
   return table;
 }
 
-}  // namespace hipfai::studies
+}  // namespace hipfai::contact

@@ -1,4 +1,4 @@
-// hipfai — radial tables on disk, so a re-run reuses them (the cache of studies/scene_runner.h).
+// hipfai — radial tables on disk, so a re-run reuses them (contact/penetrate.h keeps them in the request's cache folder).
 #pragma once
 
 #include "contact/radial_table.h"
@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <optional>
 
-namespace hipfai::studies {
+namespace hipfai::contact {
 
 // Binary little-endian file "HIPFAI-RADIAL-TABLE v2"; written atomically. The version changes with
 // the table's content (how triangles are binned), so a file of an older build is not loaded and the
@@ -18,4 +18,4 @@ void save_radial_table(const contact::RadialTable& table, const std::filesystem:
 // cannot make a query read out of bounds.
 std::optional<contact::RadialTable> load_radial_table(const std::filesystem::path& path);
 
-}  // namespace hipfai::studies
+}  // namespace hipfai::contact

@@ -44,7 +44,7 @@
 
 #include "contact/cylindrical_segmenting.h"
 #include "contact/cylindrical_table.h"
-#include "contact/penetration.h"
+#include "contact/penetration_result.h"
 #include "geometry/tri_mesh.h"
 
 #include <array>

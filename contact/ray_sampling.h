@@ -18,7 +18,7 @@
 // triangles.
 #pragma once
 
-#include "contact/penetration.h"
+#include "contact/penetration_result.h"
 #include "contact/radial_segmenting.h"
 #include "contact/radial_table.h"
 

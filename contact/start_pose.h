@@ -39,7 +39,7 @@
 // an open or inward-oriented mesh gives counts without meaning (geometry/mesh_check.h first).
 #pragma once
 
-#include "contact/penetration.h"
+#include "contact/penetration_result.h"
 #include "contact/ray_triangle.h"
 #include "geometry/tri_mesh.h"
 

@@ -4,14 +4,14 @@
 // it returns is checked here once more against the invariants the queries index by.
 #include "fuzz_outcome.h"
 #include "fuzz_scratch.h"
-#include "studies/radial_table_cache.h"
+#include "contact/radial_table_io.h"
 
 #include <cstdlib>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const auto file = hipfai::fuzz::write_scratch_file("table.bin", hipfai::fuzz::bytes_of(data, size));
   return hipfai::fuzz::parse_or_error([&] {
-    const auto table = hipfai::studies::load_radial_table(file);
+    const auto table = hipfai::contact::load_radial_table(file);
     if (!table) return;
     // Every index a query follows must lie inside what it indexes (else: a finding).
     const auto cells = static_cast<std::int64_t>(table->grid.num_cells());

@@ -5,6 +5,7 @@
 // scenes of meshes/scenes/, meshes/real-hips/LHDL_CT/hip.json); for the readers of `hipfai assess`
 // (OpenSim motions, user frame files) small files in each layout they accept, and the model.json.
 #include "fuzz_tetrahedron.h"
+#include "contact/radial_table_io.h"
 #include "geometry/hip_model.h"
 #include "geometry/mesh_io_msh.h"
 #include "geometry/mesh_io_obj.h"
@@ -13,7 +14,6 @@
 #include "geometry/mesh_io_vtp.h"
 #include "studies/estimator_study.h"
 #include "studies/motion.h"
-#include "studies/radial_table_cache.h"
 #include "studies/results_file.h"
 
 #include <filesystem>
@@ -200,7 +200,7 @@ void write_radial_table_seed(const fs::path& out) {
   table.triangle_cells = {{0, 1}, {1}, {}};
   table.always_candidates = {2};
   table.is_always = {0, 0, 1};
-  studies::save_radial_table(table, out / "radial_table" / "table.bin");
+  contact::save_radial_table(table, out / "radial_table" / "table.bin");
 }
 
 }  // namespace

@@ -6,7 +6,8 @@
 // cartilage (mobile, inside) against acetabular cartilage + labrum (fixed, outside); with the role
 // swap, acetabular vertices against the femoral cartilage (counted where the ray from the HJC
 // leaves the femur within the socket tissues' reach: beyond it the ray runs along the neck or
-// shaft of a whole femur, not through the head). Tables are built once per axis (or
+// shaft of a whole femur, not through the head). Each side is one contact::penetrate request
+// over the motion (contact/penetrate.h): tables are built once per axis (or
 // once, radial) and every step is one pass over the mobile vertices.
 //
 // Touching is not penetrating. The articulating surfaces of both sides are discretisations of the

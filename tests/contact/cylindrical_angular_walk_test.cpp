@@ -11,6 +11,7 @@
 #include "contact/cylindrical_cache_io.h"
 #include "contact/cylindrical_segmenting.h"
 #include "contact/cylindrical_table.h"
+#include "contact/detail/ablation.h"
 #include "geometry/hip_generator.h"
 #include "geometry/mesh_io.h"
 #include "geometry/primitive_meshes.h"
@@ -102,22 +103,24 @@ std::size_t expect_walk_equals_every_candidate(const CylindricalTable& table, co
                                                const Eigen::Isometry3d& pose, const std::string& what) {
   TriMesh posed = mobile;
   geometry::apply_transform(posed, pose);
-  CylindricalQueryOptions every;
-  every.num_threads = 1;
+  CylindricalQueryOptions one_thread;
+  one_thread.num_threads = 1;
+  detail::CylindricalAblation every;
   every.angular_walk = false;
   every.outside_regions = false;
   every.mobile_clusters = false;
-  const PenetrationResult want = cylindrical_segmenting(table, posed, every);
+  const PenetrationResult want = detail::cylindrical_segmenting(table, posed, one_thread, every);
   for (const int threads : {1, 2}) {
     for (const int variant : {0, 1, 2, 3}) {
-      CylindricalQueryOptions walk;
-      walk.num_threads = threads;
+      CylindricalQueryOptions options;
+      options.num_threads = threads;
+      detail::CylindricalAblation walk;
       walk.outside_regions = (variant & 1) != 0;
       walk.mobile_clusters = (variant & 2) != 0;
       const std::string label = what + ", " + std::to_string(threads) + " thread(s)" +
                                 (walk.outside_regions ? ", regions" : "") + (walk.mobile_clusters ? ", clusters" : "");
-      expect_identical(cylindrical_segmenting(table, posed, walk), want, label + ", posed copy");
-      expect_identical(cylindrical_segmenting(table, mobile, pose, walk), want, label + ", pose given");
+      expect_identical(detail::cylindrical_segmenting(table, posed, options, walk), want, label + ", posed copy");
+      expect_identical(detail::cylindrical_segmenting(table, mobile, pose, options, walk), want, label + ", pose given");
     }
     for (const std::size_t cluster_size : {1, 5, 32}) {
       CylindricalQueryOptions walk;

@@ -1,5 +1,6 @@
 // The kBeyond crossing rule (the thesis' radial rule read literally): a mobile vertex beyond any
 // fixed surface along its ray from O penetrates, measured from the crossing nearest O.
+#include "contact/detail/ablation.h"
 #include "contact/oracle_radial.h"
 #include "contact/radial_segmenting.h"
 #include "geometry/primitive_meshes.h"
@@ -80,8 +81,9 @@ TEST(RadialBeyond, MatchesOracleOnOverlappingSolids) {
         RadialQueryOptions options;
         options.rule = RadialCrossingRule::kBeyond;
         options.configuration = configuration;
-        options.cull = cull;
-        const auto fast = radial_segmenting(table, fixed, mobile, options);
+        detail::RadialAblation ablation;
+        ablation.cull = cull;
+        const auto fast = detail::radial_segmenting(table, fixed, mobile, options, ablation);
         ASSERT_EQ(fast.pairs.size(), oracle.pairs.size()) << "trial " << trial << " cull " << cull;
         for (std::size_t i = 0; i < fast.pairs.size(); ++i) {
           EXPECT_EQ(fast.pairs[i].mobile_vertex, oracle.pairs[i].mobile_vertex);

@@ -1,6 +1,7 @@
 // Radial spans (contact/radial_spans.h): every culling rule has a case where it must NOT cull,
 // and the culled query equals the unculled one bit for bit (same vertices, triangles, depths) on
 // random meshes, every rule and configuration, and on a generated hip at several poses.
+#include "contact/detail/ablation.h"
 #include "contact/radial_segmenting.h"
 #include "contact/radial_spans.h"
 #include "contact/radial_table.h"
@@ -37,8 +38,9 @@ PenetrationResult query(const RadialTable& table, const TriMesh& fixed, const Tr
   RadialQueryOptions options;
   options.configuration = configuration;
   options.rule = rule;
-  options.cull = cull;
-  return radial_segmenting(table, fixed, mobile, options);
+  detail::RadialAblation ablation;
+  ablation.cull = cull;
+  return detail::radial_segmenting(table, fixed, mobile, options, ablation);
 }
 
 // Culled == unculled under every rule and configuration.

@@ -1,4 +1,4 @@
-#include "studies/radial_table_cache.h"
+#include "contact/radial_table_io.h"
 
 #include "contact/radial_segmenting.h"
 #include "geometry/primitive_meshes.h"
@@ -12,7 +12,7 @@
 #include <fstream>
 #include <string>
 
-namespace hipfai::studies {
+namespace hipfai::contact {
 namespace {
 
 // A table read back from disk must answer every query exactly like the table it was saved from.
@@ -142,4 +142,4 @@ TEST(RadialTableCache, OlderVersionIsRejectedAndRebuiltInPlace) {
 }
 
 }  // namespace
-}  // namespace hipfai::studies
+}  // namespace hipfai::contact

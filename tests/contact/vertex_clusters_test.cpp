@@ -6,6 +6,7 @@
 // the same pairs as the plain one on every scene of cylindrical_angular_walk_test.cpp.
 #include "contact/cylindrical_segmenting.h"
 #include "contact/cylindrical_table.h"
+#include "contact/detail/ablation.h"
 #include "contact/vertex_clusters.h"
 #include "core/error.h"
 #include "geometry/primitive_meshes.h"
@@ -167,9 +168,9 @@ TEST(CylindricalTableClusters, AnyMeshWithAsManyVerticesIsAnsweredExactly) {
     std::shuffle(other.vertices.begin(), other.vertices.end(), rng);
     for (Vec3& p : other.vertices) p += Vec3(unit(rng) - 0.5, unit(rng) - 0.5, unit(rng) - 0.5);
     for (const TriMesh* mesh : {&rest, static_cast<const TriMesh*>(&other)}) {
-      CylindricalQueryOptions plain;
+      detail::CylindricalAblation plain;
       plain.mobile_clusters = false;
-      const PenetrationResult want = cylindrical_segmenting(table, *mesh, plain);
+      const PenetrationResult want = detail::cylindrical_segmenting(table, *mesh, {}, plain);
       const PenetrationResult got = cylindrical_segmenting(table, *mesh);
       ASSERT_EQ(got.pairs.size(), want.pairs.size()) << "trial " << trial;
       for (std::size_t i = 0; i < got.pairs.size(); ++i) {
