@@ -116,20 +116,9 @@ bool needs_penetration(const Scene& scene) {
          scene.outputs.count(Output::kRom) != 0;
 }
 
-Scene parse_scene(const std::string& text, const std::filesystem::path& origin) {
-  const Context ctx{origin.string()};
-  YAML::Node root;
-  try {
-    root = YAML::Load(text);
-  } catch (const YAML::ParserException& e) {
-    throw_error(origin.string(), ":", e.mark.line + 1, ": YAML syntax error: ", e.msg);
-  }
-  if (!root.IsMap()) throw_error(origin.string(), ":1: a scene must be a YAML mapping");
-  ctx.only_keys(root, "", {"schema_version", "units", "name", "hip", "tissues", "motion", "outputs",
-                           "options", "fe"});
-  Scene scene;
-  scene.file = origin;
+namespace {
 
+void parse_version_and_units(const Context& ctx, const YAML::Node& root) {
   if (!root["schema_version"]) ctx.fail(root, "schema_version", "missing (this reader knows 1)");
   if (ctx.number(root["schema_version"], "schema_version", 1, 1) != 1) {
     ctx.fail(root["schema_version"], "schema_version", "unsupported");
@@ -143,8 +132,44 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& origin) 
   if (!units["angle"] || ctx.text(units["angle"], "units.angle") != "deg") {
     ctx.fail(units, "units.angle", "must be 'deg' (angles at interfaces are in degrees)");
   }
-  scene.name = root["name"] ? ctx.text(root["name"], "name") : origin.stem().string();
+}
 
+ParametricHip parse_parametric(const Context& ctx, const YAML::Node& p) {
+  ctx.only_keys(p, "hip.parametric", {"ce_deg", "alpha_deg", "edge_mm"});
+  ParametricHip parametric;
+  if (p["ce_deg"]) parametric.ce_deg = ctx.number(p["ce_deg"], "hip.parametric.ce_deg", 0, 45);
+  if (p["alpha_deg"]) {
+    parametric.alpha_deg = ctx.number(p["alpha_deg"], "hip.parametric.alpha_deg", 35, 90);
+  }
+  if (p["edge_mm"]) parametric.edge_mm = ctx.number(p["edge_mm"], "hip.parametric.edge_mm", 0.2, 10);
+  return parametric;
+}
+
+SceneBones parse_bones(const Context& ctx, const YAML::Node& b, const std::filesystem::path& origin) {
+  ctx.only_keys(b, "hip.bones", {"femur", "pelvis", "side", "frame"});
+  SceneBones bones;
+  const auto existing = [&](const char* key) {
+    if (!b[key]) ctx.fail(b, std::string("hip.bones.") + key, "missing");
+    const std::filesystem::path path = resolve(origin, ctx.text(b[key], std::string("hip.bones.") + key));
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) {
+      ctx.fail(b[key], std::string("hip.bones.") + key, "file not found: " + path.string());
+    }
+    return path;
+  };
+  bones.femur = existing("femur");
+  bones.pelvis = existing("pelvis");
+  if (b["frame"]) bones.frame = existing("frame");
+  if (b["side"]) {
+    const std::string side = ctx.text(b["side"], "hip.bones.side");
+    if (side == anatomy::side_name(anatomy::Side::kRight)) bones.side = anatomy::Side::kRight;
+    else if (side == anatomy::side_name(anatomy::Side::kLeft)) bones.side = anatomy::Side::kLeft;
+    else ctx.fail(b["side"], "hip.bones.side", "expected right or left");
+  }
+  return bones;
+}
+
+void parse_hip(const Context& ctx, const YAML::Node& root, const std::filesystem::path& origin, Scene& scene) {
   const YAML::Node hip = root["hip"];
   if (!hip) ctx.fail(root, "hip", "missing: give parametric: {...}, model_dir: path or bones: {...}");
   ctx.only_keys(hip, "hip", {"parametric", "model_dir", "bones"});
@@ -152,14 +177,7 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& origin) 
     ctx.fail(hip, "hip", "give one of parametric, model_dir and bones");
   }
   if (const YAML::Node p = hip["parametric"]) {
-    ctx.only_keys(p, "hip.parametric", {"ce_deg", "alpha_deg", "edge_mm"});
-    ParametricHip parametric;
-    if (p["ce_deg"]) parametric.ce_deg = ctx.number(p["ce_deg"], "hip.parametric.ce_deg", 0, 45);
-    if (p["alpha_deg"]) {
-      parametric.alpha_deg = ctx.number(p["alpha_deg"], "hip.parametric.alpha_deg", 35, 90);
-    }
-    if (p["edge_mm"]) parametric.edge_mm = ctx.number(p["edge_mm"], "hip.parametric.edge_mm", 0.2, 10);
-    scene.parametric = parametric;
+    scene.parametric = parse_parametric(ctx, p);
   } else if (const YAML::Node dir = hip["model_dir"]) {
     scene.model_dir = resolve(origin, ctx.text(dir, "hip.model_dir"));
     std::error_code ec;  // a path the system refuses (too long, looping links) is as good as missing
@@ -167,31 +185,13 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& origin) 
       ctx.fail(dir, "hip.model_dir", "no model.json in " + scene.model_dir.string());
     }
   } else if (const YAML::Node b = hip["bones"]) {
-    ctx.only_keys(b, "hip.bones", {"femur", "pelvis", "side", "frame"});
-    SceneBones bones;
-    const auto existing = [&](const char* key) {
-      if (!b[key]) ctx.fail(b, std::string("hip.bones.") + key, "missing");
-      const std::filesystem::path path = resolve(origin, ctx.text(b[key], std::string("hip.bones.") + key));
-      std::error_code ec;
-      if (!std::filesystem::is_regular_file(path, ec)) {
-        ctx.fail(b[key], std::string("hip.bones.") + key, "file not found: " + path.string());
-      }
-      return path;
-    };
-    bones.femur = existing("femur");
-    bones.pelvis = existing("pelvis");
-    if (b["frame"]) bones.frame = existing("frame");
-    if (b["side"]) {
-      const std::string side = ctx.text(b["side"], "hip.bones.side");
-      if (side == anatomy::side_name(anatomy::Side::kRight)) bones.side = anatomy::Side::kRight;
-      else if (side == anatomy::side_name(anatomy::Side::kLeft)) bones.side = anatomy::Side::kLeft;
-      else ctx.fail(b["side"], "hip.bones.side", "expected right or left");
-    }
-    scene.bones = bones;
+    scene.bones = parse_bones(ctx, b, origin);
   } else {
     ctx.fail(hip, "hip", "give parametric: {...}, model_dir: path or bones: {...}");
   }
+}
 
+void parse_outputs(const Context& ctx, const YAML::Node& root, Scene& scene) {
   const YAML::Node outputs = root["outputs"];
   if (!outputs || !outputs.IsSequence() || outputs.size() == 0) {
     ctx.fail(outputs ? outputs : root, "outputs", "expected a non-empty list");
@@ -206,7 +206,10 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& origin) 
     }
     scene.outputs.insert(*output);
   }
+}
 
+// The tissues listed (each output's must be among them), or those the outputs need.
+void parse_tissues(const Context& ctx, const YAML::Node& root, Scene& scene) {
   if (const YAML::Node tissues = root["tissues"]) {
     if (!tissues.IsSequence()) ctx.fail(tissues, "tissues", "expected a list");
     for (const auto& item : tissues) {
@@ -230,7 +233,9 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& origin) 
       scene.tissues.insert(needed.begin(), needed.end());
     }
   }
+}
 
+void parse_motion(const Context& ctx, const YAML::Node& root, const std::filesystem::path& origin, Scene& scene) {
   const YAML::Node motion = root["motion"];
   if (!motion) ctx.fail(root, "motion", "missing");
   ctx.only_keys(motion, "motion", {"builtin", "sub_motions", "medical", "max_deg", "steps", "csv"});
@@ -265,40 +270,65 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& origin) 
       ctx.fail(motion["csv"], "motion.csv", "file not found: " + scene.motion.csv.string());
     }
   }
+}
 
-  if (const YAML::Node options = root["options"]) {
-    ctx.only_keys(options, "options", {"mapping", "table_size", "swap_roles"});
-    if (options["mapping"]) {
-      const auto mapping = radial_mapping_from_name(ctx.text(options["mapping"], "options.mapping"));
-      if (!mapping) ctx.fail(options["mapping"], "options.mapping", "expected spherical, cartesian or cube");
-      scene.options.mapping = *mapping;
-    }
-    if (options["table_size"]) {
-      scene.options.table_size =
-          static_cast<int>(ctx.number(options["table_size"], "options.table_size", 6, 1e8));
-    }
-    if (options["swap_roles"]) {
-      try {
-        scene.options.swap_roles = options["swap_roles"].as<bool>();
-      } catch (const YAML::Exception&) {
-        ctx.fail(options["swap_roles"], "options.swap_roles", "expected true or false");
-      }
+void parse_options(const Context& ctx, const YAML::Node& options, Scene& scene) {
+  ctx.only_keys(options, "options", {"mapping", "table_size", "swap_roles"});
+  if (options["mapping"]) {
+    const auto mapping = radial_mapping_from_name(ctx.text(options["mapping"], "options.mapping"));
+    if (!mapping) ctx.fail(options["mapping"], "options.mapping", "expected spherical, cartesian or cube");
+    scene.options.mapping = *mapping;
+  }
+  if (options["table_size"]) {
+    scene.options.table_size =
+        static_cast<int>(ctx.number(options["table_size"], "options.table_size", 6, 1e8));
+  }
+  if (options["swap_roles"]) {
+    try {
+      scene.options.swap_roles = options["swap_roles"].as<bool>();
+    } catch (const YAML::Exception&) {
+      ctx.fail(options["swap_roles"], "options.swap_roles", "expected true or false");
     }
   }
+}
 
-  if (const YAML::Node fe = root["fe"]) {
-    ctx.only_keys(fe, "fe", {"level", "body_weight_n"});
-    if (fe["level"]) {
-      const std::string name = ctx.text(fe["level"], "fe.level");
-      const std::optional<FeLevel> level = fe_level_from_name(name);
-      if (!level) ctx.fail(fe["level"], "fe.level", "unknown level '" + name + "' (expected coarse, default or fine)");
-      scene.fe.level = *level;
-    }
-    if (fe["body_weight_n"]) {
-      scene.fe.body_weight_n = ctx.number(fe["body_weight_n"], "fe.body_weight_n", 0, 10000);
-      if (scene.fe.body_weight_n <= 0) ctx.fail(fe["body_weight_n"], "fe.body_weight_n", "must be positive");
-    }
+void parse_fe(const Context& ctx, const YAML::Node& fe, Scene& scene) {
+  ctx.only_keys(fe, "fe", {"level", "body_weight_n"});
+  if (fe["level"]) {
+    const std::string name = ctx.text(fe["level"], "fe.level");
+    const std::optional<FeLevel> level = fe_level_from_name(name);
+    if (!level) ctx.fail(fe["level"], "fe.level", "unknown level '" + name + "' (expected coarse, default or fine)");
+    scene.fe.level = *level;
   }
+  if (fe["body_weight_n"]) {
+    scene.fe.body_weight_n = ctx.number(fe["body_weight_n"], "fe.body_weight_n", 0, 10000);
+    if (scene.fe.body_weight_n <= 0) ctx.fail(fe["body_weight_n"], "fe.body_weight_n", "must be positive");
+  }
+}
+
+}  // namespace
+
+Scene parse_scene(const std::string& text, const std::filesystem::path& origin) {
+  const Context ctx{origin.string()};
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::ParserException& e) {
+    throw_error(origin.string(), ":", e.mark.line + 1, ": YAML syntax error: ", e.msg);
+  }
+  if (!root.IsMap()) throw_error(origin.string(), ":1: a scene must be a YAML mapping");
+  ctx.only_keys(root, "", {"schema_version", "units", "name", "hip", "tissues", "motion", "outputs",
+                           "options", "fe"});
+  Scene scene;
+  scene.file = origin;
+  parse_version_and_units(ctx, root);
+  scene.name = root["name"] ? ctx.text(root["name"], "name") : origin.stem().string();
+  parse_hip(ctx, root, origin, scene);
+  parse_outputs(ctx, root, scene);
+  parse_tissues(ctx, root, scene);
+  parse_motion(ctx, root, origin, scene);
+  if (const YAML::Node options = root["options"]) parse_options(ctx, options, scene);
+  if (const YAML::Node fe = root["fe"]) parse_fe(ctx, fe, scene);
   return scene;
 }
 

@@ -163,16 +163,9 @@ const std::vector<double>& SceneFeResult::column(const FeMeasure& measure) const
   throw_error("scene FE results: no column '", fe_measure_name(measure), "'");
 }
 
-SceneRunSummary run_scene(const Scene& scene, const Motion& motion, const SceneRunOptions& options) {
-#ifndef HIPFAI_WITH_FEM
-  if (needs_fe(scene)) {
-    throw_error(scene.file.string(), ": outputs von_mises/contact_pressure need the FE module, and this "
-                "hipfai was built without it (configure with -DHIPFAI_WITH_FEM=ON)");
-  }
-#endif
-  SceneRunSummary summary;
-  summary.hip = acquire_hip(scene, scene.tissues, options.cache_dir, summary.log);
+namespace {
 
+PenetrationOptions penetration_options(const Scene& scene, const SceneRunOptions& options) {
   PenetrationOptions penetration;
   penetration.curvilinear = scene.outputs.count(Output::kCurvilinearDepth) != 0;
   penetration.radial = scene.outputs.count(Output::kRadialDepth) != 0;
@@ -182,129 +175,177 @@ SceneRunSummary run_scene(const Scene& scene, const Motion& motion, const SceneR
   penetration.table_size = scene.options.table_size;
   penetration.threads = options.threads;
   penetration.cache_dir = options.cache_dir;
+  return penetration;
+}
 
-  std::vector<std::size_t> vtp_steps;
-  for (int step : options.vtp_steps) {
+// --vtp-step's 1-based steps (0: the last) as 0-based indices of the motion.
+std::vector<std::size_t> vtp_step_indices(const std::vector<int>& steps, const Motion& motion) {
+  std::vector<std::size_t> indices;
+  for (int step : steps) {
     const int resolved = step == 0 ? static_cast<int>(motion.steps.size()) : step;
     if (resolved < 1 || resolved > static_cast<int>(motion.steps.size())) {
       throw_error("--vtp-step ", step, ": the motion has ", motion.steps.size(), " steps");
     }
-    vtp_steps.push_back(static_cast<std::size_t>(resolved - 1));
+    indices.push_back(static_cast<std::size_t>(resolved - 1));
   }
-  const LoadedHip& hip = summary.hip;
-  auto observer = [&](std::size_t step, const DepthFields& fields) {
-    if (!options.write_files) return;
-    if (std::find(vtp_steps.begin(), vtp_steps.end(), step) == vtp_steps.end()) return;
-    // One VTP per tissue with that step's depths, the tissue in its neutral pose.
-    std::map<std::string, geometry::TriMesh> coloured;
-    for (const auto& [key, values] : fields) {
-      const std::string tissue = key.substr(0, key.find('/'));
-      auto [it, inserted] = coloured.try_emplace(tissue, hip.tissues.at(tissue));
-      it->second.vertex_fields[key.substr(key.find('/') + 1)] = values;
-    }
-    for (const auto& [tissue, mesh] : coloured) {
-      std::ostringstream name;
-      name << tissue << "_step" << std::setw(3) << std::setfill('0') << (step + 1) << ".vtp";
-      geometry::write_mesh(mesh, options.out_dir / name.str());
-    }
-  };
-  if (options.write_files) std::filesystem::create_directories(options.out_dir);
-  // Penetration stages only for penetration outputs: an FE-only scene builds no table.
-  const bool penetration_ran = needs_penetration(scene);
-  if (penetration_ran) summary.run = compute_penetration(hip, motion, penetration, summary.log, observer);
-  if (needs_fe(scene)) {
-#ifdef HIPFAI_WITH_FEM
-    summary.fe = run_fe(scene, motion, hip, options, summary.log);
-#endif
-  }
-  const SceneFeResult& fe = summary.fe;
-  std::optional<AssessmentResult> assessment;
-  if (scene.outputs.count(Output::kAssessment)) {
-    // The bones with the hip's own frame (model.json: the hip frame, HJC and neck axis), the
-    // scene's motion as the user motion.
-    AssessmentRequest request;
-    request.femur = &hip.tissues.at("femur_bone");
-    request.pelvis = &hip.tissues.at("acetabular_bone");
-    request.femur_name = "femur_bone";
-    request.pelvis_name = "acetabular_bone";
-    request.frame = anatomy::read_frame_file(hip.dir / "model.json");
-    request.motion = motion;
-    request.threads = options.threads;
-    assessment = assess_hip(request);
-    summary.log.ran(StageKind::kAssessment);
-    if (options.write_files) {
-      write_assessment(*assessment, {(hip.dir / "femur_bone").string(), (hip.dir / "acetabular_bone").string(),
-                                     (hip.dir / "model.json").string(), motion.name},
-                       options.out_dir / "assessment");
-    }
-  }
+  return indices;
+}
 
+// One VTP per tissue with that step's depths, the tissue in its neutral pose.
+void write_depth_vtps(const LoadedHip& hip, std::size_t step, const DepthFields& fields,
+                      const std::filesystem::path& out_dir) {
+  std::map<std::string, geometry::TriMesh> coloured;
+  for (const auto& [key, values] : fields) {
+    const std::string tissue = key.substr(0, key.find('/'));
+    auto [it, inserted] = coloured.try_emplace(tissue, hip.tissues.at(tissue));
+    it->second.vertex_fields[key.substr(key.find('/') + 1)] = values;
+  }
+  for (const auto& [tissue, mesh] : coloured) {
+    std::ostringstream name;
+    name << tissue << "_step" << std::setw(3) << std::setfill('0') << (step + 1) << ".vtp";
+    geometry::write_mesh(mesh, out_dir / name.str());
+  }
+}
+
+// The bones with the hip's own frame (model.json: the hip frame, HJC and neck axis), the scene's
+// motion as the user motion.
+AssessmentResult run_assessment(const Motion& motion, const LoadedHip& hip, const SceneRunOptions& options,
+                                StageLog& log) {
+  AssessmentRequest request;
+  request.femur = &hip.tissues.at("femur_bone");
+  request.pelvis = &hip.tissues.at("acetabular_bone");
+  request.femur_name = "femur_bone";
+  request.pelvis_name = "acetabular_bone";
+  request.frame = anatomy::read_frame_file(hip.dir / "model.json");
+  request.motion = motion;
+  request.threads = options.threads;
+  AssessmentResult assessment = assess_hip(request);
+  log.ran(StageKind::kAssessment);
   if (options.write_files) {
-    ResultsFile file(options.out_dir / "results.h5");
-    file.set_attribute("/", "scene_file", scene.file.string());
-    file.set_attribute("/", "scene_name", scene.name);
-    file.set_attribute("/", "code_version", std::string(kVersion) + " " + kGitSha);
-    file.set_attribute("/", "units", fe.ran ? "length mm, angle deg, time ms, stress MPa, force N"
-                                            : "length mm, angle deg, time ms");
-    file.set_attribute("/", "hip_id", hip.id);
-    for (const auto& [tissue, hash] : hip.mesh_hash) file.set_attribute("/", "mesh_hash_" + tissue, hash);
-    std::vector<double> poses, angles, curvilinear, radial, curvilinear_ms, radial_ms;
-    for (std::size_t k = 0; k < motion.steps.size(); ++k) {
-      const auto& pose = motion.steps[k].pose;
-      poses.insert(poses.end(), {pose.flexion_deg, pose.adduction_deg, pose.internal_rotation_deg});
-      angles.push_back(motion.steps[k].angle_deg);
-      if (!penetration_ran) continue;
-      curvilinear.push_back(summary.run.steps[k].curvilinear_max_mm());
-      radial.push_back(summary.run.steps[k].radial_max_mm());
-      curvilinear_ms.push_back(summary.run.steps[k].curvilinear_ms);
-      radial_ms.push_back(summary.run.steps[k].radial_ms);
-    }
-    file.write("/motion/pose_deg", poses, 3, "deg (flexion, adduction, internal rotation)");
-    file.write("/motion/angle_deg", angles, 1, "deg");
-    if (penetration.curvilinear) {
-      file.write("/curvilinear/max_depth_mm", curvilinear, 1, "mm");
-      file.write("/curvilinear/query_ms", curvilinear_ms, 1, "ms");
-    }
-    if (penetration.radial) {
-      file.write("/radial/max_depth_mm", radial, 1, "mm");
-      file.write("/radial/query_ms", radial_ms, 1, "ms");
-    }
-    for (const auto& [key, values] : summary.run.max_fields) {
-      file.write("/fields/" + key, values, 1, "mm (maximum over the motion)");
-    }
-    if (penetration.rom) {
-      std::vector<double> axes, ranges;
-      for (std::size_t a = 0; a < summary.run.rom.size(); ++a) {
-        axes.insert(axes.end(), {summary.run.rom_axes[a].x(), summary.run.rom_axes[a].y(),
-                                 summary.run.rom_axes[a].z()});
-        ranges.insert(ranges.end(), {summary.run.rom[a].anticlockwise_deg, summary.run.rom[a].clockwise_deg});
-      }
-      file.write("/rom/axis", axes, 3, "unit vector, model coordinates");
-      file.write("/rom/range_deg", ranges, 2, "deg (anticlockwise, clockwise)");
-    }
-    if (fe.ran) {
-      file.create_group("/fe");
-      file.set_attribute("/fe", "level", std::string(to_string(fe.level)));
-      file.set_attribute("/fe", "load", fe.load);
-      file.set_attribute("/fe", "body_weight_n", scene.fe.body_weight_n);
-      file.set_attribute("/fe", "cache_entry", fe.entry.string());
-      file.set_attribute("/fe", "steps_not_converged", static_cast<double>(fe.not_converged));
-      const std::vector<std::int64_t> codes(fe.status_code.begin(), fe.status_code.end());
-      file.write_integers("/fe/status", codes, 1,
-                          "fem::ContactStatus: 0 converged, 1 active set not converged, 2 linear solver "
-                          "failed, 3 no contact, 4 non-finite");
-      file.write_strings("/fe/status_name", fe.status);
-      for (const SceneFeColumn& column : fe.columns) {
-        file.write("/fe/" + fe_measure_name(column.measure), column.values, 1, units_of(column.measure));
-      }
-      file.write("/fe/step_time_s", fe.step_seconds, 1, "s (solve time per step when computed)");
-    }
-    file.commit();
-    write_steps_csv(options.out_dir / "steps.csv", motion, penetration_ran ? &summary.run : nullptr, fe);
+    write_assessment(assessment, {(hip.dir / "femur_bone").string(), (hip.dir / "acetabular_bone").string(),
+                                  (hip.dir / "model.json").string(), motion.name},
+                     options.out_dir / "assessment");
   }
+  return assessment;
+}
 
+// The poses and, when penetration ran, the per-step maximum depths, query times, maximum depth
+// fields and ranges of motion.
+void write_penetration_datasets(ResultsFile& file, const Motion& motion, const PenetrationRun& run,
+                                bool penetration_ran, const PenetrationOptions& penetration) {
+  std::vector<double> poses, angles, curvilinear, radial, curvilinear_ms, radial_ms;
+  for (std::size_t k = 0; k < motion.steps.size(); ++k) {
+    const auto& pose = motion.steps[k].pose;
+    poses.insert(poses.end(), {pose.flexion_deg, pose.adduction_deg, pose.internal_rotation_deg});
+    angles.push_back(motion.steps[k].angle_deg);
+    if (!penetration_ran) continue;
+    curvilinear.push_back(run.steps[k].curvilinear_max_mm());
+    radial.push_back(run.steps[k].radial_max_mm());
+    curvilinear_ms.push_back(run.steps[k].curvilinear_ms);
+    radial_ms.push_back(run.steps[k].radial_ms);
+  }
+  file.write("/motion/pose_deg", poses, 3, "deg (flexion, adduction, internal rotation)");
+  file.write("/motion/angle_deg", angles, 1, "deg");
+  if (penetration.curvilinear) {
+    file.write("/curvilinear/max_depth_mm", curvilinear, 1, "mm");
+    file.write("/curvilinear/query_ms", curvilinear_ms, 1, "ms");
+  }
+  if (penetration.radial) {
+    file.write("/radial/max_depth_mm", radial, 1, "mm");
+    file.write("/radial/query_ms", radial_ms, 1, "ms");
+  }
+  for (const auto& [key, values] : run.max_fields) {
+    file.write("/fields/" + key, values, 1, "mm (maximum over the motion)");
+  }
+  if (penetration.rom) {
+    std::vector<double> axes, ranges;
+    for (std::size_t a = 0; a < run.rom.size(); ++a) {
+      axes.insert(axes.end(), {run.rom_axes[a].x(), run.rom_axes[a].y(), run.rom_axes[a].z()});
+      ranges.insert(ranges.end(), {run.rom[a].anticlockwise_deg, run.rom[a].clockwise_deg});
+    }
+    file.write("/rom/axis", axes, 3, "unit vector, model coordinates");
+    file.write("/rom/range_deg", ranges, 2, "deg (anticlockwise, clockwise)");
+  }
+}
+
+void write_fe_datasets(ResultsFile& file, const SceneFeResult& fe, const Scene& scene) {
+  file.create_group("/fe");
+  file.set_attribute("/fe", "level", std::string(to_string(fe.level)));
+  file.set_attribute("/fe", "load", fe.load);
+  file.set_attribute("/fe", "body_weight_n", scene.fe.body_weight_n);
+  file.set_attribute("/fe", "cache_entry", fe.entry.string());
+  file.set_attribute("/fe", "steps_not_converged", static_cast<double>(fe.not_converged));
+  const std::vector<std::int64_t> codes(fe.status_code.begin(), fe.status_code.end());
+  file.write_integers("/fe/status", codes, 1,
+                      "fem::ContactStatus: 0 converged, 1 active set not converged, 2 linear solver "
+                      "failed, 3 no contact, 4 non-finite");
+  file.write_strings("/fe/status_name", fe.status);
+  for (const SceneFeColumn& column : fe.columns) {
+    file.write("/fe/" + fe_measure_name(column.measure), column.values, 1, units_of(column.measure));
+  }
+  file.write("/fe/step_time_s", fe.step_seconds, 1, "s (solve time per step when computed)");
+}
+
+void write_results_h5(const Scene& scene, const Motion& motion, const SceneRunSummary& summary,
+                      bool penetration_ran, const PenetrationOptions& penetration, const std::filesystem::path& path) {
+  const SceneFeResult& fe = summary.fe;
+  const LoadedHip& hip = summary.hip;
+  ResultsFile file(path);
+  file.set_attribute("/", "scene_file", scene.file.string());
+  file.set_attribute("/", "scene_name", scene.name);
+  file.set_attribute("/", "code_version", std::string(kVersion) + " " + kGitSha);
+  file.set_attribute("/", "units", fe.ran ? "length mm, angle deg, time ms, stress MPa, force N"
+                                          : "length mm, angle deg, time ms");
+  file.set_attribute("/", "hip_id", hip.id);
+  for (const auto& [tissue, hash] : hip.mesh_hash) file.set_attribute("/", "mesh_hash_" + tissue, hash);
+  write_penetration_datasets(file, motion, summary.run, penetration_ran, penetration);
+  if (fe.ran) write_fe_datasets(file, fe, scene);
+  file.commit();
+}
+
+void write_assessment_line(std::ostream& text, const AssessmentResult& assessment, bool wrote_files) {
+  const auto& m = assessment.before.measures;
+  text << "  assessment: " << anatomy::morphology_name(m.morphology) << ", lateral CE " << m.lateral_ce.ce_deg
+       << " deg, alpha " << m.alpha.alpha_deg << " deg";
+  if (assessment.before.rom.fadir_internal_rotation.limit) {
+    text << ", FADIR internal rotation " << assessment.before.rom.fadir_internal_rotation.limit->angle_deg << " deg";
+  }
+  if (assessment.motion_depths) {
+    text << ", bone-to-bone over the motion: curvilinear " << assessment.motion_depths->max_curvilinear_mm()
+         << " mm, radial " << assessment.motion_depths->max_radial_mm() << " mm";
+  }
+  text << (wrote_files ? " (assessment/)" : "") << '\n';
+}
+
+void write_fe_lines(std::ostream& text, const SceneFeResult& fe, const Scene& scene) {
+  text << "  FE level " << to_string(fe.level) << " (" << fe.load << "): " << fe.not_converged << " of "
+       << fe.status.size() << " steps not converged, " << std::setprecision(1) << fe.seconds << " s"
+       << (fe.reused ? " (from the cache " : " (computed, cached in ") << fe.entry.string() << ")\n"
+       << std::setprecision(3);
+  auto peak = [](const std::vector<double>& values) {
+    double p = 0.0;
+    for (double v : values) p = std::isfinite(v) ? std::max(p, v) : p;
+    return p;
+  };
+  bool first = true;
+  for (const SceneFeColumn& column : fe.columns) {
+    const auto* von_mises = std::get_if<VonMisesMeasure>(&column.measure);
+    if (!von_mises || von_mises->stat != VonMisesStat::kMax) continue;
+    text << (first ? "  peak von Mises (MPa): " : ", ") << to_string(*von_mises->tissue) << ' '
+         << peak(column.values);
+    first = false;
+  }
+  if (!first) text << '\n';
+  if (scene.outputs.count(Output::kContactPressure)) {
+    text << "  peak contact pressure " << peak(fe.column(PressureStat::kMax)) << " MPa\n";
+  }
+}
+
+std::string summary_text(const Scene& scene, const Motion& motion, const SceneRunSummary& summary,
+                         const PenetrationOptions& penetration, const std::optional<AssessmentResult>& assessment,
+                         const SceneRunOptions& options) {
   std::ostringstream text;
-  text << std::fixed << std::setprecision(3) << "scene '" << scene.name << "', hip " << hip.id << ", "
+  text << std::fixed << std::setprecision(3) << "scene '" << scene.name << "', hip " << summary.hip.id << ", "
        << motion.steps.size() << " steps\n";
   if (penetration.curvilinear) {
     text << "  max curvilinear depth " << summary.run.max_curvilinear_mm() << " mm (pre-processing "
@@ -318,42 +359,8 @@ SceneRunSummary run_scene(const Scene& scene, const Motion& motion, const SceneR
     text << "  ROM about axis " << (a + 1) << ": anticlockwise " << summary.run.rom[a].anticlockwise_deg
          << " deg, clockwise " << summary.run.rom[a].clockwise_deg << " deg\n";
   }
-  if (assessment) {
-    const auto& m = assessment->before.measures;
-    text << "  assessment: " << anatomy::morphology_name(m.morphology) << ", lateral CE " << m.lateral_ce.ce_deg
-         << " deg, alpha " << m.alpha.alpha_deg << " deg";
-    if (assessment->before.rom.fadir_internal_rotation.limit) {
-      text << ", FADIR internal rotation " << assessment->before.rom.fadir_internal_rotation.limit->angle_deg << " deg";
-    }
-    if (assessment->motion_depths) {
-      text << ", bone-to-bone over the motion: curvilinear " << assessment->motion_depths->max_curvilinear_mm()
-           << " mm, radial " << assessment->motion_depths->max_radial_mm() << " mm";
-    }
-    text << (options.write_files ? " (assessment/)" : "") << '\n';
-  }
-  if (fe.ran) {
-    text << "  FE level " << to_string(fe.level) << " (" << fe.load << "): " << fe.not_converged << " of "
-         << fe.status.size() << " steps not converged, " << std::setprecision(1) << fe.seconds << " s"
-         << (fe.reused ? " (from the cache " : " (computed, cached in ") << fe.entry.string() << ")\n"
-         << std::setprecision(3);
-    auto peak = [](const std::vector<double>& values) {
-      double p = 0.0;
-      for (double v : values) p = std::isfinite(v) ? std::max(p, v) : p;
-      return p;
-    };
-    bool first = true;
-    for (const SceneFeColumn& column : fe.columns) {
-      const auto* von_mises = std::get_if<VonMisesMeasure>(&column.measure);
-      if (!von_mises || von_mises->stat != VonMisesStat::kMax) continue;
-      text << (first ? "  peak von Mises (MPa): " : ", ") << to_string(*von_mises->tissue) << ' '
-           << peak(column.values);
-      first = false;
-    }
-    if (!first) text << '\n';
-    if (scene.outputs.count(Output::kContactPressure)) {
-      text << "  peak contact pressure " << peak(fe.column(PressureStat::kMax)) << " MPa\n";
-    }
-  }
+  if (assessment) write_assessment_line(text, *assessment, options.write_files);
+  if (summary.fe.ran) write_fe_lines(text, summary.fe, scene);
   text << "  stages executed:";
   for (const auto& [kind, count] : summary.log.executed) text << ' ' << stage_kind_name(kind) << " x" << count;
   if (!summary.log.reused.empty()) {
@@ -362,7 +369,44 @@ SceneRunSummary run_scene(const Scene& scene, const Motion& motion, const SceneR
   }
   text << '\n';
   if (options.write_files) text << "  wrote " << (options.out_dir / "results.h5").string() << '\n';
-  summary.text = text.str();
+  return text.str();
+}
+
+}  // namespace
+
+SceneRunSummary run_scene(const Scene& scene, const Motion& motion, const SceneRunOptions& options) {
+#ifndef HIPFAI_WITH_FEM
+  if (needs_fe(scene)) {
+    throw_error(scene.file.string(), ": outputs von_mises/contact_pressure need the FE module, and this "
+                "hipfai was built without it (configure with -DHIPFAI_WITH_FEM=ON)");
+  }
+#endif
+  SceneRunSummary summary;
+  summary.hip = acquire_hip(scene, scene.tissues, options.cache_dir, summary.log);
+  const PenetrationOptions penetration = penetration_options(scene, options);
+  const std::vector<std::size_t> vtp_steps = vtp_step_indices(options.vtp_steps, motion);
+  const LoadedHip& hip = summary.hip;
+  auto observer = [&](std::size_t step, const DepthFields& fields) {
+    if (!options.write_files) return;
+    if (std::find(vtp_steps.begin(), vtp_steps.end(), step) == vtp_steps.end()) return;
+    write_depth_vtps(hip, step, fields, options.out_dir);
+  };
+  if (options.write_files) std::filesystem::create_directories(options.out_dir);
+  // Penetration stages only for penetration outputs: an FE-only scene builds no table.
+  const bool penetration_ran = needs_penetration(scene);
+  if (penetration_ran) summary.run = compute_penetration(hip, motion, penetration, summary.log, observer);
+  if (needs_fe(scene)) {
+#ifdef HIPFAI_WITH_FEM
+    summary.fe = run_fe(scene, motion, hip, options, summary.log);
+#endif
+  }
+  std::optional<AssessmentResult> assessment;
+  if (scene.outputs.count(Output::kAssessment)) assessment = run_assessment(motion, hip, options, summary.log);
+  if (options.write_files) {
+    write_results_h5(scene, motion, summary, penetration_ran, penetration, options.out_dir / "results.h5");
+    write_steps_csv(options.out_dir / "steps.csv", motion, penetration_ran ? &summary.run : nullptr, summary.fe);
+  }
+  summary.text = summary_text(scene, motion, summary, penetration, assessment, options);
   return summary;
 }
 

@@ -317,42 +317,36 @@ ValidationClassification classify_leave_one_out(const ValidationData& data) {
   return result;
 }
 
-CorrelationReportResult write_correlation_report(const std::filesystem::path& dir) {
-  const ValidationData data = read_validation_results(dir);
-  const std::vector<ValidationCorrelation> rows = correlate_validation(data);
-  CorrelationReportResult result;
-  result.correlation_csv = dir / "correlation.csv";
-  result.report = dir / "report.md";
+namespace {
 
-  {
-    std::ostringstream csv;
-    csv << "ce_deg,alpha_deg,depth,measure,n,r,p,spearman,ci_low,ci_high,status\n";
-    csv << std::setprecision(10);
-    for (const auto& row : rows) {
-      const bool ok = row.status == "ok";
-      auto cell = [&](double v) { return ok && std::isfinite(v) ? [&] { std::ostringstream o; o << std::setprecision(10) << v; return o.str(); }() : std::string(); };
-      csv << row.ce_deg << ',' << row.alpha_deg << ',' << row.depth << ',' << row.measure << ',' << row.summary.n
-          << ',' << cell(row.summary.pearson.r) << ',' << cell(row.summary.pearson.p_value) << ','
-          << cell(row.summary.spearman.r) << ','
-          << (ok && row.summary.interval.defined ? cell(row.summary.interval.low) : std::string()) << ','
-          << (ok && row.summary.interval.defined ? cell(row.summary.interval.high) : std::string()) << ','
-          << row.status << '\n';
-    }
-    write_file_atomically(result.correlation_csv, csv.str());
+void write_correlation_csv(const std::vector<ValidationCorrelation>& rows, const std::filesystem::path& path) {
+  std::ostringstream csv;
+  csv << "ce_deg,alpha_deg,depth,measure,n,r,p,spearman,ci_low,ci_high,status\n";
+  csv << std::setprecision(10);
+  for (const auto& row : rows) {
+    const bool ok = row.status == "ok";
+    auto cell = [&](double v) { return ok && std::isfinite(v) ? [&] { std::ostringstream o; o << std::setprecision(10) << v; return o.str(); }() : std::string(); };
+    csv << row.ce_deg << ',' << row.alpha_deg << ',' << row.depth << ',' << row.measure << ',' << row.summary.n
+        << ',' << cell(row.summary.pearson.r) << ',' << cell(row.summary.pearson.p_value) << ','
+        << cell(row.summary.spearman.r) << ','
+        << (ok && row.summary.interval.defined ? cell(row.summary.interval.low) : std::string()) << ','
+        << (ok && row.summary.interval.defined ? cell(row.summary.interval.high) : std::string()) << ','
+        << row.status << '\n';
   }
+  write_file_atomically(path, csv.str());
+}
 
-  std::vector<double> ces, alphas;
-  for (const auto& hip : data.hips) ces.push_back(hip.ce_deg), alphas.push_back(hip.alpha_deg);
-  ces = sorted_unique(ces);
-  alphas = sorted_unique(alphas);
-  const bool has_primary = std::find(data.measures.begin(), data.measures.end(), kPrimary) != data.measures.end();
+// The FE level of the run that wrote timings.csv.
+std::string fe_level_of(const ValidationData& data) {
+  return data.timings.empty() ? std::string("unknown") : data.timings.front().fe_level;
+}
 
-  std::ostringstream md;
+int steps_of(const ValidationData& data) { return static_cast<int>(data.hips.front().angle_deg.size()); }
+
+void write_introduction(std::ostream& md, const ValidationData& data) {
   md << "# FAI validation: penetration depth vs the FE ground truth\n\n";
-  const std::string level = data.timings.empty() ? std::string("unknown") : data.timings.front().fe_level;
-  const int steps = static_cast<int>(data.hips.front().angle_deg.size());
-  md << data.hips.size() << " hips, " << steps << " steps of standing-to-sitting each; FE level **" << level
-     << "**. Made by `hipfai report correlation` from `steps.csv` and `timings.csv` in this folder.\n\n";
+  md << data.hips.size() << " hips, " << steps_of(data) << " steps of standing-to-sitting each; FE level **"
+     << fe_level_of(data) << "**. Made by `hipfai report correlation` from `steps.csv` and `timings.csv` in this folder.\n\n";
   md << "Per hip, the per-step maximum penetration depth is correlated with each FE measure over the steps "
         "(Pearson r with its two-sided p from Student's t with n − 2 degrees of freedom, as the thesis; "
         "Spearman's rho and the Fisher-z 95 % interval are in `correlation.csv`). \"n.p.\": the hip never "
@@ -363,8 +357,11 @@ CorrelationReportResult write_correlation_report(const std::filesystem::path& di
         "the labrum and grows with mesh refinement, while the ball average converges (docs/fem-levels.md). "
         "Every other measure (per tissue: ball, max, p95; contact pressure: max, ball, mean) has its own "
         "tables below.\n\n";
+}
 
-  // Summary.
+// The primary measure's mean r per depth and over both, against the thesis; then every measure's.
+void write_summary(std::ostream& md, const ValidationData& data, const std::vector<ValidationCorrelation>& rows,
+                   CorrelationReportResult& result) {
   md << "## Summary (primary measure)\n\n";
   md << "| depth | hips with r | mean r | SD (sample) | range | thesis mean | thesis SD | thesis range |\n";
   md << "|---|---|---|---|---|---|---|---|\n";
@@ -406,8 +403,11 @@ CorrelationReportResult write_correlation_report(const std::filesystem::path& di
     md << '\n';
   }
   md << '\n';
+}
 
-  // Tables 8 and 9.
+void write_tables_8_and_9(std::ostream& md, const ValidationData& data, const std::vector<ValidationCorrelation>& rows,
+                          const std::vector<double>& ces, const std::vector<double>& alphas) {
+  const bool has_primary = std::find(data.measures.begin(), data.measures.end(), kPrimary) != data.measures.end();
   for (const std::string& depth : kDepths) {
     const bool curvilinear = depth == "curvilinear";
     md << "## " << (curvilinear ? "Table 8" : "Table 9") << ": " << depth
@@ -425,8 +425,9 @@ CorrelationReportResult write_correlation_report(const std::filesystem::path& di
       write_table(md, rows, ces, alphas, depth, measure, true);
     }
   }
+}
 
-  // Across hips.
+void write_across_hips(std::ostream& md, const ValidationData& data) {
   md << "## Across hips: maximum depth vs maximum FE measure (not in the thesis)\n\n";
   md << "One point per hip: the largest depth over the motion against the largest FE value over the motion.\n\n";
   md << "| depth | measure | hips | r | p | Spearman rho | 95 % CI of r | status |\n|---|---|---|---|---|---|---|---|\n";
@@ -447,8 +448,11 @@ CorrelationReportResult write_correlation_report(const std::filesystem::path& di
     }
   }
   md << '\n';
+}
 
-  // Figures.
+void write_figures(std::ostream& md, const ValidationData& data, const std::vector<ValidationCorrelation>& rows,
+                   const std::vector<double>& ces, const std::vector<double>& alphas, const std::filesystem::path& dir) {
+  const bool has_primary = std::find(data.measures.begin(), data.measures.end(), kPrimary) != data.measures.end();
   md << "## Figures\n\n";
   if (has_primary) {
     for (const auto& [ce, alpha] : std::vector<std::pair<double, double>>{{40, 60}, {40, 40}, {20, 80}, {40, 80}}) {
@@ -473,8 +477,9 @@ CorrelationReportResult write_correlation_report(const std::filesystem::path& di
           "and one VTP per tissue with the last step's curvilinear and radial depth fields (femur side rotated "
           "to the end pose).\n\n";
   }
+}
 
-  // Classification.
+void write_classification(std::ostream& md, const ValidationData& data) {
   const ValidationClassification classification = classify_leave_one_out(data);
   md << "## Classification from the two depths (leave-one-out)\n\n";
   md << "Each hip is assigned the pathology (thesis Fig. 63: from CE and alpha) of its nearest other hip in "
@@ -493,8 +498,11 @@ CorrelationReportResult write_correlation_report(const std::filesystem::path& di
   }
   md << "\nHips that never penetrate (normal, dysplasia) have identical features (0, 0, 0): the depths cannot "
         "tell them apart, as the thesis notes (§4.3.4); they are assigned the class of the first such hip.\n\n";
+}
 
-  // Time per stage.
+void write_stage_times(std::ostream& md, const ValidationData& data) {
+  const std::string level = fe_level_of(data);
+  const int steps = steps_of(data);
   if (!data.timings.empty()) {
     double generate = 0, tables = 0, query = 0, fe = 0, fe_steps = 0, dofs = 0;
     int failed = 0, reused = 0, generated = 0;
@@ -521,6 +529,30 @@ CorrelationReportResult write_correlation_report(const std::filesystem::path& di
          << ". Times of cached FE runs are those measured when they were solved.\n\n";
     }
   }
+}
+
+}  // namespace
+
+CorrelationReportResult write_correlation_report(const std::filesystem::path& dir) {
+  const ValidationData data = read_validation_results(dir);
+  const std::vector<ValidationCorrelation> rows = correlate_validation(data);
+  CorrelationReportResult result;
+  result.correlation_csv = dir / "correlation.csv";
+  result.report = dir / "report.md";
+  write_correlation_csv(rows, result.correlation_csv);
+
+  std::vector<double> ces, alphas;
+  for (const auto& hip : data.hips) ces.push_back(hip.ce_deg), alphas.push_back(hip.alpha_deg);
+  ces = sorted_unique(ces);
+  alphas = sorted_unique(alphas);
+  std::ostringstream md;
+  write_introduction(md, data);
+  write_summary(md, data, rows, result);
+  write_tables_8_and_9(md, data, rows, ces, alphas);
+  write_across_hips(md, data);
+  write_figures(md, data, rows, ces, alphas, dir);
+  write_classification(md, data);
+  write_stage_times(md, data);
   write_file_atomically(result.report, md.str());
   return result;
 }
