@@ -655,121 +655,154 @@ RadialPoseState::RadialPoseState(const RadialTable& table, const geometry::TriMe
   }
 }
 
-void RadialPoseState::build_distance_map() {
-  const RadialSpans& spans = table_->spans;
-  const RadialGrid& grid = coarse_grid_;
-  const int n = grid.dimension;
-  // The dilation: the widest bucket cone plus half a coarse cell for the translation of a pose.
-  double widest = 0.0;
-  for (const Bucket& bucket : buckets_) {
-    if (bucket.half_angle_rad < 4.0) widest = std::max(widest, bucket.half_angle_rad);
-  }
-  map_dilation_rad_ = widest + 0.5 * grid.nominal_cell_angle_rad();
-  // Each triangle's cone lies in the cap of radius rho_t around its mean vertex direction (caps
-  // under 90 deg are convex). Triangles with small caps are filed under the coarse cell of that
-  // direction and spread below; wider ones go straight to every cell their cap dilated reaches;
-  // those with a vertex at O and the always-checked ones count everywhere.
-  const double rho_limit = 0.5 * grid.nominal_cell_angle_rad();
+// A fixed triangle whose cone is too wide to be filed under one coarse cell.
+struct WideTriangle {
+  Vec3 mean;
+  double rho, lo, hi;
+};
+
+// The fixed triangles sorted for the distance map, by the cap of radius rho_t around their mean
+// vertex direction that holds their cone (caps under 90 deg are convex).
+struct FiledTriangles {
+  // Per coarse cell, of the triangles with small caps (rho_t <= rho_limit) whose mean direction
+  // is in the cell: the least lo and largest hi of their spans, and those without a span.
+  std::vector<double> own_lo, own_hi;
+  std::vector<std::vector<std::int32_t>> own_flat;
+  double rho_max = 0.0;  // the largest of those caps
+  std::vector<WideTriangle> wide;  // caps up to 1 rad: spread to every cell they reach
+  // Of the triangles that count everywhere (a vertex at O, caps of 1 rad or more, the
+  // always-checked ones): the least lo and largest hi.
   double global_lo = RadialSpans::kInfinity, global_hi = -RadialSpans::kInfinity;
-  std::vector<double> own_lo(static_cast<std::size_t>(grid.num_cells()), RadialSpans::kInfinity);
-  std::vector<double> own_hi(own_lo.size(), -RadialSpans::kInfinity);
-  std::vector<std::vector<std::int32_t>> own_flat(own_lo.size());
-  double rho_max = 0.0;
-  struct WideTriangle {
-    Vec3 mean;
-    double rho, lo, hi;
-  };
-  std::vector<WideTriangle> wide;
-  const geometry::TriMesh& fixed = *fixed_;
+};
+
+namespace {
+
+// Files the triangles of `fixed` (spans from `table`) under the coarse cells of `grid`: small caps
+// under their mean direction's cell, wider ones to spread, the rest everywhere.
+FiledTriangles file_triangles(const RadialTable& table, const geometry::TriMesh& fixed, const RadialGrid& grid) {
+  const RadialSpans& spans = table.spans;
+  const double rho_limit = 0.5 * grid.nominal_cell_angle_rad();
+  FiledTriangles filed;
+  filed.own_lo.assign(static_cast<std::size_t>(grid.num_cells()), RadialSpans::kInfinity);
+  filed.own_hi.assign(filed.own_lo.size(), -RadialSpans::kInfinity);
+  filed.own_flat.resize(filed.own_lo.size());
   for (std::size_t t = 0; t < fixed.num_triangles(); ++t) {
     const double lo = spans.triangle_lo[t], hi = spans.triangle_hi[t];
     if (!(lo <= hi)) continue;  // zero area: never crossed
     std::array<Vec3, 3> unit;
     bool at_centre = false;
     for (std::size_t k = 0; k < 3; ++k) {
-      const Vec3 d = fixed.vertices[static_cast<std::size_t>(fixed.triangles[t][k])] - table_->centre;
+      const Vec3 d = fixed.vertices[static_cast<std::size_t>(fixed.triangles[t][k])] - table.centre;
       const double length = d.norm();
       at_centre = at_centre || !(length > 0.0);
       unit[k] = at_centre ? Vec3::Zero() : Vec3(d / length);
     }
     const Vec3 sum = unit[0] + unit[1] + unit[2];
-    double rho = 8.0;
     if (!at_centre && sum.norm() > 0.0) {
       const Vec3 mean = sum.normalized();
-      rho = 0.0;
+      double rho = 0.0;
       for (const Vec3& u : unit) rho = std::max(rho, std::atan2(u.cross(mean).norm(), u.dot(mean)));
       rho += 1e-9;
       if (rho <= rho_limit) {
         const auto g = static_cast<std::size_t>(cell_of_direction(grid, mean));
-        rho_max = std::max(rho_max, rho);
+        filed.rho_max = std::max(filed.rho_max, rho);
         if (lo == 0.0) {  // no span: kept for the cell's flat wedge
-          own_flat[g].push_back(static_cast<std::int32_t>(t));
+          filed.own_flat[g].push_back(static_cast<std::int32_t>(t));
           continue;
         }
-        own_lo[g] = std::min(own_lo[g], lo);
-        own_hi[g] = std::max(own_hi[g], hi);
+        filed.own_lo[g] = std::min(filed.own_lo[g], lo);
+        filed.own_hi[g] = std::max(filed.own_hi[g], hi);
         continue;
       }
       if (rho < 1.0) {
-        wide.push_back({mean, rho, lo, hi});
+        filed.wide.push_back({mean, rho, lo, hi});
         continue;
       }
     }
-    global_lo = std::min(global_lo, lo);
-    global_hi = std::max(global_hi, hi);
+    filed.global_lo = std::min(filed.global_lo, lo);
+    filed.global_hi = std::max(filed.global_hi, hi);
   }
-  for (const std::int32_t t : table_->always_candidates) {
-    global_lo = std::min(global_lo, spans.triangle_lo[static_cast<std::size_t>(t)]);
-    global_hi = std::max(global_hi, spans.triangle_hi[static_cast<std::size_t>(t)]);
+  for (const std::int32_t t : table.always_candidates) {
+    filed.global_lo = std::min(filed.global_lo, spans.triangle_lo[static_cast<std::size_t>(t)]);
+    filed.global_hi = std::max(filed.global_hi, spans.triangle_hi[static_cast<std::size_t>(t)]);
   }
-  // A triangle whose cone reaches within the dilation of cell g has its mean direction within
-  // rho_max + dilation of g, i.e. within the cap around g's centre of radius (g's farthest corner)
-  // + rho_max + dilation (cells are convex spherical quadrilaterals: the farthest point is a corner).
-  map_lo_.assign(own_lo.size(), global_lo);
-  map_hi_.assign(own_hi.size(), global_hi);
-  map_wedge_.assign(own_lo.size(), MapWedge{});
+  return filed;
+}
+
+// The angle from the centre direction of cube-map cell g to its farthest corner (cells are convex
+// spherical quadrilaterals: the farthest point is a corner).
+double farthest_corner_angle(const RadialGrid& grid, const RadialSpans::CubeLocator& locator, int g,
+                             const Vec3& centre) {
+  const int n = grid.dimension;
+  const int i = g % n, j = (g / n) % n, face = g / (n * n), k = face / 2;
+  double corner_angle = 0.0;
+  for (const int ci : {i, i + 1}) {
+    for (const int cj : {j, j + 1}) {
+      Vec3 corner;  // the cube map's borders are the locator's
+      corner[k] = face % 2 == 0 ? 1.0 : -1.0;
+      corner[(k + 1) % 3] = locator.border[static_cast<std::size_t>(ci)];
+      corner[(k + 2) % 3] = locator.border[static_cast<std::size_t>(cj)];
+      corner.normalize();
+      corner_angle = std::max(corner_angle, std::atan2(corner.cross(centre).norm(), corner.dot(centre)));
+    }
+  }
+  return corner_angle;
+}
+
+}  // namespace
+
+void RadialPoseState::build_distance_map() {
+  const RadialGrid& grid = coarse_grid_;
+  // The dilation: the widest bucket cone plus half a coarse cell for the translation of a pose.
+  double widest = 0.0;
+  for (const Bucket& bucket : buckets_) {
+    if (bucket.half_angle_rad < 4.0) widest = std::max(widest, bucket.half_angle_rad);
+  }
+  map_dilation_rad_ = widest + 0.5 * grid.nominal_cell_angle_rad();
+  // Triangles with small caps are filed under the coarse cell of their mean direction and spread
+  // below; wider ones go straight to every cell their cap dilated reaches; those with a vertex at
+  // O and the always-checked ones count everywhere.
+  const FiledTriangles filed = file_triangles(*table_, *fixed_, grid);
+  map_lo_.assign(filed.own_lo.size(), filed.global_lo);
+  map_hi_.assign(filed.own_hi.size(), filed.global_hi);
+  map_wedge_.assign(filed.own_lo.size(), MapWedge{});
+  for (int g = 0; g < grid.num_cells(); ++g) fill_map_cell(g, filed);
   std::vector<int> near;
-  std::vector<std::array<Vec3, 3>> flat;
-  for (int g = 0; g < grid.num_cells(); ++g) {
-    const Vec3 centre = cell_centre_direction(grid, g);
-    const int i = g % n, j = (g / n) % n, face = g / (n * n), k = face / 2;
-    double corner_angle = 0.0;
-    for (const int ci : {i, i + 1}) {
-      for (const int cj : {j, j + 1}) {
-        Vec3 corner;  // the cube map's borders are the locator's
-        corner[k] = face % 2 == 0 ? 1.0 : -1.0;
-        corner[(k + 1) % 3] = coarse_locator_.border[static_cast<std::size_t>(ci)];
-        corner[(k + 2) % 3] = coarse_locator_.border[static_cast<std::size_t>(cj)];
-        corner.normalize();
-        corner_angle = std::max(corner_angle, std::atan2(corner.cross(centre).norm(), corner.dot(centre)));
-      }
-    }
-    near.clear();
-    cells_of_cap(grid, centre, corner_angle + rho_max + map_dilation_rad_ + 1e-6, near);
-    flat.clear();
-    for (const int h : near) {
-      map_lo_[static_cast<std::size_t>(g)] = std::min(map_lo_[static_cast<std::size_t>(g)], own_lo[static_cast<std::size_t>(h)]);
-      map_hi_[static_cast<std::size_t>(g)] = std::max(map_hi_[static_cast<std::size_t>(g)], own_hi[static_cast<std::size_t>(h)]);
-      for (const std::int32_t t : own_flat[static_cast<std::size_t>(h)]) {
-        flat.push_back(triangle_relative(fixed, static_cast<std::size_t>(t), table_->centre));
-      }
-    }
-    if (flat.empty()) continue;
-    const RadialSpans::FlatWedge wedge = flat_wedge(flat);
-    if (wedge.sin_bound < 0.5) {
-      map_wedge_[static_cast<std::size_t>(g)] = {wedge.normal, std::asin(wedge.sin_bound) + 1e-9};
-    } else {  // no thin wedge: their spans [0, inf] count
-      map_lo_[static_cast<std::size_t>(g)] = std::min(map_lo_[static_cast<std::size_t>(g)], 0.0);
-      map_hi_[static_cast<std::size_t>(g)] = RadialSpans::kInfinity;
-    }
-  }
-  for (const WideTriangle& triangle : wide) {
+  for (const WideTriangle& triangle : filed.wide) {
     near.clear();
     cells_of_cap(grid, triangle.mean, triangle.rho + map_dilation_rad_ + 1e-6, near);
     for (const int g : near) {
       map_lo_[static_cast<std::size_t>(g)] = std::min(map_lo_[static_cast<std::size_t>(g)], triangle.lo);
       map_hi_[static_cast<std::size_t>(g)] = std::max(map_hi_[static_cast<std::size_t>(g)], triangle.hi);
     }
+  }
+}
+
+// A triangle whose cone reaches within the dilation of cell g has its mean direction within
+// rho_max + dilation of g, i.e. within the cap around g's centre of radius (g's farthest corner)
+// + rho_max + dilation.
+void RadialPoseState::fill_map_cell(int g, const FiledTriangles& filed) {
+  const RadialGrid& grid = coarse_grid_;
+  const auto cell = static_cast<std::size_t>(g);
+  const Vec3 centre = cell_centre_direction(grid, g);
+  const double corner_angle = farthest_corner_angle(grid, coarse_locator_, g, centre);
+  std::vector<int> near;
+  cells_of_cap(grid, centre, corner_angle + filed.rho_max + map_dilation_rad_ + 1e-6, near);
+  std::vector<std::array<Vec3, 3>> flat;
+  for (const int h : near) {
+    map_lo_[cell] = std::min(map_lo_[cell], filed.own_lo[static_cast<std::size_t>(h)]);
+    map_hi_[cell] = std::max(map_hi_[cell], filed.own_hi[static_cast<std::size_t>(h)]);
+    for (const std::int32_t t : filed.own_flat[static_cast<std::size_t>(h)]) {
+      flat.push_back(triangle_relative(*fixed_, static_cast<std::size_t>(t), table_->centre));
+    }
+  }
+  if (flat.empty()) return;
+  const RadialSpans::FlatWedge wedge = flat_wedge(flat);
+  if (wedge.sin_bound < 0.5) {
+    map_wedge_[cell] = {wedge.normal, std::asin(wedge.sin_bound) + 1e-9};
+  } else {  // no thin wedge: their spans [0, inf] count
+    map_lo_[cell] = std::min(map_lo_[cell], 0.0);
+    map_hi_[cell] = RadialSpans::kInfinity;
   }
 }
 

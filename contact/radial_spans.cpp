@@ -189,23 +189,115 @@ void compute_hints(RadialSpans& spans) {
   }
 }
 
+// Each triangle's span of distances from the centre and its planes through it; the spans' range.
+void triangle_spans(RadialSpans& spans, const geometry::TriMesh& fixed, const Vec3& centre) {
+  const std::size_t num_triangles = fixed.num_triangles();
+  spans.triangle_lo.resize(num_triangles);
+  spans.triangle_hi.resize(num_triangles);
+  spans.planes.resize(num_triangles);
+  for (std::size_t t = 0; t < num_triangles; ++t) {
+    const auto [a, b, c] = triangle_relative(fixed, t, centre);
+    triangle_radial_span(a, b, c, spans.triangle_lo[t], spans.triangle_hi[t]);
+    spans.planes[t] = triangle_planes(a, b, c);
+    spans.lo = std::min(spans.lo, spans.triangle_lo[t]);
+    spans.hi = std::max(spans.hi, spans.triangle_hi[t]);
+  }
+}
+
+// Appends the entries of table cell `id` in ascending lo (then index): a vertex at r on the
+// kBelowLo side needs only the prefix of entries with lo <= r. Sets the cell's range, its span
+// (with the always-checked triangles' [always_lo, always_hi]) and returns its triangles in
+// that order.
+std::vector<std::int32_t> list_cell_entries(RadialSpans& spans, const RadialTable& table, std::size_t id,
+                                            double always_lo, double always_hi) {
+  RadialSpans::Cell& cell = spans.cells[id];
+  cell.begin = static_cast<std::uint32_t>(spans.entries.size());
+  double cell_lo = always_lo, cell_hi = always_hi;
+  std::vector<std::int32_t> listed = table.cells[id];
+  // (float_below is monotone, so the stored float lo ascend too.)
+  std::sort(listed.begin(), listed.end(), [&](std::int32_t x, std::int32_t y) {
+    const double lo_x = spans.triangle_lo[static_cast<std::size_t>(x)], lo_y = spans.triangle_lo[static_cast<std::size_t>(y)];
+    return lo_x != lo_y ? lo_x < lo_y : x < y;
+  });
+  for (const std::int32_t t : listed) {
+    const double lo = spans.triangle_lo[static_cast<std::size_t>(t)], hi = spans.triangle_hi[static_cast<std::size_t>(t)];
+    cell_lo = std::min(cell_lo, lo);
+    cell_hi = std::max(cell_hi, hi);
+    spans.entries.push_back({t, float_below(lo), float_above(hi), 0});
+  }
+  cell.end = static_cast<std::uint32_t>(spans.entries.size());
+  spans.cell_lo[id] = float_below(cell_lo);
+  spans.cell_hi[id] = float_above(cell_hi);
+  return listed;
+}
+
+// The flat wedge of the cell's leading entries without a span (lo 0), when they fit in one.
+void cell_flat_wedge(RadialSpans& spans, RadialSpans::Cell& cell, const std::vector<std::int32_t>& listed,
+                     const geometry::TriMesh& fixed, const Vec3& centre) {
+  cell.wedge_end = cell.begin;
+  std::vector<std::array<Vec3, 3>> flat;
+  for (std::size_t i = 0; i < listed.size() && spans.triangle_lo[static_cast<std::size_t>(listed[i])] == 0.0; ++i) {
+    flat.push_back(triangle_relative(fixed, static_cast<std::size_t>(listed[i]), centre));
+  }
+  if (flat.empty()) return;
+  const RadialSpans::FlatWedge wedge = flat_wedge(flat);
+  if (wedge.sin_bound < 1.0) {
+    cell.wedge_end = cell.begin + static_cast<std::uint32_t>(flat.size());
+    cell.wedge = static_cast<std::uint32_t>(spans.wedges.size());
+    spans.wedges.push_back(wedge);
+  }
+}
+
+// Marks the separated pairs among the first 32 entries past the cell's wedge (both ways: a hinted
+// entry is tested before the cell's others).
+void mark_separated(RadialSpans& spans, const RadialSpans::Cell& cell, const ConeSeparation& separation) {
+  const std::uint32_t base = cell.wedge_end, last = std::min(cell.end, base + 32);
+  for (std::uint32_t i = base; i < last; ++i) {
+    for (std::uint32_t j = i + 1; j < last; ++j) {
+      if (!separation.separated(spans.entries[i].triangle, spans.entries[j].triangle)) continue;
+      spans.entries[i].separated |= std::uint32_t{1} << (j - base);
+      spans.entries[j].separated |= std::uint32_t{1} << (i - base);
+    }
+  }
+}
+
+// The cap: around the mean direction of the vertices used by triangles; every vertex's direction
+// within it. Kept only when clearly narrower than a hemisphere (convex cone).
+void compute_cap(RadialSpans& spans, const geometry::TriMesh& fixed, const Vec3& centre) {
+  std::vector<std::uint8_t> used(fixed.num_vertices(), 0);
+  for (const auto& tri : fixed.triangles) {
+    for (const auto v : tri) used[static_cast<std::size_t>(v)] = 1;
+  }
+  Vec3 sum = Vec3::Zero();
+  for (std::size_t v = 0; v < used.size(); ++v) {
+    if (!used[v]) continue;
+    const Vec3 d = fixed.vertices[v] - centre;
+    const double r = d.norm();
+    if (!(r > 0.0)) return;  // a vertex at O: directions everywhere, no cap
+    sum += d / r;
+  }
+  if (!(sum.norm() > 0.0)) return;
+  const Vec3 axis = sum.normalized();
+  double cos_angle = 1.0;
+  for (std::size_t v = 0; v < used.size(); ++v) {
+    if (!used[v]) continue;
+    const Vec3 d = fixed.vertices[v] - centre;
+    cos_angle = std::min(cos_angle, d.dot(axis) / d.norm());
+  }
+  cos_angle -= 1e-12;  // rounding of the unit directions above
+  if (cos_angle > std::cos(89.0 * 3.14159265358979323846 / 180.0)) {
+    spans.cap_axis = axis;
+    spans.cap_cos = cos_angle;
+  }
+}
+
 }  // namespace
 
 void compute_radial_spans(RadialTable& table, const geometry::TriMesh& fixed) {
   RadialSpans& spans = table.spans;
   spans = RadialSpans{};
   spans.vertices = fixed.vertices;
-  const std::size_t num_triangles = fixed.num_triangles();
-  spans.triangle_lo.resize(num_triangles);
-  spans.triangle_hi.resize(num_triangles);
-  spans.planes.resize(num_triangles);
-  for (std::size_t t = 0; t < num_triangles; ++t) {
-    const auto [a, b, c] = triangle_relative(fixed, t, table.centre);
-    triangle_radial_span(a, b, c, spans.triangle_lo[t], spans.triangle_hi[t]);
-    spans.planes[t] = triangle_planes(a, b, c);
-    spans.lo = std::min(spans.lo, spans.triangle_lo[t]);
-    spans.hi = std::max(spans.hi, spans.triangle_hi[t]);
-  }
+  triangle_spans(spans, fixed, table.centre);
   double always_lo = RadialSpans::kInfinity, always_hi = -RadialSpans::kInfinity;
   for (const std::int32_t t : table.always_candidates) {
     always_lo = std::min(always_lo, spans.triangle_lo[static_cast<std::size_t>(t)]);
@@ -217,85 +309,16 @@ void compute_radial_spans(RadialTable& table, const geometry::TriMesh& fixed) {
   spans.cell_hi.resize(table.cells.size());
   spans.entries.clear();
   spans.entries.reserve(table.num_entries());
-  std::vector<std::int32_t> listed;
-  std::vector<std::array<Vec3, 3>> flat;
   for (std::size_t id = 0; id < table.cells.size(); ++id) {
-    RadialSpans::Cell& cell = spans.cells[id];
-    cell.begin = static_cast<std::uint32_t>(spans.entries.size());
-    double cell_lo = always_lo, cell_hi = always_hi;
-    // Ascending lo (then index): a vertex at r on the kBelowLo side needs only the prefix of
-    // entries with lo <= r.
-    listed = table.cells[id];
-    // (float_below is monotone, so the stored float lo ascend too.)
-    std::sort(listed.begin(), listed.end(), [&](std::int32_t x, std::int32_t y) {
-      const double lo_x = spans.triangle_lo[static_cast<std::size_t>(x)], lo_y = spans.triangle_lo[static_cast<std::size_t>(y)];
-      return lo_x != lo_y ? lo_x < lo_y : x < y;
-    });
-    for (const std::int32_t t : listed) {
-      const double lo = spans.triangle_lo[static_cast<std::size_t>(t)], hi = spans.triangle_hi[static_cast<std::size_t>(t)];
-      cell_lo = std::min(cell_lo, lo);
-      cell_hi = std::max(cell_hi, hi);
-      spans.entries.push_back({t, float_below(lo), float_above(hi), 0});
-    }
-    cell.end = static_cast<std::uint32_t>(spans.entries.size());
-    spans.cell_lo[id] = float_below(cell_lo);
-    spans.cell_hi[id] = float_above(cell_hi);
-    // The flat wedge of the leading entries without a span (lo 0).
-    cell.wedge_end = cell.begin;
-    flat.clear();
-    for (std::size_t i = 0; i < listed.size() && spans.triangle_lo[static_cast<std::size_t>(listed[i])] == 0.0; ++i) {
-      flat.push_back(triangle_relative(fixed, static_cast<std::size_t>(listed[i]), table.centre));
-    }
-    if (!flat.empty()) {
-      const RadialSpans::FlatWedge wedge = flat_wedge(flat);
-      if (wedge.sin_bound < 1.0) {
-        cell.wedge_end = cell.begin + static_cast<std::uint32_t>(flat.size());
-        cell.wedge = static_cast<std::uint32_t>(spans.wedges.size());
-        spans.wedges.push_back(wedge);
-      }
-    }
-    // Pairs among the first 32 entries past the wedge (both ways: a hinted entry is tested before
-    // the cell's others).
-    const std::uint32_t base = cell.wedge_end, last = std::min(cell.end, base + 32);
-    for (std::uint32_t i = base; i < last; ++i) {
-      for (std::uint32_t j = i + 1; j < last; ++j) {
-        if (!separation.separated(spans.entries[i].triangle, spans.entries[j].triangle)) continue;
-        spans.entries[i].separated |= std::uint32_t{1} << (j - base);
-        spans.entries[j].separated |= std::uint32_t{1} << (i - base);
-      }
-    }
+    const std::vector<std::int32_t> listed = list_cell_entries(spans, table, id, always_lo, always_hi);
+    cell_flat_wedge(spans, spans.cells[id], listed, fixed, table.centre);
+    mark_separated(spans, spans.cells[id], separation);
   }
   if (table.grid.mapping == RadialMapping::kCube) {
     spans.cube = make_cube_locator(table.grid.dimension);
     compute_hints(spans);
   }
-  // The cap: around the mean direction of the vertices used by triangles; every vertex's
-  // direction within it. Kept only when clearly narrower than a hemisphere (convex cone).
-  std::vector<std::uint8_t> used(fixed.num_vertices(), 0);
-  for (const auto& tri : fixed.triangles) {
-    for (const auto v : tri) used[static_cast<std::size_t>(v)] = 1;
-  }
-  Vec3 sum = Vec3::Zero();
-  for (std::size_t v = 0; v < used.size(); ++v) {
-    if (!used[v]) continue;
-    const Vec3 d = fixed.vertices[v] - table.centre;
-    const double r = d.norm();
-    if (!(r > 0.0)) return;  // a vertex at O: directions everywhere, no cap
-    sum += d / r;
-  }
-  if (!(sum.norm() > 0.0)) return;
-  const Vec3 axis = sum.normalized();
-  double cos_angle = 1.0;
-  for (std::size_t v = 0; v < used.size(); ++v) {
-    if (!used[v]) continue;
-    const Vec3 d = fixed.vertices[v] - table.centre;
-    cos_angle = std::min(cos_angle, d.dot(axis) / d.norm());
-  }
-  cos_angle -= 1e-12;  // rounding of the unit directions above
-  if (cos_angle > std::cos(89.0 * 3.14159265358979323846 / 180.0)) {
-    spans.cap_axis = axis;
-    spans.cap_cos = cos_angle;
-  }
+  compute_cap(spans, fixed, table.centre);
 }
 
 ConeSeparation::ConeSeparation(const geometry::TriMesh& mesh, const Vec3& centre,

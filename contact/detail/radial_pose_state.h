@@ -15,6 +15,8 @@
 
 namespace hipfai::contact::detail {
 
+struct FiledTriangles;  // the fixed triangles sorted for the distance map (radial_segmenting.cpp)
+
 class RadialPoseState {
  public:
   RadialPoseState(const RadialTable& table, const geometry::TriMesh& fixed, const geometry::TriMesh& mobile,
@@ -57,6 +59,8 @@ class RadialPoseState {
   // posed axis R axis, shift_mm and scale_mm as for distance_culled.
   bool map_culled(const Bucket& bucket, const Vec3& axis, double shift_mm, double scale_mm) const;
   void build_distance_map();
+  // Cell g of the distance map from the filed triangles near it (its flat wedge, or their spans).
+  void fill_map_cell(int g, const FiledTriangles& filed);
   // Is every vertex of the bucket outside the spans' cap (radial_spans.h) at a pose whose rotation
   // takes rest_cap_axis to the cap's axis and whose centre moves by shift_mm?
   bool cap_culled(const Bucket& bucket, const Vec3& rest_cap_axis, const CapAngle& cap, double shift_mm) const;
