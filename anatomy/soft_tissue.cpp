@@ -455,93 +455,114 @@ TriMesh sweep_sections(const std::vector<std::optional<Section>>& sections, Soft
   return labrum;
 }
 
-}  // namespace
+// --- patches -------------------------------------------------------------------------------
 
-SoftTissues synthesise_soft_tissues(const SoftTissueRequest& request) {
-  const auto start = SteadyClock::now();
-  if (request.femur == nullptr || request.pelvis == nullptr || request.acetabulum == nullptr) {
-    throw_error("soft tissue: a femur, a pelvis and an acetabulum are required");
+Vec3 ray_direction(const Vec3& centre, const Vec3& p) { return Vec3((p - centre).normalized()); }
+
+// Where the head ends towards the neck: the alpha angle's clock profile about the neck axis,
+// linear between the profile's planes (SoftTissueRequest::head_neck_junction).
+class HeadNeckJunction {
+ public:
+  explicit HeadNeckJunction(const SoftTissueRequest& request)
+      : n_(request.neck_axis.norm() > 0.0 ? Vec3(request.neck_axis.normalized()) : Vec3::Zero()),
+        e1_(n_.norm() > 0.0 ? Vec3(n_.unitOrthogonal()) : Vec3::UnitX()),
+        e2_(n_.cross(e1_)) {
+    for (const auto& [u, alpha] : request.head_neck_junction) {
+      if (std::isfinite(alpha) && n_.norm() > 0.0) junction_.emplace_back(std::atan2(u.dot(e2_), u.dot(e1_)), alpha);
+    }
+    std::sort(junction_.begin(), junction_.end());
   }
+
+  // Is the direction d from the head centre at or beyond the junction's alpha at its clock?
+  bool beyond(const Vec3& d) const {
+    if (junction_.empty()) return true;
+    const double azimuth = std::atan2(d.dot(e2_), d.dot(e1_));
+    auto after = std::upper_bound(junction_.begin(), junction_.end(), std::make_pair(azimuth, -1e300));
+    const auto& hi = after == junction_.end() ? junction_.front() : *after;
+    const auto& lo = after == junction_.begin() ? junction_.back() : *(after - 1);
+    const auto turn = [](double a) { return std::fmod(std::fmod(a, 2.0 * std::numbers::pi) + 2.0 * std::numbers::pi, 2.0 * std::numbers::pi); };
+    const double span = junction_.size() == 1 ? 2.0 * std::numbers::pi : turn(hi.first - lo.first);
+    const double from_lo = turn(azimuth - lo.first);
+    const double f = span > 0.0 ? std::clamp(from_lo / span, 0.0, 1.0) : 0.0;
+    const double alpha = lo.second + f * (hi.second - lo.second);
+    return std::acos(std::clamp(d.normalized().dot(n_), -1.0, 1.0)) * geometry::kRadToDeg >= alpha;
+  }
+
+ private:
+  Vec3 n_, e1_, e2_;
+  std::vector<std::pair<double, double>> junction_;  // (azimuth about n, alpha), by azimuth
+};
+
+// The request's head vertices, or the femur's vertices on the head sphere (within `band`), facing
+// out of it and beyond the head-neck junction.
+std::vector<std::int32_t> head_vertices(const SoftTissueRequest& request, double band) {
+  if (!request.head_vertices.empty()) return request.head_vertices;
+  const TriMesh& femur = *request.femur;
+  std::vector<std::int32_t> head;
+  const double cos_facing = std::cos(40.0 * geometry::kDegToRad);
+  const std::vector<Vec3> normals = geometry::vertex_normals(femur);
+  const HeadNeckJunction junction(request);
+  for (std::size_t v = 0; v < femur.vertices.size(); ++v) {
+    const Vec3 d = femur.vertices[v] - request.head_centre_mm;
+    if (!junction.beyond(d)) continue;
+    const double r = d.norm();
+    if (std::abs(r - request.head_radius_mm) <= band && r > 0.0 && normals[v].dot(d / r) >= cos_facing) {
+      head.push_back(static_cast<std::int32_t>(v));
+    }
+  }
+  return head;
+}
+
+// The femoral head and lunate patches the cartilage layers grow on.
+struct Patches {
+  std::vector<char> head_in, lunate_in;  // triangle masks of femur and pelvis
+  PatchVertices head, socket;
+  std::vector<std::pair<std::int32_t, std::int32_t>> head_boundary, socket_boundary;
+};
+
+Patches find_patches(const SoftTissueRequest& request, double band, SoftTissueReport& report) {
   const TriMesh& femur = *request.femur;
   const TriMesh& pelvis = *request.pelvis;
-  geometry::validate_mesh(femur, request.femur_name);
-  geometry::validate_mesh(pelvis, request.pelvis_name);
-  if (femur.empty()) throw_error(request.femur_name, ": empty mesh");
-  if (pelvis.empty()) throw_error(request.pelvis_name, ": empty mesh");
-  const SoftTissueOptions& o = request.options;
-  if (!(request.head_radius_mm > 0.0)) throw_error(request.femur_name, ": no femoral head sphere given");
-  // The head sphere's centre selects the head region; the layers are extruded along the rays from
-  // the joint centre (the FE meshes and the depths look from there).
   const Vec3 head_centre = request.head_centre_mm;
-  const Vec3 c = request.joint_centre_mm.value_or(head_centre);
-  const Acetabulum& acetabulum = *request.acetabulum;
-  SoftTissues out;
-  SoftTissueReport& report = out.report;
-
-  // --- patches -------------------------------------------------------------------------------
-  std::vector<std::int32_t> head_vertices = request.head_vertices;
-  const double band = std::max(0.5, 2.5 * request.head_fit_rms_mm);
-  if (head_vertices.empty()) {
-    const double cos_facing = std::cos(40.0 * geometry::kDegToRad);
-    const std::vector<Vec3> normals = geometry::vertex_normals(femur);
-    // Alpha at the clock of a direction from the head centre (linear between the profile's planes).
-    const Vec3 n = request.neck_axis.norm() > 0.0 ? Vec3(request.neck_axis.normalized()) : Vec3::Zero();
-    std::vector<std::pair<double, double>> junction;  // (azimuth about n, alpha), by azimuth
-    const Vec3 e1 = n.norm() > 0.0 ? Vec3(n.unitOrthogonal()) : Vec3::UnitX(), e2 = n.cross(e1);
-    for (const auto& [u, alpha] : request.head_neck_junction) {
-      if (std::isfinite(alpha) && n.norm() > 0.0) junction.emplace_back(std::atan2(u.dot(e2), u.dot(e1)), alpha);
-    }
-    std::sort(junction.begin(), junction.end());
-    const auto beyond_junction = [&](const Vec3& d) {
-      if (junction.empty()) return true;
-      const double azimuth = std::atan2(d.dot(e2), d.dot(e1));
-      auto after = std::upper_bound(junction.begin(), junction.end(), std::make_pair(azimuth, -1e300));
-      const auto& hi = after == junction.end() ? junction.front() : *after;
-      const auto& lo = after == junction.begin() ? junction.back() : *(after - 1);
-      const auto turn = [](double a) { return std::fmod(std::fmod(a, 2.0 * std::numbers::pi) + 2.0 * std::numbers::pi, 2.0 * std::numbers::pi); };
-      const double span = junction.size() == 1 ? 2.0 * std::numbers::pi : turn(hi.first - lo.first);
-      const double from_lo = turn(azimuth - lo.first);
-      const double f = span > 0.0 ? std::clamp(from_lo / span, 0.0, 1.0) : 0.0;
-      const double alpha = lo.second + f * (hi.second - lo.second);
-      return std::acos(std::clamp(d.normalized().dot(n), -1.0, 1.0)) * geometry::kRadToDeg >= alpha;
-    };
-    for (std::size_t v = 0; v < femur.vertices.size(); ++v) {
-      const Vec3 d = femur.vertices[v] - head_centre;
-      if (!beyond_junction(d)) continue;
-      const double r = d.norm();
-      if (std::abs(r - request.head_radius_mm) <= band && r > 0.0 && normals[v].dot(d / r) >= cos_facing) {
-        head_vertices.push_back(static_cast<std::int32_t>(v));
-      }
-    }
-  }
   const EdgeAdjacency femur_edges(femur), pelvis_edges(pelvis);
-  std::vector<char> head_in = triangles_of(femur, head_vertices);
-  if (std::count(head_in.begin(), head_in.end(), 1) < 20) {
+  Patches patches;
+  patches.head_in = triangles_of(femur, head_vertices(request, band));
+  if (std::count(patches.head_in.begin(), patches.head_in.end(), 1) < 20) {
     throw_error(request.femur_name, ": no femoral head region on the sphere (centre [", head_centre.x(), ", ",
                 head_centre.y(), ", ", head_centre.z(),
                 "] mm, radius ", request.head_radius_mm, " mm)");
   }
-  head_in = clean_patch(femur, femur_edges, head_in, report.femoral, [&](const Vec3& x) {
+  patches.head_in = clean_patch(femur, femur_edges, patches.head_in, report.femoral, [&](const Vec3& x) {
     return (x - head_centre).norm() <= request.head_radius_mm + band;
   });
   const geometry::SurfaceRegion lunate =
       geometry::find_lunate_surface(pelvis, head_centre, request.head_radius_mm, {}, request.pelvis_name);
-  std::vector<char> lunate_in = triangles_of(pelvis, lunate.mesh_vertices);
-  if (std::count(lunate_in.begin(), lunate_in.end(), 1) < 20) {
+  patches.lunate_in = triangles_of(pelvis, lunate.mesh_vertices);
+  if (std::count(patches.lunate_in.begin(), patches.lunate_in.end(), 1) < 20) {
     throw_error(request.pelvis_name, ": no lunate surface around the femoral head");
   }
-  lunate_in = clean_patch(pelvis, pelvis_edges, lunate_in, report.acetabular);
-  const PatchVertices head = patch_vertices(femur, head_in), socket = patch_vertices(pelvis, lunate_in);
-  const auto head_boundary = boundary_edges(femur, femur_edges, head_in);
-  const auto socket_boundary = boundary_edges(pelvis, pelvis_edges, lunate_in);
+  patches.lunate_in = clean_patch(pelvis, pelvis_edges, patches.lunate_in, report.acetabular);
+  patches.head = patch_vertices(femur, patches.head_in);
+  patches.socket = patch_vertices(pelvis, patches.lunate_in);
+  patches.head_boundary = boundary_edges(femur, femur_edges, patches.head_in);
+  patches.socket_boundary = boundary_edges(pelvis, pelvis_edges, patches.lunate_in);
+  return patches;
+}
 
-  // --- nominal thicknesses -------------------------------------------------------------------
-  const auto direction = [&](const Vec3& p) { return Vec3((p - c).normalized()); };
+// --- layers ---------------------------------------------------------------------------------
+
+// The femoral lens: the literature maximum where the head is farthest (in angle about c) from its
+// patch's edge, thinning to 0 at the edge.
+std::vector<double> nominal_femoral_thickness(const TriMesh& femur, const Patches& patches, const Vec3& c,
+                                              const SoftTissueOptions& o) {
+  const PatchVertices& head = patches.head;
   std::vector<Vec3> edge_directions;
-  for (const auto& e : head_boundary) edge_directions.push_back(direction(femur.vertices[static_cast<std::size_t>(e.first)]));
+  for (const auto& e : patches.head_boundary) {
+    edge_directions.push_back(ray_direction(c, femur.vertices[static_cast<std::size_t>(e.first)]));
+  }
   std::vector<double> to_edge(head.mesh_index.size(), std::numbers::pi);
   for (std::size_t i = 0; i < head.mesh_index.size(); ++i) {
-    const Vec3 d = direction(femur.vertices[static_cast<std::size_t>(head.mesh_index[i])]);
+    const Vec3 d = ray_direction(c, femur.vertices[static_cast<std::size_t>(head.mesh_index[i])]);
     double best = -1.0;
     for (const Vec3& e : edge_directions) best = std::max(best, d.dot(e));
     to_edge[i] = std::acos(std::clamp(best, -1.0, 1.0));
@@ -554,22 +575,24 @@ SoftTissues synthesise_soft_tissues(const SoftTissueRequest& request) {
                        (1.0 - std::cos(b_max));
     }
   }
+  return t_f_nominal;
+}
 
-  // --- joint space ----------------------------------------------------------------------------
-  const MeshQueries femur_queries(femur), pelvis_queries(pelvis);
-  const std::vector<double> head_area = vertex_areas(femur, head_in, head);
-  const std::vector<double> socket_area = vertex_areas(pelvis, lunate_in, socket);
-  // The common articular sphere about c (see the header): its radius splits the bone-to-bone gap
-  // in the ratio of the two literature thicknesses where the femoral lens is thickest (within 10 %
-  // of its maximum) and the ray meets the lunate surface; where that gap is wider than both
-  // thicknesses the acetabular layer keeps its own and the femoral layer takes the rest.
-  const double t_f_max = o.femoral_max_thickness_mm, t_a_lit = o.acetabular_thickness_mm;
-  std::vector<char> faces_lunate(head.mesh_index.size(), 0);
+// The common articular sphere about c (see the header): its radius splits the bone-to-bone gap
+// in the ratio of the two literature thicknesses where the femoral lens is thickest (within 10 %
+// of its maximum) and the ray meets the lunate surface; where that gap is wider than both
+// thicknesses the acetabular layer keeps its own and the femoral layer takes the rest. Marks the
+// head vertices whose ray meets the lunate surface in `faces_lunate`.
+double articular_radius(const SoftTissueRequest& request, const Patches& patches, const MeshQueries& pelvis_queries,
+                        const std::vector<double>& t_f_nominal, const Vec3& c, std::vector<char>& faces_lunate) {
+  const TriMesh& femur = *request.femur;
+  const double t_f_max = request.options.femoral_max_thickness_mm, t_a_lit = request.options.acetabular_thickness_mm;
+  faces_lunate.assign(patches.head.mesh_index.size(), 0);
   std::vector<double> split, split_all;
-  for (std::size_t i = 0; i < head.mesh_index.size(); ++i) {
-    const Vec3& x = femur.vertices[static_cast<std::size_t>(head.mesh_index[i])];
-    const auto hit = pelvis_queries.first_hit(c, direction(x));
-    if (!hit || !lunate_in[hit->triangle]) continue;
+  for (std::size_t i = 0; i < patches.head.mesh_index.size(); ++i) {
+    const Vec3& x = femur.vertices[static_cast<std::size_t>(patches.head.mesh_index[i])];
+    const auto hit = pelvis_queries.first_hit(c, ray_direction(c, x));
+    if (!hit || !patches.lunate_in[hit->triangle]) continue;
     faces_lunate[i] = 1;
     const double r = (x - c).norm(), gap = hit->distance - r;
     const double meet = gap >= t_f_max + t_a_lit ? hit->distance - t_a_lit : r + std::max(0.0, gap) * t_f_max / (t_f_max + t_a_lit);
@@ -579,174 +602,281 @@ SoftTissues synthesise_soft_tissues(const SoftTissueRequest& request) {
   if (split.empty()) split = split_all;
   if (split.empty()) throw_error(request.femur_name, ": the femoral head region faces no lunate surface");
   std::nth_element(split.begin(), split.begin() + static_cast<std::ptrdiff_t>(split.size() / 2), split.end());
-  const double r_art = split[split.size() / 2];
-  report.articular_radius_mm = r_art;
-  // Femoral layer: up to the sphere where it faces the lunate surface (congruent), elsewhere the
-  // lens profile under the sphere; never thinner than the minimum.
-  std::vector<double> t_f(head.mesh_index.size()), head_r_in(t_f.size()), head_r_out(t_f.size());
-  for (std::size_t i = 0; i < t_f.size(); ++i) {
+  return split[split.size() / 2];
+}
+
+// A layer's thickness and its inner and outer radius about c, per patch vertex.
+struct LayerRadii {
+  std::vector<double> thickness, r_in, r_out;
+};
+
+// Femoral layer: up to the sphere where it faces the lunate surface (congruent), elsewhere the
+// lens profile under the sphere; never thinner than the minimum.
+LayerRadii femoral_layer(const TriMesh& femur, const PatchVertices& head, const std::vector<char>& faces_lunate,
+                         const std::vector<double>& t_f_nominal, const std::vector<double>& head_area, double r_art,
+                         const Vec3& c, const SoftTissueOptions& o, LayerReport& report) {
+  const std::size_t n = head.mesh_index.size();
+  LayerRadii layer{std::vector<double>(n), std::vector<double>(n), std::vector<double>(n)};
+  for (std::size_t i = 0; i < n; ++i) {
     const Vec3& x = femur.vertices[static_cast<std::size_t>(head.mesh_index[i])];
     const double r = (x - c).norm();
     const double to_sphere = r_art - r;
     const double wanted = faces_lunate[i] ? to_sphere : std::min(to_sphere, t_f_nominal[i]);
-    if (wanted >= to_sphere) report.femoral.articular_area_mm2 += head_area[i];
-    if (to_sphere < o.min_thickness_mm) report.femoral.overlap_area_mm2 += head_area[i];
-    t_f[i] = std::max(o.min_thickness_mm, wanted);
-    head_r_in[i] = r;
-    head_r_out[i] = r + t_f[i];
+    if (wanted >= to_sphere) report.articular_area_mm2 += head_area[i];
+    if (to_sphere < o.min_thickness_mm) report.overlap_area_mm2 += head_area[i];
+    layer.thickness[i] = std::max(o.min_thickness_mm, wanted);
+    layer.r_in[i] = r;
+    layer.r_out[i] = r + layer.thickness[i];
   }
-  // Acetabular layer: from the lunate bone down to the sphere, never thinner than the minimum.
-  std::vector<double> t_a(socket.mesh_index.size()), socket_r_in(t_a.size()), socket_r_out(t_a.size());
-  for (std::size_t i = 0; i < t_a.size(); ++i) {
+  return layer;
+}
+
+// Acetabular layer: from the lunate bone down to the sphere, never thinner than the minimum.
+LayerRadii acetabular_layer(const TriMesh& pelvis, const PatchVertices& socket, const std::vector<double>& socket_area,
+                            double r_art, const Vec3& c, const SoftTissueOptions& o, LayerReport& report) {
+  const std::size_t n = socket.mesh_index.size();
+  LayerRadii layer{std::vector<double>(n), std::vector<double>(n), std::vector<double>(n)};
+  for (std::size_t i = 0; i < n; ++i) {
     const Vec3& y = pelvis.vertices[static_cast<std::size_t>(socket.mesh_index[i])];
     const double r = (y - c).norm();
-    report.acetabular.articular_area_mm2 += socket_area[i];
-    if (r - r_art < o.min_thickness_mm) report.acetabular.overlap_area_mm2 += socket_area[i];
-    t_a[i] = std::max(o.min_thickness_mm, r - r_art);
-    socket_r_out[i] = r;
-    socket_r_in[i] = r - t_a[i];
+    report.articular_area_mm2 += socket_area[i];
+    if (r - r_art < o.min_thickness_mm) report.overlap_area_mm2 += socket_area[i];
+    layer.thickness[i] = std::max(o.min_thickness_mm, r - r_art);
+    layer.r_out[i] = r;
+    layer.r_in[i] = r - layer.thickness[i];
   }
-  out.femoral_cartilage = layer_solid(femur, head_in, head, head_boundary, c, head_r_in, head_r_out, t_f);
-  // The two layers' surfaces are piecewise linear over different meshes (and a femoral layer
-  // kept at the minimum over a bone bump stands proud of the sphere), so the acetabular joint
-  // side is also kept at or above the femoral layer's outer surface along its own ray (looking
-  // back from the bone), down to the minimum thickness.
-  {
-    const MeshQueries femoral_layer(out.femoral_cartilage);
-    for (std::size_t i = 0; i < t_a.size(); ++i) {
-      const Vec3& y = pelvis.vertices[static_cast<std::size_t>(socket.mesh_index[i])];
-      const auto hit = femoral_layer.first_hit(y, -direction(y));
-      if (!hit || hit->distance >= socket_r_out[i]) continue;
-      const double femoral_outer = socket_r_out[i] - hit->distance;
-      if (femoral_outer <= socket_r_in[i]) continue;
-      socket_r_in[i] = std::min(femoral_outer, socket_r_out[i] - o.min_thickness_mm);
-      t_a[i] = socket_r_out[i] - socket_r_in[i];
-    }
-  }
-  out.acetabular_cartilage = layer_solid(pelvis, lunate_in, socket, socket_boundary, c, socket_r_in, socket_r_out, t_a);
-  fill_layer_numbers(report.femoral, head_area, t_f, out.femoral_cartilage);
-  fill_layer_numbers(report.acetabular, socket_area, t_a, out.acetabular_cartilage);
+  return layer;
+}
 
-  // --- labrum ---------------------------------------------------------------------------------
+// The two layers' surfaces are piecewise linear over different meshes (and a femoral layer kept
+// at the minimum over a bone bump stands proud of the sphere), so the acetabular joint side is
+// also kept at or above the femoral layer's outer surface along its own ray (looking back from the
+// bone), down to the minimum thickness.
+void clear_femoral_layer(LayerRadii& acetabular, const TriMesh& pelvis, const PatchVertices& socket,
+                         const TriMesh& femoral_cartilage, const Vec3& c, const SoftTissueOptions& o) {
+  const MeshQueries femoral_layer(femoral_cartilage);
+  for (std::size_t i = 0; i < acetabular.thickness.size(); ++i) {
+    const Vec3& y = pelvis.vertices[static_cast<std::size_t>(socket.mesh_index[i])];
+    const auto hit = femoral_layer.first_hit(y, -ray_direction(c, y));
+    if (!hit || hit->distance >= acetabular.r_out[i]) continue;
+    const double femoral_outer = acetabular.r_out[i] - hit->distance;
+    if (femoral_outer <= acetabular.r_in[i]) continue;
+    acetabular.r_in[i] = std::min(femoral_outer, acetabular.r_out[i] - o.min_thickness_mm);
+    acetabular.thickness[i] = acetabular.r_out[i] - acetabular.r_in[i];
+  }
+}
+
+// --- labrum sections ------------------------------------------------------------------------
+
+// Places the labrum's sections in the meridian planes of the acetabular axis through the joint
+// centre c, their bases along its rays (so the hexahedral mesher, which looks from there, sees the
+// base edge-on); the inner face on the common articular sphere.
+class LabrumSections {
+ public:
+  enum class Verdict { kPlaced, kOnFemur, kInPelvis };
+
+  LabrumSections(const SoftTissueRequest& request, const Patches& patches, const std::vector<double>& t_f,
+                 const MeshQueries& femur_queries, const MeshQueries& pelvis_queries,
+                 const MeshQueries& cartilage_queries, const Vec3& c, double r_art)
+      : femur_(*request.femur), acetabulum_(*request.acetabulum), o_(request.options), patches_(patches), t_f_(t_f),
+        femur_queries_(femur_queries), pelvis_queries_(pelvis_queries), cartilage_queries_(cartilage_queries), c_(c),
+        r_art_(r_art) {}
+
   // Clock and polar angles seen from the joint centre (the acetabulum's own are about the lunate
   // sphere's centre; the sections are laid about c).
-  const auto clock_polar = [&](const Vec3& x) {
-    const Vec3 d = x - c;
-    const double clock = std::atan2(d.dot(acetabulum.clock_superior), d.dot(acetabulum.clock_anterior)) * geometry::kRadToDeg;
-    return std::make_pair(clock, std::atan2(d.cross(acetabulum.axis).norm(), d.dot(acetabulum.axis)) * geometry::kRadToDeg);
-  };
-  std::vector<std::pair<double, double>> rim;  // (clock, polar) of the plane-fit rim points
-  for (const RimPoint& p : acetabulum.rim) {
-    if (p.in_plane_fit) rim.push_back(clock_polar(p.point_mm));
+  std::pair<double, double> clock_polar(const Vec3& x) const {
+    const Vec3 d = x - c_;
+    const double clock = std::atan2(d.dot(acetabulum_.clock_superior), d.dot(acetabulum_.clock_anterior)) * geometry::kRadToDeg;
+    return std::make_pair(clock, std::atan2(d.cross(acetabulum_.axis).norm(), d.dot(acetabulum_.axis)) * geometry::kRadToDeg);
   }
-  if (rim.size() < 3) throw_error(request.pelvis_name, ": too little acetabular rim to carry a labrum");
-  const MeshQueries cartilage_queries(out.acetabular_cartilage);
-  // Sections in the meridian planes of the acetabular axis through the joint centre, their bases
-  // along its rays (so the hexahedral mesher, which looks from there, sees the base edge-on); the
-  // inner face on the common articular sphere.
-  const Vec3 ca = c, axis = acetabulum.axis;
-  const auto articular_sphere = [&](const Vec3&) { return r_art; };
+
+  // The section at `clock` under the rim at `polar` (deg), tilted deeper step by step until it is
+  // clear of the pelvis and its cartilage; not placed where it would stand on the femur.
+  Verdict place(double clock, double polar, Section& section) const {
+    const double phi = clock * geometry::kDegToRad;
+    const Vec3 meridian = std::cos(phi) * acetabulum_.clock_anterior + std::sin(phi) * acetabulum_.clock_superior;
+    const auto ray = [&](double polar_rad) { return Vec3(std::cos(polar_rad) * acetabulum_.axis + std::sin(polar_rad) * meridian); };
+    constexpr double kTiltStepDeg = 0.5, kMaxTiltDeg = 10.0;
+    std::array<Vec3, kCorners> corner;
+    for (double tilt = 0.0; tilt <= kMaxTiltDeg + 1e-9; tilt += kTiltStepDeg) {
+      const double base_polar = (polar - tilt) * geometry::kDegToRad;
+      const Vec3 ub = ray(base_polar);
+      const double rho_a = labrum_inner(ub);
+      const double tip_polar = base_polar - std::asin(std::min(1.0, o_.labrum_height_mm / rho_a));
+      corner[0] = c_ + rho_a * ub;
+      corner[1] = c_ + (rho_a + o_.labrum_base_mm) * ub;
+      // Tip and inner face, from the tip back towards A.
+      bool femur_hit = false;
+      for (int j = 0; j < 4; ++j) {
+        const double f = static_cast<double>(j) / 4.0;
+        const Vec3 u = ray(tip_polar + f * (base_polar - tip_polar));
+        if (femoral_outer(u) > r_art_ + o_.labrum_height_mm) femur_hit = true;  // the neck stands under the rim
+        corner[static_cast<std::size_t>(2 + j)] = c_ + labrum_inner(u) * u;
+      }
+      if (femur_hit) return Verdict::kOnFemur;
+      section = subdivided(corner);
+      const Verdict verdict = probe(section, corner);
+      if (verdict != Verdict::kInPelvis) return verdict;
+    }
+    return Verdict::kInPelvis;
+  }
+
+ private:
   // Outer radius of the femur with its cartilage along a ray from c.
-  const auto femoral_outer = [&](const Vec3& u) {
-    const auto hit = femur_queries.first_hit(ca, u);
+  double femoral_outer(const Vec3& u) const {
+    const auto hit = femur_queries_.first_hit(c_, u);
     if (!hit) return 0.0;
-    return hit->distance + (head_in[hit->triangle] ? interpolate(femur, *hit, head, t_f) : 0.0);
-  };
+    return hit->distance + (patches_.head_in[hit->triangle] ? interpolate(femur_, *hit, patches_.head, t_f_) : 0.0);
+  }
+
   // The labrum's inner face: on the articular sphere, as the generator's (the labrum extends the
   // socket), lifted only over the femoral cartilage where it stands proud of that sphere; bone
   // outside the cartilage (a cam, the neck) does not shape it: that is what it meets in motion.
-  const auto labrum_inner = [&](const Vec3& u) {
-    const auto hit = femur_queries.first_hit(ca, u);
-    if (!hit || !head_in[hit->triangle]) return articular_sphere(u);
-    return std::max(articular_sphere(u), hit->distance + interpolate(femur, *hit, head, t_f));
-  };
+  double labrum_inner(const Vec3& u) const {
+    const auto hit = femur_queries_.first_hit(c_, u);
+    if (!hit || !patches_.head_in[hit->triangle]) return r_art_;
+    return std::max(r_art_, hit->distance + interpolate(femur_, *hit, patches_.head, t_f_));
+  }
+
+  // Probes the section's points, edge midpoints and base centroid: on the femur, in the pelvis or
+  // its cartilage, or placed (clear of both).
+  Verdict probe(const Section& section, const std::array<Vec3, kCorners>& corner) const {
+    std::vector<Vec3> probes(section.begin(), section.end());
+    for (int j = 0; j < kSectionPoints; ++j) {
+      probes.push_back(0.5 * (section[static_cast<std::size_t>(j)] + section[static_cast<std::size_t>((j + 1) % kSectionPoints)]));
+    }
+    probes.push_back((corner[0] + corner[1] + corner[2]) / 3.0);
+    bool in_femur = false, in_pelvis = false;
+    for (const Vec3& p : probes) {
+      in_femur = in_femur || femur_queries_.inside(p);
+      in_pelvis = in_pelvis || pelvis_queries_.inside(p) || cartilage_queries_.inside(p);
+    }
+    if (in_femur) return Verdict::kOnFemur;
+    return in_pelvis ? Verdict::kInPelvis : Verdict::kPlaced;
+  }
+
+  const TriMesh& femur_;
+  const Acetabulum& acetabulum_;
+  const SoftTissueOptions& o_;
+  const Patches& patches_;
+  const std::vector<double>& t_f_;
+  const MeshQueries& femur_queries_;
+  const MeshQueries& pelvis_queries_;
+  const MeshQueries& cartilage_queries_;
+  Vec3 c_;
+  double r_art_;
+};
+
+// The rim's polar angle at `clock`, smoothed over kReachDeg either side; none where the rim has a
+// one-sided gap there.
+std::optional<double> rim_polar_at(const std::vector<std::pair<double, double>>& rim, double clock, double step_deg) {
+  constexpr double kReachDeg = 10.0;  // rim smoothing half-width and largest one-sided gap
+  double weight = 0.0, polar = 0.0;
+  bool before = false, after = false;
+  for (const auto& [rim_clock, rim_polar] : rim) {
+    const double delta = std::remainder(rim_clock - clock, 360.0);
+    if (std::abs(delta) > kReachDeg) continue;
+    const double w = 1.0 - std::abs(delta) / kReachDeg + 1e-9;
+    weight += w;
+    polar += w * rim_polar;
+    if (delta <= 0.5 * step_deg) before = true;
+    if (delta >= -0.5 * step_deg) after = true;
+  }
+  if (!(before && after)) return std::nullopt;
+  return polar / weight;
+}
+
+// One section per labrum_step_deg of clock where the rim carries one, counted in the report.
+std::vector<std::optional<Section>> labrum_sections(const SoftTissueRequest& request, const LabrumSections& placer,
+                                                    const PatchVertices& socket, SoftTissueReport& report) {
+  const SoftTissueOptions& o = request.options;
+  std::vector<std::pair<double, double>> rim;  // (clock, polar) of the plane-fit rim points
+  for (const RimPoint& p : request.acetabulum->rim) {
+    if (p.in_plane_fit) rim.push_back(placer.clock_polar(p.point_mm));
+  }
+  if (rim.size() < 3) throw_error(request.pelvis_name, ": too little acetabular rim to carry a labrum");
   // The horseshoe's opening (the acetabular notch): clock angles with no lunate surface within
   // kNotchPolarDeg below the rim. The rim finder may keep the notch's rim (it dips only ~10 deg
   // deeper there), the articular surface does not reach it.
   std::vector<std::pair<double, double>> lunate_clock_polar;  // (clock, polar) of lunate vertices
-  for (std::int32_t v : socket.mesh_index) lunate_clock_polar.push_back(clock_polar(pelvis.vertices[static_cast<std::size_t>(v)]));
+  for (std::int32_t v : socket.mesh_index) {
+    lunate_clock_polar.push_back(placer.clock_polar(request.pelvis->vertices[static_cast<std::size_t>(v)]));
+  }
   constexpr double kNotchPolarDeg = 30.0, kNotchClockDeg = 5.0;
   const int count = static_cast<int>(std::lround(360.0 / o.labrum_step_deg));
   report.labrum_sections_total = count;
   std::vector<std::optional<Section>> sections(static_cast<std::size_t>(count));
-  constexpr double kReachDeg = 10.0;       // rim smoothing half-width and largest one-sided gap
-  constexpr double kTiltStepDeg = 0.5, kMaxTiltDeg = 10.0;
   for (int k = 0; k < count; ++k) {
     const double clock = -180.0 + k * o.labrum_step_deg;
-    double weight = 0.0, polar = 0.0;
-    bool before = false, after = false;
-    for (const auto& [rim_clock, rim_polar] : rim) {
-      const double delta = std::remainder(rim_clock - clock, 360.0);
-      if (std::abs(delta) > kReachDeg) continue;
-      const double w = 1.0 - std::abs(delta) / kReachDeg + 1e-9;
-      weight += w;
-      polar += w * rim_polar;
-      if (delta <= 0.5 * o.labrum_step_deg) before = true;
-      if (delta >= -0.5 * o.labrum_step_deg) after = true;
-    }
-    if (!(before && after)) {
-      ++report.labrum_missing_rim;
-      continue;
-    }
-    polar /= weight;
-    const bool over_lunate = std::any_of(lunate_clock_polar.begin(), lunate_clock_polar.end(), [&](const auto& cp) {
-      return std::abs(std::remainder(cp.first - clock, 360.0)) <= kNotchClockDeg && cp.second <= polar + kNotchPolarDeg;
+    const std::optional<double> polar = rim_polar_at(rim, clock, o.labrum_step_deg);
+    const bool over_lunate = polar && std::any_of(lunate_clock_polar.begin(), lunate_clock_polar.end(), [&](const auto& cp) {
+      return std::abs(std::remainder(cp.first - clock, 360.0)) <= kNotchClockDeg && cp.second <= *polar + kNotchPolarDeg;
     });
     if (!over_lunate) {
       ++report.labrum_missing_rim;
       continue;
     }
-    const double phi = clock * geometry::kDegToRad;
-    const Vec3 meridian = std::cos(phi) * acetabulum.clock_anterior + std::sin(phi) * acetabulum.clock_superior;
-    const auto ray = [&](double polar_rad) { return Vec3(std::cos(polar_rad) * axis + std::sin(polar_rad) * meridian); };
-    bool femur_hit = false, clear = false;
     Section section;
-    std::array<Vec3, kCorners> corner;
-    for (double tilt = 0.0; tilt <= kMaxTiltDeg + 1e-9 && !femur_hit; tilt += kTiltStepDeg) {
-      const double base_polar = (polar - tilt) * geometry::kDegToRad;
-      const Vec3 ub = ray(base_polar);
-      const double rho_a = labrum_inner(ub);
-      const double tip_polar = base_polar - std::asin(std::min(1.0, o.labrum_height_mm / rho_a));
-      corner[0] = ca + rho_a * ub;
-      corner[1] = ca + (rho_a + o.labrum_base_mm) * ub;
-      // Tip and inner face, from the tip back towards A.
-      for (int j = 0; j < 4; ++j) {
-        const double f = static_cast<double>(j) / 4.0;
-        const Vec3 u = ray(tip_polar + f * (base_polar - tip_polar));
-        if (femoral_outer(u) > articular_sphere(u) + o.labrum_height_mm) femur_hit = true;  // the neck stands under the rim
-        corner[static_cast<std::size_t>(2 + j)] = ca + labrum_inner(u) * u;
-      }
-      if (femur_hit) break;
-      section = subdivided(corner);
-      std::vector<Vec3> probes(section.begin(), section.end());
-      for (int j = 0; j < kSectionPoints; ++j) {
-        probes.push_back(0.5 * (section[static_cast<std::size_t>(j)] + section[static_cast<std::size_t>((j + 1) % kSectionPoints)]));
-      }
-      probes.push_back((corner[0] + corner[1] + corner[2]) / 3.0);
-      bool in_femur = false, in_pelvis = false;
-      for (const Vec3& p : probes) {
-        in_femur = in_femur || femur_queries.inside(p);
-        in_pelvis = in_pelvis || pelvis_queries.inside(p) || cartilage_queries.inside(p);
-      }
-      if (in_femur) {
-        femur_hit = true;
+    switch (placer.place(clock, *polar, section)) {
+      case LabrumSections::Verdict::kOnFemur: ++report.labrum_dropped_femur; break;
+      case LabrumSections::Verdict::kInPelvis: ++report.labrum_dropped_pelvis; break;
+      case LabrumSections::Verdict::kPlaced:
+        sections[static_cast<std::size_t>(k)] = section;
+        ++report.labrum_sections;
         break;
-      }
-      if (!in_pelvis) {
-        clear = true;
-        break;
-      }
-    }
-    if (femur_hit) {
-      ++report.labrum_dropped_femur;
-    } else if (!clear) {
-      ++report.labrum_dropped_pelvis;
-    } else {
-      sections[static_cast<std::size_t>(k)] = section;
-      ++report.labrum_sections;
     }
   }
-  out.labrum = sweep_sections(sections, report);
+  return sections;
+}
+
+void check_request(const SoftTissueRequest& request) {
+  if (request.femur == nullptr || request.pelvis == nullptr || request.acetabulum == nullptr) {
+    throw_error("soft tissue: a femur, a pelvis and an acetabulum are required");
+  }
+  geometry::validate_mesh(*request.femur, request.femur_name);
+  geometry::validate_mesh(*request.pelvis, request.pelvis_name);
+  if (request.femur->empty()) throw_error(request.femur_name, ": empty mesh");
+  if (request.pelvis->empty()) throw_error(request.pelvis_name, ": empty mesh");
+  if (!(request.head_radius_mm > 0.0)) throw_error(request.femur_name, ": no femoral head sphere given");
+}
+
+}  // namespace
+
+SoftTissues synthesise_soft_tissues(const SoftTissueRequest& request) {
+  const auto start = SteadyClock::now();
+  check_request(request);
+  const TriMesh& femur = *request.femur;
+  const TriMesh& pelvis = *request.pelvis;
+  const SoftTissueOptions& o = request.options;
+  // The head sphere's centre selects the head region; the layers are extruded along the rays from
+  // the joint centre (the FE meshes and the depths look from there).
+  const Vec3 c = request.joint_centre_mm.value_or(request.head_centre_mm);
+  SoftTissues out;
+  SoftTissueReport& report = out.report;
+  const Patches patches = find_patches(request, std::max(0.5, 2.5 * request.head_fit_rms_mm), report);
+  const std::vector<double> t_f_nominal = nominal_femoral_thickness(femur, patches, c, o);
+
+  const MeshQueries femur_queries(femur), pelvis_queries(pelvis);
+  const std::vector<double> head_area = vertex_areas(femur, patches.head_in, patches.head);
+  const std::vector<double> socket_area = vertex_areas(pelvis, patches.lunate_in, patches.socket);
+  std::vector<char> faces_lunate;
+  const double r_art = articular_radius(request, patches, pelvis_queries, t_f_nominal, c, faces_lunate);
+  report.articular_radius_mm = r_art;
+  const LayerRadii femoral =
+      femoral_layer(femur, patches.head, faces_lunate, t_f_nominal, head_area, r_art, c, o, report.femoral);
+  LayerRadii acetabular = acetabular_layer(pelvis, patches.socket, socket_area, r_art, c, o, report.acetabular);
+  out.femoral_cartilage = layer_solid(femur, patches.head_in, patches.head, patches.head_boundary, c, femoral.r_in,
+                                      femoral.r_out, femoral.thickness);
+  clear_femoral_layer(acetabular, pelvis, patches.socket, out.femoral_cartilage, c, o);
+  out.acetabular_cartilage = layer_solid(pelvis, patches.lunate_in, patches.socket, patches.socket_boundary, c,
+                                         acetabular.r_in, acetabular.r_out, acetabular.thickness);
+  fill_layer_numbers(report.femoral, head_area, femoral.thickness, out.femoral_cartilage);
+  fill_layer_numbers(report.acetabular, socket_area, acetabular.thickness, out.acetabular_cartilage);
+
+  const MeshQueries cartilage_queries(out.acetabular_cartilage);
+  const LabrumSections placer(request, patches, femoral.thickness, femur_queries, pelvis_queries, cartilage_queries, c,
+                              r_art);
+  out.labrum = sweep_sections(labrum_sections(request, placer, patches.socket, report), report);
   if (out.labrum.empty()) {
     throw_error(request.pelvis_name, ": no labrum could be placed on the acetabular rim (", report.labrum_dropped_pelvis,
                 " sections inside the pelvis, ", report.labrum_dropped_femur, " on the femur, ",
