@@ -72,11 +72,28 @@ studies::EstimatorTrainOptions train_options(const CLI::App* app, const TrainArg
   return options;
 }
 
-const CommandRegistrar registrar("estimator", [](CLI::App& parent) {
-  auto* estimator = parent.add_subcommand(
-      "estimator", "Contact-pressure estimator of thesis §4.5 (PCA nearest neighbour): train, predict, validate");
-  estimator->require_subcommand(1);
+void print_training(const studies::EstimatorModel& model, const std::string& out,
+                    std::chrono::steady_clock::time_point start) {
+  double features_ms = 0;
+  int extracted = 0;
+  for (const auto& hip : model.hips) {
+    if (hip.feature_ms > 0) {
+      features_ms += hip.feature_ms;
+      ++extracted;
+    }
+  }
+  std::cout << std::fixed << std::setprecision(1) << "trained on " << model.hips.size() << " hips x "
+            << model.angle_deg.size() << " steps (" << model.measure << "), " << model.grid.num_features()
+            << " features (" << model.grid.describe() << "), e = " << model.estimator.pca.num_components()
+            << " components (" << std::setprecision(1)
+            << 100.0 * model.estimator.pca.variances.sum() / model.estimator.pca.total_variance
+            << " % of the variance); features " << (extracted ? features_ms / extracted : 0.0)
+            << " ms per hip; total "
+            << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() << " s; model: "
+            << out << '\n';
+}
 
+void add_train_command(CLI::App* estimator) {
   auto* train = estimator->add_subcommand("train", "Train a model file from FE results and their hips");
   auto train_args = std::make_shared<TrainArgs>();
   auto train_out = std::make_shared<std::string>();
@@ -91,99 +108,121 @@ const CommandRegistrar registrar("estimator", [](CLI::App& parent) {
     const auto model = studies::train_estimator_model(train_options(train, *train_args), &notes);
     studies::write_estimator_model(model, *train_out);
     for (const auto& note : notes) std::cout << "note: " << note << '\n';
-    double features_ms = 0;
-    int extracted = 0;
-    for (const auto& hip : model.hips) {
-      if (hip.feature_ms > 0) {
-        features_ms += hip.feature_ms;
-        ++extracted;
-      }
-    }
-    std::cout << std::fixed << std::setprecision(1) << "trained on " << model.hips.size() << " hips x "
-              << model.angle_deg.size() << " steps (" << model.measure << "), " << model.grid.num_features()
-              << " features (" << model.grid.describe() << "), e = " << model.estimator.pca.num_components()
-              << " components (" << std::setprecision(1)
-              << 100.0 * model.estimator.pca.variances.sum() / model.estimator.pca.total_variance
-              << " % of the variance); features " << (extracted ? features_ms / extracted : 0.0)
-              << " ms per hip; total "
-              << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() << " s; model: "
-              << *train_out << '\n';
+    print_training(model, *train_out, start);
   });
+}
 
+// What `estimator predict` reads from its command line.
+struct PredictArgs {
+  std::string model_path, hip_dir, csv, method = "pca_nn", e_prime;
+};
+
+// e' as asked: all the model keeps, a number, or chosen by leave-one-out ('auto', reported).
+int components_used(const studies::EstimatorModel& model, stats::EstimatorMethod method, const std::string& e_prime) {
+  if (e_prime == "auto") {
+    const stats::EPrimeSelection selection = studies::choose_e_prime(model, method);
+    std::cout << "e' = " << selection.e_prime << " chosen by leave-one-out among the " << selection.hips
+              << " training hips";
+    if (selection.hips == 0) std::cout << " (too few hips with complete values to choose: all components)";
+    std::cout << '\n';
+    return selection.e_prime;
+  }
+  return e_prime.empty() ? model.estimator.pca.num_components() : std::stoi(e_prime);
+}
+
+void write_prediction_csv(const stats::EstimateResult& result, const std::string& path) {
+  std::ostringstream table;
+  table << std::setprecision(10) << "step,estimate,low,high,bordering\n";
+  for (std::size_t j = 0; j < result.steps.size(); ++j) {
+    const auto& s = result.steps[j];
+    table << j + 1 << ',' << s.estimate << ',' << s.low << ',' << s.high << ',' << (result.bordering ? 1 : 0) << '\n';
+  }
+  write_file_atomically(path, table.str());
+}
+
+// The first step at which the hip's penetration depths say it impinges, if any.
+void print_impingement(const studies::HipPrediction& prediction) {
+  int first = -1;
+  for (Eigen::Index j = 0; j < prediction.depths.curvilinear_mm.cols() && first < 0; ++j) {
+    if (prediction.depths.curvilinear_mm(0, j) > 0.0 || prediction.depths.radial_mm(0, j) > 0.0) {
+      first = static_cast<int>(j);
+    }
+  }
+  if (first < 0) {
+    std::cout << "impinging: no (no penetration over the motion)\n";
+  } else {
+    std::cout << "impinging: yes, from step " << first + 1 << " (max curvilinear "
+              << prediction.depths.curvilinear_mm.maxCoeff() << " mm, radial "
+              << prediction.depths.radial_mm.maxCoeff() << " mm)\n";
+  }
+}
+
+void print_prediction(const studies::EstimatorModel& model, const studies::HipPrediction& prediction,
+                      const PredictArgs& args, int used) {
+  const auto& result = prediction.result;
+  std::cout << std::fixed << std::setprecision(3) << args.method << " e'=" << used << " estimate of " << model.measure
+            << " for " << args.hip_dir << " (MPa):\n step  angle_deg  estimate     low    high\n";
+  for (std::size_t j = 0; j < result.steps.size(); ++j) {
+    const auto& s = result.steps[j];
+    std::cout << std::setw(5) << j + 1 << std::setw(11) << model.angle_deg[j] << std::setw(10) << s.estimate
+              << std::setw(8) << s.low << std::setw(8) << s.high << '\n';
+  }
+  std::cout << (result.bordering ? "BORDERING" : "interior") << ": Mahalanobis distance " << result.mahalanobis
+            << " (training max " << model.estimator.max_training_mahalanobis << "), outside the training range on "
+            << result.outside_components << " of " << model.estimator.significant_components
+            << " significant components" << (result.bordering ? " - the estimate extrapolates" : "") << '\n'
+            << (prediction.approximate_frame
+                    ? "frame: approximate, from the bones of a segmented hip (no anatomical landmarks)\n"
+                    : "")
+            << "time: load " << prediction.load_ms << " ms, features " << prediction.feature_ms << " ms, ";
+  if (prediction.depths.known()) std::cout << "penetration depths " << prediction.penetration_ms << " ms, ";
+  std::cout << "prediction " << prediction.predict_ms << " ms\n";
+  if (prediction.depths.known()) print_impingement(prediction);
+}
+
+void add_predict_command(CLI::App* estimator) {
   auto* predict = estimator->add_subcommand("predict", "Estimate the FE quantity of a hip at every step of the motion");
-  auto model_path = std::make_shared<std::string>();
-  auto hip_dir = std::make_shared<std::string>();
-  auto csv = std::make_shared<std::string>();
-  auto method = std::make_shared<std::string>("pca_nn");
-  auto e_prime = std::make_shared<std::string>();
-  predict->add_option("--model", *model_path, "Model file from `estimator train`")->required();
-  predict->add_option("--hip", *hip_dir, "Hip model folder (model.json)")->required();
-  predict->add_option("--csv", *csv, "Write step, estimate, low, high, bordering to this file");
-  predict->add_option("--method", *method,
+  auto args = std::make_shared<PredictArgs>();
+  predict->add_option("--model", args->model_path, "Model file from `estimator train`")->required();
+  predict->add_option("--hip", args->hip_dir, "Hip model folder (model.json)")->required();
+  predict->add_option("--csv", args->csv, "Write step, estimate, low, high, bordering to this file");
+  predict->add_option("--method", args->method,
                       "pca_nn (thesis), knn, ridge, or depth_nn (also computes the hip's penetration depths over "
                       "the model's standing-to-sitting motion)")
       ->capture_default_str()
       ->check(CLI::IsMember({"pca_nn", "knn", "ridge", "depth_nn"}));
-  predict->add_option("--e-prime", *e_prime,
+  predict->add_option("--e-prime", args->e_prime,
                       "Components used, e' (default: all the model keeps), or 'auto': the e' with the smallest "
                       "leave-one-out error among the training hips")
       ->check(CLI::Range(1, 1000) | CLI::IsMember({"auto"}));
-  predict->callback([=] {
-    const auto model = studies::read_estimator_model(*model_path);
-    const stats::EstimatorMethod chosen_method = stats::parse_estimator_method(*method);
-    int used = model.estimator.pca.num_components();
-    if (*e_prime == "auto") {
-      const stats::EPrimeSelection selection = studies::choose_e_prime(model, chosen_method);
-      used = selection.e_prime;
-      std::cout << "e' = " << used << " chosen by leave-one-out among the " << selection.hips << " training hips";
-      if (selection.hips == 0) std::cout << " (too few hips with complete values to choose: all components)";
-      std::cout << '\n';
-    } else if (!e_prime->empty()) {
-      used = std::stoi(*e_prime);
-    }
-    const auto prediction = studies::predict_hip(model, *hip_dir, chosen_method, used);
-    const auto& result = prediction.result;
-    std::ostringstream table;
-    table << std::setprecision(10) << "step,estimate,low,high,bordering\n";
-    for (std::size_t j = 0; j < result.steps.size(); ++j) {
-      const auto& s = result.steps[j];
-      table << j + 1 << ',' << s.estimate << ',' << s.low << ',' << s.high << ',' << (result.bordering ? 1 : 0) << '\n';
-    }
-    if (!csv->empty()) write_file_atomically(*csv, table.str());
-    std::cout << std::fixed << std::setprecision(3) << *method << " e'=" << used << " estimate of " << model.measure
-              << " for " << *hip_dir << " (MPa):\n step  angle_deg  estimate     low    high\n";
-    for (std::size_t j = 0; j < result.steps.size(); ++j) {
-      const auto& s = result.steps[j];
-      std::cout << std::setw(5) << j + 1 << std::setw(11) << model.angle_deg[j] << std::setw(10) << s.estimate
-                << std::setw(8) << s.low << std::setw(8) << s.high << '\n';
-    }
-    std::cout << (result.bordering ? "BORDERING" : "interior") << ": Mahalanobis distance " << result.mahalanobis
-              << " (training max " << model.estimator.max_training_mahalanobis << "), outside the training range on "
-              << result.outside_components << " of " << model.estimator.significant_components
-              << " significant components" << (result.bordering ? " - the estimate extrapolates" : "") << '\n'
-              << (prediction.approximate_frame
-                      ? "frame: approximate, from the bones of a segmented hip (no anatomical landmarks)\n"
-                      : "")
-              << "time: load " << prediction.load_ms << " ms, features " << prediction.feature_ms << " ms, ";
-    if (prediction.depths.known()) std::cout << "penetration depths " << prediction.penetration_ms << " ms, ";
-    std::cout << "prediction " << prediction.predict_ms << " ms\n";
-    if (prediction.depths.known()) {
-      int first = -1;
-      for (Eigen::Index j = 0; j < prediction.depths.curvilinear_mm.cols() && first < 0; ++j) {
-        if (prediction.depths.curvilinear_mm(0, j) > 0.0 || prediction.depths.radial_mm(0, j) > 0.0) {
-          first = static_cast<int>(j);
-        }
-      }
-      if (first < 0) {
-        std::cout << "impinging: no (no penetration over the motion)\n";
-      } else {
-        std::cout << "impinging: yes, from step " << first + 1 << " (max curvilinear "
-                  << prediction.depths.curvilinear_mm.maxCoeff() << " mm, radial "
-                  << prediction.depths.radial_mm.maxCoeff() << " mm)\n";
-      }
-    }
+  predict->callback([args] {
+    const auto model = studies::read_estimator_model(args->model_path);
+    const stats::EstimatorMethod method = stats::parse_estimator_method(args->method);
+    const int used = components_used(model, method, args->e_prime);
+    const auto prediction = studies::predict_hip(model, args->hip_dir, method, used);
+    if (!args->csv.empty()) write_prediction_csv(prediction.result, args->csv);
+    print_prediction(model, prediction, *args, used);
   });
+}
 
+void print_validation(const studies::EstimatorValidateSummary& summary, int max_e_prime) {
+  std::cout << std::fixed << std::setprecision(2);
+  for (int c = 0; c < 2; ++c) {
+    std::cout << "case " << c + 1 << " (" << summary.hips[c] << " hips, " << summary.bordering[c]
+              << " flagged bordering, " << summary.impinging[c] << " impinging), e'=" << max_e_prime
+              << " mean |error| %:";
+    for (int m = 0; m < stats::kNumEstimatorMethods; ++m) {
+      if (!std::isfinite(summary.mean_error[c][m])) continue;  // depth_nn without depths
+      std::cout << ' ' << stats::to_string(stats::kEstimatorMethods[m]) << ' ' << summary.mean_error[c][m]
+                << " (interior " << summary.interior_error[c][m] << ')';
+    }
+    std::cout << "; pca_nn_cv (e' chosen without the target) " << summary.chosen_e_prime_error[c] << " (interior "
+              << summary.chosen_e_prime_interior_error[c] << ")\n";
+  }
+  std::cout << "thesis: case 1 5.14 (interior 1.62); report: " << summary.report.string() << '\n';
+}
+
+void add_validate_command(CLI::App* estimator) {
   auto* validate = estimator->add_subcommand(
       "validate", "Leave-one-out over all hips, e' = 1..10, cases 1-2 (thesis Tables 12-13, Figs. 72-74) with "
                   "baselines; writes loo.csv, estimates.csv, report.md, model.h5");
@@ -206,22 +245,17 @@ const CommandRegistrar registrar("estimator", [](CLI::App& parent) {
     } else if (options.train.fe.empty() || options.train.hips.empty()) {
       throw_error("estimator validate: --fe and --hips are required (or --quick)");
     }
-    const auto summary = studies::validate_estimator(options);
-    std::cout << std::fixed << std::setprecision(2);
-    for (int c = 0; c < 2; ++c) {
-      std::cout << "case " << c + 1 << " (" << summary.hips[c] << " hips, " << summary.bordering[c]
-                << " flagged bordering, " << summary.impinging[c] << " impinging), e'=" << options.max_e_prime
-                << " mean |error| %:";
-      for (int m = 0; m < stats::kNumEstimatorMethods; ++m) {
-        if (!std::isfinite(summary.mean_error[c][m])) continue;  // depth_nn without depths
-        std::cout << ' ' << stats::to_string(stats::kEstimatorMethods[m]) << ' ' << summary.mean_error[c][m]
-                  << " (interior " << summary.interior_error[c][m] << ')';
-      }
-      std::cout << "; pca_nn_cv (e' chosen without the target) " << summary.chosen_e_prime_error[c] << " (interior "
-                << summary.chosen_e_prime_interior_error[c] << ")\n";
-    }
-    std::cout << "thesis: case 1 5.14 (interior 1.62); report: " << summary.report.string() << '\n';
+    print_validation(studies::validate_estimator(options), options.max_e_prime);
   });
+}
+
+const CommandRegistrar registrar("estimator", [](CLI::App& parent) {
+  auto* estimator = parent.add_subcommand(
+      "estimator", "Contact-pressure estimator of thesis §4.5 (PCA nearest neighbour): train, predict, validate");
+  estimator->require_subcommand(1);
+  add_train_command(estimator);
+  add_predict_command(estimator);
+  add_validate_command(estimator);
 });
 
 }  // namespace
