@@ -21,6 +21,7 @@
 #include "fem/motion_solver.h"
 #include "fem/verification_cases.h"
 #include "geometry/hip_volume_mesh.h"
+#include "studies/fem_levels_report.h"
 #include "studies/fem_levels_study.h"
 #include "studies/hip_fe_run.h"
 #include "studies/motion.h"

@@ -1,4 +1,5 @@
-#include "studies/fai_study.h"
+// hipfai — the files of `study fai` from its result (see fai_report.h).
+#include "studies/fai_report.h"
 
 #include "core/atomic_file.h"
 #include "core/version.h"
@@ -121,25 +122,27 @@ void write_tables(const FaiStudyResult& result, const FaiStudyOptions& options) 
 }
 
 // Figs. 60, 62, 63 and the hip coloured by depth (SVG, and its tissues as VTP).
-FaiFigures write_figures(const FaiStudyResult& result, const FaiStudyOptions& options) {
+// Fig. 60: the maximum depths per step of one hip; returns the file name, empty when the grid
+// has no such hip.
+std::string write_fig60(const FaiStudyResult& result, const FaiStudyOptions& options, double ce, double alpha,
+                        const std::string& file) {
+  const auto it = result.runs.find(model_id(ce, alpha));
+  if (it == result.runs.end()) return std::string();
   std::vector<double> step_angles;
   for (const auto& step : result.motion.steps) step_angles.push_back(step.angle_deg);
-  auto curve_chart = [&](double ce, double alpha, const std::string& file) {
-    const auto it = result.runs.find(model_id(ce, alpha));
-    if (it == result.runs.end()) return std::string();
-    LineChart chart;
-    chart.title = "Max penetration during standing to sitting, CE " + fixed(ce, 0) + ", alpha " + fixed(alpha, 0);
-    chart.x_label = "rotation from neutral (deg)";
-    chart.y_label = "max depth (mm)";
-    Series c{"curvilinear", step_angles, {}, false}, r{"radial", step_angles, {}, true};
-    for (const auto& s : it->second.run.steps) c.y.push_back(s.curvilinear_max_mm()), r.y.push_back(s.radial_max_mm());
-    chart.series = {c, r};
-    write_svg(chart, options.out_dir / file);
-    return file;
-  };
-  FaiFigures figures;
-  figures.fig60_ce40_alpha60 = curve_chart(40, 60, "fig60_ce40_alpha60.svg");
-  figures.fig60_ce40_alpha40 = curve_chart(40, 40, "fig60_ce40_alpha40.svg");
+  LineChart chart;
+  chart.title = "Max penetration during standing to sitting, CE " + fixed(ce, 0) + ", alpha " + fixed(alpha, 0);
+  chart.x_label = "rotation from neutral (deg)";
+  chart.y_label = "max depth (mm)";
+  Series c{"curvilinear", step_angles, {}, false}, r{"radial", step_angles, {}, true};
+  for (const auto& s : it->second.run.steps) c.y.push_back(s.curvilinear_max_mm()), r.y.push_back(s.radial_max_mm());
+  chart.series = {c, r};
+  write_svg(chart, options.out_dir / file);
+  return file;
+}
+
+// Fig. 62: the maximum depth over the motion against alpha, one line per CE.
+void write_fig62(const FaiStudyResult& result, const FaiStudyOptions& options) {
   for (const bool radial : {false, true}) {
     LineChart chart;
     chart.title = std::string("Max ") + (radial ? "radial" : "curvilinear") + " penetration vs alpha";
@@ -155,71 +158,91 @@ FaiFigures write_figures(const FaiStudyResult& result, const FaiStudyOptions& op
     }
     write_svg(chart, options.out_dir / (radial ? "fig62_radial.svg" : "fig62_curvilinear.svg"));
   }
-  auto heat = [&](const std::string& title, const std::string& unit, bool diverging_map, auto value_of,
-                  const std::string& file, bool text_is_pathology = false) {
-    HeatMap map;
-    map.title = title;
-    map.unit = unit;
-    map.row_label = "CE (deg)";
-    map.column_label = "alpha (deg)";
-    map.diverging = diverging_map;
-    for (auto it = options.ce_deg.rbegin(); it != options.ce_deg.rend(); ++it) {
-      map.row_names.push_back(fixed(*it, 0));
-      std::vector<double> row;
-      std::vector<std::string> text;
-      for (double alpha : options.alpha_deg) {
-        const auto* m = find_fai_model(result.models, *it, alpha);
-        row.push_back(m ? value_of(*m) : NAN);
-        text.push_back(text_is_pathology && m ? m->pathology : "");
-      }
-      map.values.push_back(row);
-      map.cell_text.push_back(text);
-    }
-    for (double alpha : options.alpha_deg) map.column_names.push_back(fixed(alpha, 0));
-    write_svg(map, options.out_dir / file);
-  };
-  heat("Max curvilinear penetration", "mm", false,
-       [](const FaiModelSummary& m) { return m.max_curvilinear_mm; }, "fig63_curvilinear.svg");
-  heat("Max radial penetration", "mm", false, [](const FaiModelSummary& m) { return m.max_radial_mm; },
-       "fig63_radial.svg");
-  heat("Normalised curvilinear - radial", "", true,
-       [](const FaiModelSummary& m) { return m.normalised_difference; }, "fig63_difference.svg");
-  heat("Pathology (colour: normalised difference)", "", true,
-       [](const FaiModelSummary& m) { return m.normalised_difference; }, "fig63_pathology.svg", true);
+}
 
-  // A hip coloured by depth: the combined cam-pincer hip (or the deepest model), femur and labrum.
+// A Fig. 63 heat map over the CE x alpha grid (CE rows from the largest), optionally with each
+// cell's pathology as its text.
+void write_fig63(const FaiStudyResult& result, const FaiStudyOptions& options, const std::string& title,
+                 const std::string& unit, bool diverging_map, double FaiModelSummary::*value,
+                 const std::string& file, bool text_is_pathology = false) {
+  HeatMap map;
+  map.title = title;
+  map.unit = unit;
+  map.row_label = "CE (deg)";
+  map.column_label = "alpha (deg)";
+  map.diverging = diverging_map;
+  for (auto it = options.ce_deg.rbegin(); it != options.ce_deg.rend(); ++it) {
+    map.row_names.push_back(fixed(*it, 0));
+    std::vector<double> row;
+    std::vector<std::string> text;
+    for (double alpha : options.alpha_deg) {
+      const auto* m = find_fai_model(result.models, *it, alpha);
+      row.push_back(m ? (*m).*value : NAN);
+      text.push_back(text_is_pathology && m ? m->pathology : "");
+    }
+    map.values.push_back(row);
+    map.cell_text.push_back(text);
+  }
+  for (double alpha : options.alpha_deg) map.column_names.push_back(fixed(alpha, 0));
+  write_svg(map, options.out_dir / file);
+}
+
+// The hip shown coloured by depth: the combined cam-pincer hip, or the deepest model.
+const FaiModelSummary& shown_hip(const FaiStudyResult& result) {
   const FaiModelSummary* deepest = &result.models.front();
   for (const auto& m : result.models) {
     if (m.max_curvilinear_mm + m.max_radial_mm > deepest->max_curvilinear_mm + deepest->max_radial_mm) deepest = &m;
   }
-  const FaiModelSummary* shown = find_fai_model(result.models, 40, 80) ? find_fai_model(result.models, 40, 80) : deepest;
-  figures.shown_id = model_id(shown->ce_deg, shown->alpha_deg);
-  {
-    const auto& model = result.runs.at(model_id(shown->ce_deg, shown->alpha_deg));
-    std::vector<geometry::TriMesh> coloured;
-    for (const std::string tissue : {"labrum", "femoral_cartilage", "acetabular_cartilage"}) {
-      geometry::TriMesh mesh = model.hip.tissues.at(tissue);
-      std::vector<double> depth(mesh.num_vertices(), 0.0);
-      for (const std::string quantity : {"curvilinear_depth_mm", "radial_depth_mm"}) {
-        const auto it = model.run.max_fields.find(tissue + "/" + quantity);
-        if (it == model.run.max_fields.end()) continue;
-        for (std::size_t v = 0; v < depth.size(); ++v) depth[v] = std::max(depth[v], it->second[v]);
-        mesh.vertex_fields[quantity] = it->second;
-      }
-      mesh.vertex_fields["depth_mm"] = depth;
-      geometry::write_mesh(mesh, options.out_dir / (model_id(shown->ce_deg, shown->alpha_deg) + "_" + tissue + ".vtp"));
-      coloured.push_back(std::move(mesh));
+  return find_fai_model(result.models, 40, 80) ? *find_fai_model(result.models, 40, 80) : *deepest;
+}
+
+// The shown hip's acetabular soft tissues and femoral cartilage with their maximum depth fields
+// (one VTP each) and an SVG of them; returns the SVG's file name.
+std::string write_coloured_hip(const FaiStudyResult& result, const FaiStudyOptions& options,
+                               const FaiModelSummary& shown) {
+  const std::string id = model_id(shown.ce_deg, shown.alpha_deg);
+  const auto& model = result.runs.at(id);
+  std::vector<geometry::TriMesh> coloured;
+  for (const std::string tissue : {"labrum", "femoral_cartilage", "acetabular_cartilage"}) {
+    geometry::TriMesh mesh = model.hip.tissues.at(tissue);
+    std::vector<double> depth(mesh.num_vertices(), 0.0);
+    for (const std::string quantity : {"curvilinear_depth_mm", "radial_depth_mm"}) {
+      const auto it = model.run.max_fields.find(tissue + "/" + quantity);
+      if (it == model.run.max_fields.end()) continue;
+      for (std::size_t v = 0; v < depth.size(); ++v) depth[v] = std::max(depth[v], it->second[v]);
+      mesh.vertex_fields[quantity] = it->second;
     }
-    std::vector<const geometry::TriMesh*> parts;
-    for (const auto& mesh : coloured) parts.push_back(&mesh);
-    const double scale = std::max(1.0, shown->max_radial_mm);
-    figures.hip = "hip_" + model_id(shown->ce_deg, shown->alpha_deg) + ".svg";
-    // Seen from lateral (looking medially, -X), superior up: the socket's opening and the labrum.
-    write_mesh_svg(parts, "depth_mm", scale, geometry::Vec3(-1, 0, 0), geometry::Vec3(0, 0, 1),
-                   "Acetabular soft tissue coloured by max penetration depth, " +
-                       model_id(shown->ce_deg, shown->alpha_deg) + " (lateral view)",
-                   options.out_dir / figures.hip);
+    mesh.vertex_fields["depth_mm"] = depth;
+    geometry::write_mesh(mesh, options.out_dir / (id + "_" + tissue + ".vtp"));
+    coloured.push_back(std::move(mesh));
   }
+  std::vector<const geometry::TriMesh*> parts;
+  for (const auto& mesh : coloured) parts.push_back(&mesh);
+  const double scale = std::max(1.0, shown.max_radial_mm);
+  const std::string file = "hip_" + id + ".svg";
+  // Seen from lateral (looking medially, -X), superior up: the socket's opening and the labrum.
+  write_mesh_svg(parts, "depth_mm", scale, geometry::Vec3(-1, 0, 0), geometry::Vec3(0, 0, 1),
+                 "Acetabular soft tissue coloured by max penetration depth, " + id + " (lateral view)",
+                 options.out_dir / file);
+  return file;
+}
+
+FaiFigures write_figures(const FaiStudyResult& result, const FaiStudyOptions& options) {
+  FaiFigures figures;
+  figures.fig60_ce40_alpha60 = write_fig60(result, options, 40, 60, "fig60_ce40_alpha60.svg");
+  figures.fig60_ce40_alpha40 = write_fig60(result, options, 40, 40, "fig60_ce40_alpha40.svg");
+  write_fig62(result, options);
+  write_fig63(result, options, "Max curvilinear penetration", "mm", false, &FaiModelSummary::max_curvilinear_mm,
+              "fig63_curvilinear.svg");
+  write_fig63(result, options, "Max radial penetration", "mm", false, &FaiModelSummary::max_radial_mm,
+              "fig63_radial.svg");
+  write_fig63(result, options, "Normalised curvilinear - radial", "", true, &FaiModelSummary::normalised_difference,
+              "fig63_difference.svg");
+  write_fig63(result, options, "Pathology (colour: normalised difference)", "", true,
+              &FaiModelSummary::normalised_difference, "fig63_pathology.svg", true);
+  const FaiModelSummary& shown = shown_hip(result);
+  figures.shown_id = model_id(shown.ce_deg, shown.alpha_deg);
+  figures.hip = write_coloured_hip(result, options, shown);
   return figures;
 }
 
@@ -236,10 +259,7 @@ std::string hip_parameters_sentence(const FaiStudyOptions& options) {
   return text.empty() ? "the generator's defaults (geometry/hip_parameters.h)" : text + " (`--hip-parameters`)";
 }
 
-// report.md: the tables and figures of thesis §4.3.3, the comparison with its pattern, speed and
-// accuracy vs resolution.
-void write_report_md(const FaiStudyResult& result, const FaiStudyOptions& options, const FaiFigures& figures) {
-  std::ostringstream md;
+void write_introduction(std::ostream& md, const FaiStudyResult& result, const FaiStudyOptions& options) {
   md << "# FAI penetration study\n\n"
      << "hipfai " << kVersion << " (" << kGitSha << "). " << result.models.size()
      << " parametric hips, standing to sitting in " << result.motion.steps.size()
@@ -262,29 +282,36 @@ void write_report_md(const FaiStudyResult& result, const FaiStudyOptions& option
              ? "' (the thesis' rule: femur vertices beyond the socket's surface along their ray from the HJC)"
              : "' (femur vertices inside the acetabular soft tissues)")
      << "; both with the role swap (§4.3.2.1). Total run time " << fixed(result.total_seconds, 1) << " s.\n\n";
-  // A CE x alpha table whose cells `cell` formats from a model ("-" where there is none).
-  auto grid_table = [&](const std::function<std::string(const FaiModelSummary&)>& cell) {
-    md << "| CE \\ alpha |";
-    for (double alpha : options.alpha_deg) md << ' ' << fixed(alpha, 0) << " |";
-    md << "\n|---|";
-    for (std::size_t i = 0; i < options.alpha_deg.size(); ++i) md << "---|";
-    md << '\n';
-    for (double ce : options.ce_deg) {
-      md << "| " << fixed(ce, 0) << " |";
-      for (double alpha : options.alpha_deg) {
-        const auto* m = find_fai_model(result.models, ce, alpha);
-        md << ' ' << (m ? cell(*m) : std::string("-")) << " |";
-      }
-      md << '\n';
+}
+
+// A CE x alpha table whose cells `cell` formats from a model ("-" where there is none).
+void write_grid_table(std::ostream& md, const FaiStudyResult& result, const FaiStudyOptions& options,
+                      const std::function<std::string(const FaiModelSummary&)>& cell) {
+  md << "| CE \\ alpha |";
+  for (double alpha : options.alpha_deg) md << ' ' << fixed(alpha, 0) << " |";
+  md << "\n|---|";
+  for (std::size_t i = 0; i < options.alpha_deg.size(); ++i) md << "---|";
+  md << '\n';
+  for (double ce : options.ce_deg) {
+    md << "| " << fixed(ce, 0) << " |";
+    for (double alpha : options.alpha_deg) {
+      const auto* m = find_fai_model(result.models, ce, alpha);
+      md << ' ' << (m ? cell(*m) : std::string("-")) << " |";
     }
-  };
+    md << '\n';
+  }
+}
+
+// The maximum depths and the first-contact angles over the grid, and thesis Table 10.
+void write_depth_tables(std::ostream& md, const FaiStudyResult& result, const FaiStudyOptions& options) {
   md << "## Maximum penetration depth over the motion (mm)\n\n";
-  grid_table([](const FaiModelSummary& m) { return fixed(m.max_curvilinear_mm) + " / " + fixed(m.max_radial_mm); });
+  write_grid_table(md, result, options,
+                   [](const FaiModelSummary& m) { return fixed(m.max_curvilinear_mm) + " / " + fixed(m.max_radial_mm); });
   md << "\nEach cell: curvilinear / radial.\n\n";
   md << "## Where impingement begins\n\nAngle (deg) along the motion's single axis at which the femur bone first meets "
         "the labrum (exact range finder, parts beyond R + tolerance; the motion turns "
      << fixed(result.motion.steps.back().angle_deg, 1) << " deg; inf: never within a turn).\n\n";
-  grid_table([](const FaiModelSummary& m) {
+  write_grid_table(md, result, options, [](const FaiModelSummary& m) {
     return std::isfinite(m.first_contact_deg) ? fixed(m.first_contact_deg, 1) : std::string("inf");
   });
   md << '\n';
@@ -303,8 +330,10 @@ void write_report_md(const FaiStudyResult& result, const FaiStudyOptions& option
   }
   md << "\nBands as thesis Table 10 (curvilinear 0-5-10-15-20-25 mm, radial 0-2-4-6-8-10 mm, "
         "difference -0.4..0.4 in steps of 0.2); \"none\" means no penetrating vertex.\n\n";
+}
 
-  // Comparison with the thesis' qualitative pattern (§4.3.3.2), computed, not asserted.
+// Comparison with the thesis' qualitative pattern (§4.3.3.2), computed, not asserted.
+void write_thesis_pattern(std::ostream& md, const FaiStudyResult& result) {
   md << "## Against the thesis' pattern (§4.3.3.2)\n\n";
   auto verdict = [](bool ok) { return ok ? "**agrees**" : "**differs**"; };
   const auto* normal = find_fai_model(result.models, 20, 40);
@@ -352,12 +381,18 @@ void write_report_md(const FaiStudyResult& result, const FaiStudyOptions& option
   }
   md << "\nThe geometry is not tuned to these statements: the hips are built from the parameters of "
         "geometry/hip_parameters.h and the angles are measured back independently.\n\n";
+}
+
+void write_figure_sections(std::ostream& md, const FaiFigures& figures) {
   md << "## Penetration curves (Fig. 60) and trends (Fig. 62)\n\n";
   if (!figures.fig60_ce40_alpha60.empty()) md << "![](" << figures.fig60_ce40_alpha60 << ") ";
   if (!figures.fig60_ce40_alpha40.empty()) md << "![](" << figures.fig60_ce40_alpha40 << ")";
   md << "\n\n![](fig62_curvilinear.svg) ![](fig62_radial.svg)\n\n";
   md << "## A hip coloured by depth\n\n![](" << figures.hip << ")\n\nThe same tissues with their depth fields: "
      << figures.shown_id << "_*.vtp (open in ParaView).\n\n";
+}
+
+void write_speed(std::ostream& md, const FaiStudyResult& result, const FaiStudyOptions& options) {
   md << "## Speed\n\n| model | generate or load (s) | penetration, 30 steps (ms) | per step (ms) |\n|---|---|---|---|\n";
   double total_ms = 0;
   for (const auto& m : result.models) {
@@ -368,6 +403,9 @@ void write_report_md(const FaiStudyResult& result, const FaiStudyOptions& option
   md << "\nPenetration part of all " << result.models.size() << " models x " << result.motion.steps.size()
      << " steps: " << fixed(total_ms, 0) << " ms in total, " << fixed(total_ms / (result.models.size() * result.motion.steps.size()), 2)
      << " ms per step on average (tables and pose caches included), " << options.threads << " threads.\n\n";
+}
+
+void write_resolution_table(std::ostream& md, const FaiStudyResult& result) {
   md << "## Accuracy vs time (surface resolution)\n\n| edge (mm) | femur vertices | ms per step |";
   for (const auto& [name, angles] : fai_archetypes()) md << ' ' << name << " CP / RP (mm) |";
   md << "\n|---|---|---|";
@@ -392,6 +430,18 @@ void write_report_md(const FaiStudyResult& result, const FaiStudyOptions& option
     md << '\n';
   }
   md << "\nBracketed: change from the finest resolution. Data: resolution.csv.\n";
+}
+
+// report.md: the tables and figures of thesis §4.3.3, the comparison with its pattern, speed and
+// accuracy vs resolution.
+void write_report_md(const FaiStudyResult& result, const FaiStudyOptions& options, const FaiFigures& figures) {
+  std::ostringstream md;
+  write_introduction(md, result, options);
+  write_depth_tables(md, result, options);
+  write_thesis_pattern(md, result);
+  write_figure_sections(md, figures);
+  write_speed(md, result, options);
+  write_resolution_table(md, result);
   write_csv(options.out_dir / "report.md", md.str());
 }
 

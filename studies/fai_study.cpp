@@ -5,6 +5,7 @@
 #include "core/progress.h"
 #include "core/stopwatch.h"
 #include "geometry/mesh_io.h"
+#include "studies/fai_report.h"
 #include "studies/hip_sensitivity.h"
 #include "studies/hip_source.h"
 #include "studies/penetration_run.h"

@@ -13,7 +13,8 @@
 //
 // The study is two steps: compute_fai_study() computes a FaiStudyResult (writing nothing but the
 // per-step VTP files asked for, which are streamed as the motion runs), and
-// write_fai_study_outputs() writes the files above from it. run_fai_study() does both.
+// write_fai_study_outputs() (studies/fai_report.h) writes the files above from it. run_fai_study()
+// does both.
 #pragma once
 
 #include "contact/radial_mapping.h"
@@ -118,7 +119,6 @@ const std::vector<std::pair<std::string, std::pair<double, double>>>& fai_archet
 const FaiModelSummary* find_fai_model(const std::vector<FaiModelSummary>& models, double ce_deg, double alpha_deg);
 
 FaiStudyResult compute_fai_study(const FaiStudyOptions& options);
-void write_fai_study_outputs(FaiStudyResult& result, const FaiStudyOptions& options);
 FaiStudyResult run_fai_study(const FaiStudyOptions& options);
 
 }  // namespace hipfai::studies

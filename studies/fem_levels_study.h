@@ -1,8 +1,7 @@
 // hipfai — the hip FE model at several mesh levels: what accuracy costs in time (`hipfai fem
 // levels`). compute_fem_levels() runs the model and motion at each level (per-level HDF5 and CSV
-// as `fem run` writes them) into a FemLevelsResult; write_fem_levels_report() writes
-// levels.csv, levels_accuracy.svg, levels_time.svg and levels.md from it, the finest level run
-// being the reference of every difference.
+// as `fem run` writes them) into a FemLevelsResult; write_fem_levels_report()
+// (studies/fem_levels_report.h) writes the report from it.
 #pragma once
 
 #ifdef HIPFAI_WITH_FEM
@@ -47,9 +46,6 @@ struct FemLevelsResult {
 // Runs the levels of options.levels, in order of
 // refinement. Throws hipfai::Error when the model folder cannot be read (before any output).
 FemLevelsResult compute_fem_levels(const FemLevelsOptions& options);
-
-// levels.csv, the two SVG plots and levels.md in options.out_dir (nothing on ranks other than 0).
-void write_fem_levels_report(const FemLevelsResult& result, const FemLevelsOptions& options);
 
 }  // namespace hipfai::studies
 
