@@ -373,17 +373,11 @@ geometry::SphereFit settle_head(const TriMesh& femur, geometry::SphereFit sphere
   return sphere;
 }
 
-}  // namespace
-
-FemurLandmarks find_femur_landmarks(const FemurLandmarksRequest& request) {
+// The head sphere: searched near the hint when there is one (else on the whole femur), then
+// settled (settle_head).
+geometry::SphereFit find_head(const TriMesh& femur, const FemurLandmarksRequest& request,
+                              const geometry::HeadRegionOptions& head_options) {
   const std::string& what = request.what;
-  if (request.femur == nullptr) throw_error(what, ": no mesh given");
-  const TriMesh& femur = *request.femur;
-  geometry::validate_mesh(femur, what);
-  FemurLandmarks out;
-
-  // --- head ---------------------------------------------------------------------------------
-  const geometry::HeadRegionOptions head_options;
   geometry::SurfaceRegion head;
   if (request.head_centre_hint_mm) {
     const Vec3 hint = *request.head_centre_hint_mm;
@@ -397,24 +391,12 @@ FemurLandmarks find_femur_landmarks(const FemurLandmarksRequest& request) {
   } else {
     head = geometry::find_femoral_head(femur, nullptr, head_options, what);
   }
-  const geometry::SphereFit sphere = settle_head(femur, head.sphere, head_options);
-  const Vec3 c = sphere.center_mm;
-  const double r = sphere.radius_mm;
-  out.head_centre_mm = c;
-  out.head_radius_mm = r;
-  out.head_fit_rms_mm = sphere.rms_mm;
-  out.head_vertices = sphere.points;
+  return settle_head(femur, head.sphere, head_options);
+}
 
-  // --- neck ---------------------------------------------------------------------------------
-  const Neck neck =
-      find_neck(femur, c, r, std::max(head_options.min_band_mm, 2.5 * sphere.rms_mm), what);
-  out.neck_axis = neck.axis;
-  out.neck_point_mm = neck.point;
-  out.neck_section_area_mm2 = neck.area;
-  out.neck_sections = neck.sections;
-  out.neck_iterations = neck.iterations;
-
-  // --- shaft --------------------------------------------------------------------------------
+// The first guess of the shaft axis: the principal direction of the bone beyond 2 head radii
+// from the head centre c, pointing towards the head.
+Vec3 initial_shaft_axis(const TriMesh& femur, const Vec3& c, double r, const std::string& what) {
   std::vector<Vec3> far;
   for (const Vec3& p : femur.vertices)
     if ((p - c).norm() > 2.0 * r) far.push_back(p);
@@ -423,96 +405,255 @@ FemurLandmarks find_femur_landmarks(const FemurLandmarksRequest& request) {
                 " mm) of the head centre");
   Vec3 axis = principal_direction(far, mean_of(far));
   if ((c - mean_of(far)).dot(axis) < 0.0) axis = -axis;
-  bool distal = false;
-  Shaft shaft;
-  constexpr int kShaftRounds = 4;
+  return axis;
+}
+
+// Whole femur: long, and a distal end much wider than the shaft (the condyles). When not, why
+// not, in `reason`.
+bool has_distal_end(const TriMesh& femur, const Vec3& axis, double r, std::string& reason) {
+  double s_min, s_max;
+  extent_along(femur, axis, s_min, s_max);
+  const double length = s_max - s_min;
+  const auto mid = section_loops(femur, axis * (s_min + 0.5 * length), axis);
+  const SectionLoop* mid_loop = largest_loop(mid);
+  const double diameter = mid_loop ? 2.0 * std::sqrt(mid_loop->area_mm2 / std::numbers::pi) : 0.0;
+  const double width = distal_width(femur, axis, s_min + 0.15 * length, nullptr, nullptr);
+  std::ostringstream why;
+  if (length < 8.0 * r) {
+    why << "the bone is " << std::lround(length) << " mm long along its shaft, under 8 head radii ("
+        << std::lround(8.0 * r) << " mm): a proximal femur";
+  } else if (!(width > 2.0 * diameter)) {
+    why << "its distal end is " << std::lround(width) << " mm wide, not over twice the shaft's "
+        << std::lround(diameter) << " mm diameter: no condyles";
+  }
+  reason = why.str();
+  return reason.empty();
+}
+
+// The shaft's closed cross-sections along `axis` between lo and hi (s = p . axis): area,
+// centroid and height below the head centre of each section's largest loop.
+struct ShaftSections {
+  std::vector<double> areas;
+  std::vector<Vec3> centroids;
+  std::vector<double> heights;
+};
+
+ShaftSections shaft_sections(const TriMesh& femur, const Vec3& axis, const Vec3& c, double lo, double hi) {
   constexpr int kShaftSections = 30;
+  const double s_c = c.dot(axis);
+  ShaftSections sections;
+  for (int i = 0; i <= kShaftSections; ++i) {
+    const double s = lo + (hi - lo) * i / kShaftSections;
+    const auto loops = section_loops(femur, axis * s + (c - s_c * axis), axis);
+    if (const SectionLoop* loop = largest_loop(loops)) {
+      sections.areas.push_back(loop->area_mm2);
+      sections.centroids.push_back(loop->centroid_mm);
+      sections.heights.push_back(s_c - s);
+    }
+  }
+  return sections;
+}
+
+// No flare: only the sections within 25 % of the smallest.
+void keep_narrowest(ShaftSections& sections) {
+  if (sections.areas.empty()) return;
+  const double a_min = *std::min_element(sections.areas.begin(), sections.areas.end());
+  ShaftSections kept;
+  for (std::size_t i = 0; i < sections.areas.size(); ++i) {
+    if (sections.areas[i] <= 1.25 * a_min) {
+      kept.areas.push_back(sections.areas[i]);
+      kept.centroids.push_back(sections.centroids[i]);
+      kept.heights.push_back(sections.heights[i]);
+    }
+  }
+  sections = std::move(kept);
+}
+
+// One round of the shaft fit: the sections along `axis` over the diaphysis (a whole femur) or
+// between the lesser trochanter's level and the head (a proximal one), and the line through
+// their centroids.
+Shaft fit_shaft(const TriMesh& femur, const Vec3& axis, const Vec3& c, double r, bool distal,
+                const std::string& what) {
+  double s_min, s_max;
+  extent_along(femur, axis, s_min, s_max);
+  const double length = s_max - s_min;
+  const double s_c = c.dot(axis);
+  double lo, hi;
+  if (distal) {
+    lo = s_min + literature::kDiaphysisBeginFraction * length;
+    hi = s_min + literature::kDiaphysisEndFraction * length;
+  } else {
+    lo = s_min + 0.1 * (s_c - s_min);
+    hi = s_c - 1.5 * r;
+  }
+  if (!(hi > lo)) {
+    throw_error(what, ": no femoral shaft found: the bone ends ", std::lround(s_c - s_min),
+                " mm below the head centre, within 1.5 head radii of it");
+  }
+  ShaftSections sections = shaft_sections(femur, axis, c, lo, hi);
+  if (!distal) keep_narrowest(sections);
+  if (sections.centroids.size() < 3)
+    throw_error(what, ": no femoral shaft found: fewer than 3 closed shaft sections");
+  const Vec3 m = mean_of(sections.centroids);
+  Vec3 next = principal_direction(sections.centroids, m);
+  if ((c - m).dot(next) < 0.0) next = -next;
+  double mean_area = 0.0;
+  for (double a : sections.areas) mean_area += a / static_cast<double>(sections.areas.size());
+  Shaft shaft;
+  shaft.axis = next;
+  shaft.point = m;
+  shaft.from = *std::min_element(sections.heights.begin(), sections.heights.end());
+  shaft.to = *std::max_element(sections.heights.begin(), sections.heights.end());
+  shaft.sections = static_cast<int>(sections.centroids.size());
+  shaft.diameter = 2.0 * std::sqrt(mean_area / std::numbers::pi);
+  return shaft;
+}
+
+// The shaft: its axis refitted through its sections' centroids a few rounds; whether the femur is
+// whole (in the first round, along the first guess) goes to `out`.
+Shaft find_shaft(const TriMesh& femur, const Vec3& c, double r, const std::string& what, FemurLandmarks& out) {
+  constexpr int kShaftRounds = 4;
+  Vec3 axis = initial_shaft_axis(femur, c, r, what);
+  const bool distal = has_distal_end(femur, axis, r, out.distal_missing_reason);
+  Shaft shaft;
   for (int round = 0; round < kShaftRounds; ++round) {
-    double s_min, s_max;
-    extent_along(femur, axis, s_min, s_max);
-    const double length = s_max - s_min;
-    const double s_c = c.dot(axis);
-    if (round == 0) {
-      // Whole femur: long, and a distal end much wider than the shaft (the condyles).
-      const auto mid = section_loops(femur, axis * (s_min + 0.5 * length), axis);
-      const SectionLoop* mid_loop = largest_loop(mid);
-      const double diameter =
-          mid_loop ? 2.0 * std::sqrt(mid_loop->area_mm2 / std::numbers::pi) : 0.0;
-      const double width = distal_width(femur, axis, s_min + 0.15 * length, nullptr, nullptr);
-      std::ostringstream reason;
-      if (length < 8.0 * r) {
-        reason << "the bone is " << std::lround(length)
-               << " mm long along its shaft, under 8 head radii (" << std::lround(8.0 * r)
-               << " mm): a proximal femur";
-      } else if (!(width > 2.0 * diameter)) {
-        reason << "its distal end is " << std::lround(width)
-               << " mm wide, not over twice the shaft's " << std::lround(diameter)
-               << " mm diameter: no condyles";
-      } else {
-        distal = true;
+    shaft = fit_shaft(femur, axis, c, r, distal, what);
+    axis = shaft.axis;
+  }
+  double s_min, s_max;
+  extent_along(femur, shaft.axis, s_min, s_max);
+  shaft.length = s_max - s_min;
+  return shaft;
+}
+
+// The posterior condylar line: the bitangent from behind of the medial and lateral halves of the
+// distal region, found by bisection on its tilt; its two contact points.
+std::pair<Vec3, Vec3> posterior_condyles(const std::vector<Vec3>& region, const Vec3& knee, const Vec3& posterior,
+                                         const Vec3& medial_dir) {
+  auto support = [&](double theta, bool medial_half, Vec3* where) {
+    const Vec3 n = std::cos(theta) * posterior + std::sin(theta) * medial_dir;
+    double best = -std::numeric_limits<double>::infinity();
+    for (const Vec3& p : region) {
+      const double x = (p - knee).dot(medial_dir);
+      if ((x > 0.0) != medial_half) continue;
+      const double h = (p - knee).dot(n);
+      if (h > best) {
+        best = h;
+        if (where) *where = p;
       }
-      out.distal_missing_reason = reason.str();
     }
-    double lo, hi;
-    if (distal) {
-      lo = s_min + literature::kDiaphysisBeginFraction * length;
-      hi = s_min + literature::kDiaphysisEndFraction * length;
+    return best;
+  };
+  double t_lo = -std::numbers::pi / 3.0, t_hi = std::numbers::pi / 3.0;
+  for (int i = 0; i < 60; ++i) {
+    const double mid = 0.5 * (t_lo + t_hi);
+    (support(mid, true, nullptr) - support(mid, false, nullptr) < 0.0 ? t_lo : t_hi) = mid;
+  }
+  Vec3 medial_pc = Vec3::Zero(), lateral_pc = Vec3::Zero();
+  const double theta = 0.5 * (t_lo + t_hi);
+  support(theta, true, &medial_pc);
+  support(theta, false, &lateral_pc);
+  return {medial_pc, lateral_pc};
+}
+
+// The femoral frame's axes as found: superior and lateral always, anterior when known.
+struct FemurAxes {
+  Vec3 superior, lateral;
+  std::optional<Vec3> anterior;
+};
+
+// A whole femur's distal landmarks (epicondyles, knee centre, posterior condyles), its mechanical
+// axis and version into `out`; the frame's axes from them.
+FemurAxes distal_femur(const TriMesh& femur, const Vec3& c, const Shaft& shaft, FemurLandmarks& out) {
+  double s_min, s_max;
+  extent_along(femur, shaft.axis, s_min, s_max);
+  Vec3 e;
+  std::vector<Vec3> region;
+  distal_width(femur, shaft.axis, s_min + 0.15 * shaft.length, &e, &region);
+  // Medial: the side of the head.
+  if ((c - shaft.point).dot(e) < 0.0) e = -e;
+  const auto [lo_it, hi_it] =
+      std::minmax_element(region.begin(), region.end(),
+                          [&](const Vec3& a, const Vec3& b) { return a.dot(e) < b.dot(e); });
+  const Vec3 medial_epi = *hi_it, lateral_epi = *lo_it;
+  const Vec3 knee = 0.5 * (medial_epi + lateral_epi);
+  const Vec3 mech = (c - knee).normalized();
+  const Vec3 medial_dir = perpendicular_part(medial_epi - lateral_epi, mech);
+  Vec3 posterior = mech.cross(medial_dir);
+  // Posterior: the condyles stand out from the shaft line more behind than in front.
+  const Vec3 x0 = shaft.point + (knee - shaft.point).dot(shaft.axis) * shaft.axis;
+  double ahead = 0.0, behind = 0.0;
+  for (const Vec3& p : region) {
+    const double y = (p - x0).dot(posterior);
+    behind = std::max(behind, y);
+    ahead = std::max(ahead, -y);
+  }
+  if (ahead > behind) posterior = -posterior;
+  const auto [medial_pc, lateral_pc] = posterior_condyles(region, knee, posterior, medial_dir);
+  out.knee_centre_mm = knee;
+  out.medial_epicondyle_mm = medial_epi;
+  out.lateral_epicondyle_mm = lateral_epi;
+  out.medial_posterior_condyle_mm = medial_pc;
+  out.lateral_posterior_condyle_mm = lateral_pc;
+  out.mechanical_axis = mech;
+  // Version in the plane perpendicular to the mechanical axis.
+  const Vec3 to_head = -out.neck_axis;
+  const Vec3 condylar = perpendicular_part(medial_pc - lateral_pc, mech);
+  Vec3 ahead_dir = mech.cross(condylar);
+  if (ahead_dir.dot(posterior) > 0.0) ahead_dir = -ahead_dir;
+  const Vec3 head_t = to_head - to_head.dot(mech) * mech;
+  out.version_deg = std::atan2(head_t.dot(ahead_dir), head_t.dot(condylar)) * geometry::kRadToDeg;
+  out.side_method = "from the femur: the condyles are posterior and the head medial";
+  return {mech, -medial_dir, -posterior};
+}
+
+// A proximal femur's axes: the shaft and the neck (lateral of the head), anterior only from the
+// request's hint.
+FemurAxes proximal_femur(const FemurLandmarksRequest& request, const Shaft& shaft, FemurLandmarks& out) {
+  // Lateral: away from the head, perpendicular to the shaft.
+  FemurAxes axes{shaft.axis, perpendicular_part(out.neck_axis, shaft.axis), std::nullopt};
+  out.version_missing_reason = "no distal femur (" + out.distal_missing_reason + "): no posterior condylar line";
+  if (request.anterior_hint) {
+    const Vec3 a = perpendicular_part(*request.anterior_hint, shaft.axis);
+    if (a.isZero()) {
+      out.side_method = "unknown: the anterior hint is along the shaft";
     } else {
-      lo = s_min + 0.1 * (s_c - s_min);
-      hi = s_c - 1.5 * r;
+      axes.anterior = a;
+      out.side_method = "from the anterior hint and the neck (lateral of the head), no distal femur";
     }
-    if (!(hi > lo)) {
-      throw_error(what, ": no femoral shaft found: the bone ends ", std::lround(s_c - s_min),
-                  " mm below the head centre, within 1.5 head radii of it");
-    }
-    std::vector<double> areas;
-    std::vector<Vec3> centroids;
-    std::vector<double> heights;
-    for (int i = 0; i <= kShaftSections; ++i) {
-      const double s = lo + (hi - lo) * i / kShaftSections;
-      const auto loops = section_loops(femur, axis * s + (c - s_c * axis), axis);
-      if (const SectionLoop* loop = largest_loop(loops)) {
-        areas.push_back(loop->area_mm2);
-        centroids.push_back(loop->centroid_mm);
-        heights.push_back(s_c - s);
-      }
-    }
-    if (!distal && !areas.empty()) {
-      // No flare: only the sections within 25 % of the smallest.
-      const double a_min = *std::min_element(areas.begin(), areas.end());
-      std::vector<double> a2, h2;
-      std::vector<Vec3> c2;
-      for (std::size_t i = 0; i < areas.size(); ++i) {
-        if (areas[i] <= 1.25 * a_min) {
-          a2.push_back(areas[i]);
-          c2.push_back(centroids[i]);
-          h2.push_back(heights[i]);
-        }
-      }
-      areas.swap(a2);
-      centroids.swap(c2);
-      heights.swap(h2);
-    }
-    if (centroids.size() < 3)
-      throw_error(what, ": no femoral shaft found: fewer than 3 closed shaft sections");
-    const Vec3 m = mean_of(centroids);
-    Vec3 next = principal_direction(centroids, m);
-    if ((c - m).dot(next) < 0.0) next = -next;
-    axis = next;
-    double mean_area = 0.0;
-    for (double a : areas) mean_area += a / static_cast<double>(areas.size());
-    shaft.axis = axis;
-    shaft.point = m;
-    shaft.from = *std::min_element(heights.begin(), heights.end());
-    shaft.to = *std::max_element(heights.begin(), heights.end());
-    shaft.sections = static_cast<int>(centroids.size());
-    shaft.diameter = 2.0 * std::sqrt(mean_area / std::numbers::pi);
+  } else {
+    out.side_method = "unknown: no distal femur and no anterior hint";
   }
-  {
-    double s_min, s_max;
-    extent_along(femur, shaft.axis, s_min, s_max);
-    shaft.length = s_max - s_min;
-  }
+  return axes;
+}
+
+}  // namespace
+
+FemurLandmarks find_femur_landmarks(const FemurLandmarksRequest& request) {
+  const std::string& what = request.what;
+  if (request.femur == nullptr) throw_error(what, ": no mesh given");
+  const TriMesh& femur = *request.femur;
+  geometry::validate_mesh(femur, what);
+  FemurLandmarks out;
+
+  const geometry::HeadRegionOptions head_options;
+  const geometry::SphereFit sphere = find_head(femur, request, head_options);
+  const Vec3 c = sphere.center_mm;
+  const double r = sphere.radius_mm;
+  out.head_centre_mm = c;
+  out.head_radius_mm = r;
+  out.head_fit_rms_mm = sphere.rms_mm;
+  out.head_vertices = sphere.points;
+
+  const Neck neck =
+      find_neck(femur, c, r, std::max(head_options.min_band_mm, 2.5 * sphere.rms_mm), what);
+  out.neck_axis = neck.axis;
+  out.neck_point_mm = neck.point;
+  out.neck_section_area_mm2 = neck.area;
+  out.neck_sections = neck.sections;
+  out.neck_iterations = neck.iterations;
+
+  const Shaft shaft = find_shaft(femur, c, r, what, out);
   out.shaft_axis = shaft.axis;
   out.shaft_point_mm = shaft.point;
   out.shaft_from_mm = shaft.from;
@@ -520,106 +661,17 @@ FemurLandmarks find_femur_landmarks(const FemurLandmarksRequest& request) {
   out.shaft_sections = shaft.sections;
   out.length_mm = shaft.length;
   out.shaft_diameter_mm = shaft.diameter;
+  out.neck_shaft_angle_deg = angle_deg(-out.neck_axis, -shaft.axis);
 
-  const Vec3 to_head = -out.neck_axis;
-  out.neck_shaft_angle_deg = angle_deg(to_head, -shaft.axis);
-  // Lateral: away from the head, perpendicular to the shaft.
-  const Vec3 lateral_of_shaft = perpendicular_part(out.neck_axis, shaft.axis);
-  Vec3 superior = shaft.axis;
-  Vec3 lateral = lateral_of_shaft;
-  std::optional<Vec3> anterior;
-
-  // --- distal femur -------------------------------------------------------------------------
-  out.has_distal = distal;
-  if (distal) {
-    double s_min, s_max;
-    extent_along(femur, shaft.axis, s_min, s_max);
-    Vec3 e;
-    std::vector<Vec3> region;
-    distal_width(femur, shaft.axis, s_min + 0.15 * shaft.length, &e, &region);
-    // Medial: the side of the head.
-    if ((c - shaft.point).dot(e) < 0.0) e = -e;
-    const auto [lo_it, hi_it] =
-        std::minmax_element(region.begin(), region.end(),
-                            [&](const Vec3& a, const Vec3& b) { return a.dot(e) < b.dot(e); });
-    const Vec3 medial_epi = *hi_it, lateral_epi = *lo_it;
-    const Vec3 knee = 0.5 * (medial_epi + lateral_epi);
-    const Vec3 mech = (c - knee).normalized();
-    const Vec3 medial_dir = perpendicular_part(medial_epi - lateral_epi, mech);
-    Vec3 posterior = mech.cross(medial_dir);
-    // Posterior: the condyles stand out from the shaft line more behind than in front.
-    const Vec3 x0 = shaft.point + (knee - shaft.point).dot(shaft.axis) * shaft.axis;
-    double ahead = 0.0, behind = 0.0;
-    for (const Vec3& p : region) {
-      const double y = (p - x0).dot(posterior);
-      behind = std::max(behind, y);
-      ahead = std::max(ahead, -y);
-    }
-    if (ahead > behind) posterior = -posterior;
-    // Posterior condylar line: bitangent from behind of the medial and lateral halves.
-    auto support = [&](double theta, bool medial_half, Vec3* where) {
-      const Vec3 n = std::cos(theta) * posterior + std::sin(theta) * medial_dir;
-      double best = -std::numeric_limits<double>::infinity();
-      for (const Vec3& p : region) {
-        const double x = (p - knee).dot(medial_dir);
-        if ((x > 0.0) != medial_half) continue;
-        const double h = (p - knee).dot(n);
-        if (h > best) {
-          best = h;
-          if (where) *where = p;
-        }
-      }
-      return best;
-    };
-    double t_lo = -std::numbers::pi / 3.0, t_hi = std::numbers::pi / 3.0;
-    for (int i = 0; i < 60; ++i) {
-      const double mid = 0.5 * (t_lo + t_hi);
-      (support(mid, true, nullptr) - support(mid, false, nullptr) < 0.0 ? t_lo : t_hi) = mid;
-    }
-    Vec3 medial_pc = Vec3::Zero(), lateral_pc = Vec3::Zero();
-    const double theta = 0.5 * (t_lo + t_hi);
-    support(theta, true, &medial_pc);
-    support(theta, false, &lateral_pc);
-    out.knee_centre_mm = knee;
-    out.medial_epicondyle_mm = medial_epi;
-    out.lateral_epicondyle_mm = lateral_epi;
-    out.medial_posterior_condyle_mm = medial_pc;
-    out.lateral_posterior_condyle_mm = lateral_pc;
-    out.mechanical_axis = mech;
-    // Version in the plane perpendicular to the mechanical axis.
-    const Vec3 condylar = perpendicular_part(medial_pc - lateral_pc, mech);
-    Vec3 ahead_dir = mech.cross(condylar);
-    if (ahead_dir.dot(posterior) > 0.0) ahead_dir = -ahead_dir;
-    const Vec3 head_t = to_head - to_head.dot(mech) * mech;
-    out.version_deg = std::atan2(head_t.dot(ahead_dir), head_t.dot(condylar)) * geometry::kRadToDeg;
-    superior = mech;
-    lateral = -medial_dir;
-    anterior = -posterior;
-    out.side_method = "from the femur: the condyles are posterior and the head medial";
-  } else {
-    out.version_missing_reason =
-        "no distal femur (" + out.distal_missing_reason + "): no posterior condylar line";
-    if (request.anterior_hint) {
-      const Vec3 a = perpendicular_part(*request.anterior_hint, shaft.axis);
-      if (a.isZero()) {
-        out.side_method = "unknown: the anterior hint is along the shaft";
-      } else {
-        anterior = a;
-        out.side_method =
-            "from the anterior hint and the neck (lateral of the head), no distal femur";
-      }
-    } else {
-      out.side_method = "unknown: no distal femur and no anterior hint";
-    }
-  }
-  if (anterior) {
-    out.side = anterior->cross(superior).dot(lateral) > 0.0 ? Side::kRight : Side::kLeft;
+  out.has_distal = out.distal_missing_reason.empty();
+  const FemurAxes axes = out.has_distal ? distal_femur(femur, c, shaft, out) : proximal_femur(request, shaft, out);
+  if (axes.anterior) {
+    out.side = axes.anterior->cross(axes.superior).dot(axes.lateral) > 0.0 ? Side::kRight : Side::kLeft;
     AnatomicalFrame frame;
     frame.origin_mm = c;
-    frame.superior = superior;
-    frame.right =
-        perpendicular_part(*out.side == Side::kRight ? lateral : Vec3(-lateral), superior);
-    frame.anterior = superior.cross(frame.right);
+    frame.superior = axes.superior;
+    frame.right = perpendicular_part(*out.side == Side::kRight ? axes.lateral : Vec3(-axes.lateral), axes.superior);
+    frame.anterior = axes.superior.cross(frame.right);
     out.frame = frame;
   }
   return out;
