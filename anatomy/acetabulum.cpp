@@ -66,6 +66,81 @@ double median(std::vector<double> values) {
   return *middle;
 }
 
+// The rim about `axis`: per clock bin, the smallest polar angle of the vertices `near` the
+// centre c, at the mean of the vertices that tie with it (a generated socket's rim is an exact
+// cone: every rim vertex has the same polar angle, and which one rounding makes "the" minimum must
+// not matter). A vertex on a bin boundary (to rounding) counts in both bins. Bins without bone
+// have no point.
+std::vector<RimPoint> rim_points(const geometry::TriMesh& pelvis, const std::vector<std::int32_t>& near, const Vec3& c,
+                                 const Vec3& axis, const Basis& basis, int bins) {
+  std::vector<double> best(bins, std::numeric_limits<double>::infinity());
+  std::vector<Vec3> tied_sum(bins, Vec3::Zero());
+  std::vector<int> ties(bins, 0);
+  auto offer = [&](int bin, double polar, const Vec3& p) {
+    bin = (bin % bins + bins) % bins;
+    if (polar < best[bin] - kTiePolarRad) {
+      best[bin] = polar;
+      tied_sum[bin] = p;
+      ties[bin] = 1;
+    } else if (polar <= best[bin] + kTiePolarRad) {
+      best[bin] = std::min(best[bin], polar);
+      tied_sum[bin] += p;
+      ++ties[bin];
+    }
+  };
+  for (const std::int32_t i : near) {
+    const Vec3 d = pelvis.vertices[i] - c;
+    const double r = d.norm();
+    if (r <= 0.0) continue;
+    const double polar = std::acos(std::clamp(d.dot(axis) / r, -1.0, 1.0));
+    const double position = (clock_angle(basis, d) + 180.0) / 360.0 * bins;
+    const int bin = static_cast<int>(std::floor(position));
+    offer(bin, polar, pelvis.vertices[i]);
+    if (position - bin < kBoundaryFraction) offer(bin - 1, polar, pelvis.vertices[i]);
+    if (bin + 1 - position < kBoundaryFraction) offer(bin + 1, polar, pelvis.vertices[i]);
+  }
+  std::vector<RimPoint> rim;
+  for (int b = 0; b < bins; ++b) {
+    if (ties[b] == 0) continue;
+    RimPoint p;
+    p.point_mm = tied_sum[b] / ties[b];
+    p.clock_deg = clock_angle(basis, p.point_mm - c);
+    p.polar_deg = best[b] * geometry::kRadToDeg;
+    rim.push_back(p);
+  }
+  return rim;
+}
+
+// Robust plane: fit, drop far points, refit; the points kept marked in_plane_fit.
+Plane fit_rim_plane(std::vector<RimPoint>& rim, const std::string& what) {
+  for (auto& p : rim) p.in_plane_fit = true;
+  Plane plane;
+  for (int pass = 0; pass < 3; ++pass) {
+    std::vector<Vec3> kept;
+    for (const auto& p : rim) if (p.in_plane_fit) kept.push_back(p.point_mm);
+    if (kept.size() < 6) throw_error(what, ": too few rim points for the rim plane");
+    plane = fit_plane(kept);
+    std::vector<double> residuals;
+    for (const auto& p : rim) residuals.push_back(std::abs(plane.normal.dot(p.point_mm - plane.point)));
+    const double band = std::max(kMinResidualBandMm, kResidualMads * 1.4826 * median(residuals));
+    for (std::size_t k = 0; k < rim.size(); ++k) rim[k].in_plane_fit = residuals[k] <= band;
+  }
+  return plane;
+}
+
+// RMS distance of the plane-fit rim points from the plane.
+double rim_plane_rms(const std::vector<RimPoint>& rim, const Plane& plane) {
+  double sum = 0.0;
+  int count = 0;
+  for (const auto& p : rim) {
+    if (!p.in_plane_fit) continue;
+    const double r = plane.normal.dot(p.point_mm - plane.point);
+    sum += r * r;
+    ++count;
+  }
+  return std::sqrt(sum / std::max(1, count));
+}
+
 }  // namespace
 
 double Acetabulum::clock_of(const Vec3& point_mm) const {
@@ -114,73 +189,15 @@ Acetabulum find_acetabulum(const AcetabulumRequest& request) {
   const int bins = std::max(8, request.clock_bins);
   for (int round = 0; round < kAxisRounds; ++round) {
     const Basis basis = clock_basis(axis, request.pelvis_frame);
-    // Per bin: the smallest polar angle, and the mean of the vertices that tie with it (a generated
-    // socket's rim is an exact cone: every rim vertex has the same polar angle, and which one
-    // rounding makes "the" minimum must not matter). A vertex on a bin boundary (to rounding)
-    // counts in both bins.
-    std::vector<double> best(bins, std::numeric_limits<double>::infinity());
-    std::vector<Vec3> tied_sum(bins, Vec3::Zero());
-    std::vector<int> ties(bins, 0);
-    auto offer = [&](int bin, double polar, const Vec3& p) {
-      bin = (bin % bins + bins) % bins;
-      if (polar < best[bin] - kTiePolarRad) {
-        best[bin] = polar;
-        tied_sum[bin] = p;
-        ties[bin] = 1;
-      } else if (polar <= best[bin] + kTiePolarRad) {
-        best[bin] = std::min(best[bin], polar);
-        tied_sum[bin] += p;
-        ++ties[bin];
-      }
-    };
-    for (const std::int32_t i : near) {
-      const Vec3 d = pelvis.vertices[i] - c;
-      const double r = d.norm();
-      if (r <= 0.0) continue;
-      const double polar = std::acos(std::clamp(d.dot(axis) / r, -1.0, 1.0));
-      const double position = (clock_angle(basis, d) + 180.0) / 360.0 * bins;
-      const int bin = static_cast<int>(std::floor(position));
-      offer(bin, polar, pelvis.vertices[i]);
-      if (position - bin < kBoundaryFraction) offer(bin - 1, polar, pelvis.vertices[i]);
-      if (bin + 1 - position < kBoundaryFraction) offer(bin + 1, polar, pelvis.vertices[i]);
-    }
-    result.rim.clear();
-    for (int b = 0; b < bins; ++b) {
-      if (ties[b] == 0) continue;
-      RimPoint p;
-      p.point_mm = tied_sum[b] / ties[b];
-      p.clock_deg = clock_angle(basis, p.point_mm - c);
-      p.polar_deg = best[b] * geometry::kRadToDeg;
-      result.rim.push_back(p);
-    }
+    result.rim = rim_points(pelvis, near, c, axis, basis, bins);
     if (result.rim.size() < static_cast<std::size_t>(bins) / 2) {
       throw_error(request.what, ": no acetabular rim around the lunate surface (", result.rim.size(), " of ",
                   bins, " clock sectors have bone)");
     }
-    // Robust plane: fit, drop far points, refit.
-    for (auto& p : result.rim) p.in_plane_fit = true;
-    Plane plane;
-    for (int pass = 0; pass < 3; ++pass) {
-      std::vector<Vec3> kept;
-      for (const auto& p : result.rim) if (p.in_plane_fit) kept.push_back(p.point_mm);
-      if (kept.size() < 6) throw_error(request.what, ": too few rim points for the rim plane");
-      plane = fit_plane(kept);
-      std::vector<double> residuals;
-      for (const auto& p : result.rim) residuals.push_back(std::abs(plane.normal.dot(p.point_mm - plane.point)));
-      const double band = std::max(kMinResidualBandMm, kResidualMads * 1.4826 * median(residuals));
-      for (std::size_t k = 0; k < result.rim.size(); ++k) result.rim[k].in_plane_fit = residuals[k] <= band;
-    }
+    const Plane plane = fit_rim_plane(result.rim, request.what);
     Vec3 next = plane.normal;
     if (next.dot(axis) < 0.0) next = -next;
-    double sum = 0.0;
-    int count = 0;
-    for (const auto& p : result.rim) {
-      if (!p.in_plane_fit) continue;
-      const double r = plane.normal.dot(p.point_mm - plane.point);
-      sum += r * r;
-      ++count;
-    }
-    result.rim_plane_rms_mm = std::sqrt(sum / std::max(1, count));
+    result.rim_plane_rms_mm = rim_plane_rms(result.rim, plane);
     axis = next;
   }
   result.axis = axis;

@@ -117,18 +117,15 @@ Landmarks most_anterior_points(const geometry::TriMesh& mesh, const Vec3& centro
   return found;
 }
 
-}  // namespace
+// The plane of bilateral symmetry among the principal planes: its normal (the pelvis' width), how
+// far the mirrored pelvis lies from itself on average, and the width along it.
+struct Symmetry {
+  Vec3 right;
+  double residual_mm = 0.0;
+  double width_mm = 0.0;
+};
 
-PelvisLandmarks find_pelvis_landmarks(const PelvisLandmarksRequest& request) {
-  if (request.pelvis == nullptr || request.pelvis->empty()) throw_error(request.what, ": empty mesh");
-  const geometry::TriMesh& mesh = *request.pelvis;
-  geometry::validate_mesh(mesh, request.what);
-  if (!(request.superior_hint.norm() > 0.0) || !request.hjc_mm.allFinite()) {
-    throw_error(request.what, ": the pelvis search needs a hip centre and a superior direction");
-  }
-
-  // 1. The plane of bilateral symmetry among the principal planes.
-  const Principal principal = principal_axes(mesh);
+Symmetry symmetry_plane(const geometry::TriMesh& mesh, const Principal& principal, const std::string& what) {
   std::vector<Kernel::Point_3> points;
   points.reserve(mesh.num_vertices());
   for (const Vec3& v : mesh.vertices) points.emplace_back(v.x(), v.y(), v.z());
@@ -139,19 +136,29 @@ PelvisLandmarks find_pelvis_landmarks(const PelvisLandmarksRequest& request) {
     residual[k] = mirror_residual(mesh, tree, principal.centroid, principal.axes.col(k));
     if (residual[k] < residual[ml]) ml = k;
   }
-  Vec3 right = principal.axes.col(ml);
+  Symmetry symmetry{principal.axes.col(ml), residual[ml], 0.0};
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   for (const Vec3& v : mesh.vertices) {
-    lo = std::min(lo, right.dot(v));
-    hi = std::max(hi, right.dot(v));
+    lo = std::min(lo, symmetry.right.dot(v));
+    hi = std::max(hi, symmetry.right.dot(v));
   }
-  const double width = hi - lo;
-  if (residual[ml] > literature::kPelvisMaxSymmetryResidualFraction * width) {
-    throw_error(request.what, ": not a whole pelvis (no plane of bilateral symmetry: mirrored, it lies ",
-                residual[ml], " mm from itself on average); give the frame (--frame)");
+  symmetry.width_mm = hi - lo;
+  if (symmetry.residual_mm > literature::kPelvisMaxSymmetryResidualFraction * symmetry.width_mm) {
+    throw_error(what, ": not a whole pelvis (no plane of bilateral symmetry: mirrored, it lies ",
+                symmetry.residual_mm, " mm from itself on average); give the frame (--frame)");
   }
+  return symmetry;
+}
 
-  // 2. Superior from the hint; anterior towards the pubic symphysis.
+// Superior from the hint; anterior towards the pubic symphysis (the midline's bone below the hip
+// centre); right = anterior x superior, the subject's right.
+struct Directions {
+  Vec3 superior, anterior, right;
+};
+
+Directions pelvis_directions(const geometry::TriMesh& mesh, const PelvisLandmarksRequest& request,
+                             const Principal& principal, const Symmetry& symmetry) {
+  const Vec3& right = symmetry.right;
   Vec3 superior = request.superior_hint - request.superior_hint.dot(right) * right;
   if (superior.norm() < 0.2 * request.superior_hint.norm()) {
     throw_error(request.what, ": the superior direction given lies along the pelvis' width");
@@ -159,7 +166,7 @@ PelvisLandmarks find_pelvis_landmarks(const PelvisLandmarksRequest& request) {
   superior.normalize();
   Vec3 anterior = superior.cross(right);
   std::vector<double> ahead;
-  const double midline_slab = literature::kPelvisMidlineSlabFraction * width;
+  const double midline_slab = literature::kPelvisMidlineSlabFraction * symmetry.width_mm;
   for (const Vec3& v : mesh.vertices) {
     if (std::abs(right.dot(v - principal.centroid)) < midline_slab && superior.dot(v - request.hjc_mm) < 0.0) {
       ahead.push_back(anterior.dot(v - request.hjc_mm));
@@ -171,18 +178,15 @@ PelvisLandmarks find_pelvis_landmarks(const PelvisLandmarksRequest& request) {
   }
   std::nth_element(ahead.begin(), ahead.begin() + ahead.size() / 2, ahead.end());
   if (ahead[ahead.size() / 2] < 0.0) anterior = -anterior;
-  right = anterior.cross(superior);  // y x z = x: the subject's right
+  return {superior, anterior, anterior.cross(superior)};  // y x z = x
+}
 
-  // 3. The first plane: the sagittal outline's anterior hull edge.
-  const auto ends = anterior_hull_edge(mesh, anterior, superior, 60.0, request.what);
-  const Eigen::Vector2d edge = ends[1] - ends[0];
-  const Eigen::Vector2d outward = Eigen::Vector2d(edge.y(), -edge.x()).normalized();
-  Vec3 n = (outward.x() * anterior + outward.y() * superior).normalized();
-  const Eigen::Vector2d edge_middle = 0.5 * (ends[0] + ends[1]);
-  Vec3 middle = edge_middle.x() * anterior + edge_middle.y() * superior;  // its ML part is irrelevant
-
-  // 4. Refinement.
-  PelvisLandmarks result;
+// The anterior pelvic plane refined from its first guess (normal n through `middle`): the most
+// anterior points of each hemipelvis above and below the plane's middle, until they settle; the
+// landmarks and rounds into `result`.
+void refine_anterior_plane(const geometry::TriMesh& mesh, const PelvisLandmarksRequest& request,
+                           const Principal& principal, const Vec3& right, Vec3 n, Vec3 middle,
+                           PelvisLandmarks& result) {
   Landmarks previous;
   for (int iteration = 1;; ++iteration) {
     const Vec3 up = right.cross(n).normalized();  // x x y = z: superior, in the plane
@@ -210,14 +214,37 @@ PelvisLandmarks find_pelvis_landmarks(const PelvisLandmarksRequest& request) {
     }
     previous = found;
   }
+}
+
+}  // namespace
+
+PelvisLandmarks find_pelvis_landmarks(const PelvisLandmarksRequest& request) {
+  if (request.pelvis == nullptr || request.pelvis->empty()) throw_error(request.what, ": empty mesh");
+  const geometry::TriMesh& mesh = *request.pelvis;
+  geometry::validate_mesh(mesh, request.what);
+  if (!(request.superior_hint.norm() > 0.0) || !request.hjc_mm.allFinite()) {
+    throw_error(request.what, ": the pelvis search needs a hip centre and a superior direction");
+  }
+  const Principal principal = principal_axes(mesh);
+  const Symmetry symmetry = symmetry_plane(mesh, principal, request.what);
+  const Directions directions = pelvis_directions(mesh, request, principal, symmetry);
+  // The first plane: the sagittal outline's anterior hull edge.
+  const auto ends = anterior_hull_edge(mesh, directions.anterior, directions.superior, 60.0, request.what);
+  const Eigen::Vector2d edge = ends[1] - ends[0];
+  const Eigen::Vector2d outward = Eigen::Vector2d(edge.y(), -edge.x()).normalized();
+  const Vec3 n = (outward.x() * directions.anterior + outward.y() * directions.superior).normalized();
+  const Eigen::Vector2d edge_middle = 0.5 * (ends[0] + ends[1]);
+  const Vec3 middle = edge_middle.x() * directions.anterior + edge_middle.y() * directions.superior;  // its ML part is irrelevant
+  PelvisLandmarks result;
+  refine_anterior_plane(mesh, request, principal, directions.right, n, middle, result);
 
   result.frame = anterior_pelvic_plane_frame({result.asis_right_mm, result.asis_left_mm, result.pubic_tubercle_right_mm,
                                               result.pubic_tubercle_left_mm},
                                              request.hjc_mm, request.what);
   const Vec3 midline = 0.5 * (result.asis_right_mm + result.asis_left_mm);
   result.side = result.frame.right.dot(request.hjc_mm - midline) >= 0.0 ? Side::kRight : Side::kLeft;
-  result.symmetry_residual_mm = residual[ml];
-  result.width_mm = width;
+  result.symmetry_residual_mm = symmetry.residual_mm;
+  result.width_mm = symmetry.width_mm;
   return result;
 }
 
