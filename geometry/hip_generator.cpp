@@ -239,20 +239,10 @@ std::optional<std::pair<double, double>> labrum_neck_sector(const HipParameters&
   return std::make_pair(begin, begin + (best_length + 1) * step);
 }
 
-struct TissueSolids {
-  std::vector<std::pair<std::string, DimTags>> tissues;
-};
-
-// The five tissues as OCC solids in the current model (see hip_generator.h for the recipe).
-TissueSolids build_solids(const HipParameters& p) {
+// Femur bone and femoral cartilage (see hip_generator.h for the recipe).
+std::pair<DimTags, DimTags> femur_solids(const HipParameters& p) {
   const double radius = p.articular_radius_mm;
-  const double socket_radius = radius + p.acetabular_cartilage_mm;
-  const double big = 4.0 * (p.pelvis_block_x_mm + p.pelvis_block_y_mm + p.pelvis_block_z_mm);
   const Vec3 n = neck_axis(p);
-  const Vec3 a = acetabular_axis(p);
-  TissueSolids solids;
-
-  // --- femur -----------------------------------------------------------------------------
   // Head ball: centre s n, radius R - t + s, so the pole (-n) is t below the R sphere and the
   // two spheres meet at the cartilage edge angle phi_e from n:
   //   R^2 + s^2 - 2 R s cos(phi_e) = (R - t + s)^2  =>  s = (R^2 - (R-t)^2) / (2 (R - t + R cos phi_e)).
@@ -286,32 +276,39 @@ TissueSolids build_solids(const HipParameters& p) {
     for (const auto& dim_tag : cam_solids(p)) cartilage_tools.push_back(dim_tag);
   }
   // The cartilage lens: R ball minus the head ball (and minus the cam, which replaces it).
-  const DimTags femoral_cartilage = cut(ball(Vec3::Zero(), radius), cartilage_tools);
-  solids.tissues.emplace_back("femur_bone", bone);
-  solids.tissues.emplace_back("femoral_cartilage", femoral_cartilage);
+  return {bone, cut(ball(Vec3::Zero(), radius), cartilage_tools)};
+}
 
-  // --- acetabulum ---------------------------------------------------------------------------
+// The direction in the meridian plane of `towards` (perpendicular to the acetabular axis a) at
+// `angle` from a.
+Vec3 meridian(const Vec3& a, const Vec3& towards, double angle) {
+  return Vec3(std::cos(angle) * a + std::sin(angle) * unit_perpendicular(a, towards));
+}
+
+// The pelvis block with the socket of radius R + cartilage, restricted to the socket's side.
+DimTags acetabular_bone_solid(const HipParameters& p, const Vec3& a, double opening, double big) {
   const Vec3 block_centre(-p.pelvis_block_x_mm / 4.0, 0.0, 0.1 * p.pelvis_block_z_mm);
   const Vec3 block_min = block_centre - 0.5 * Vec3(p.pelvis_block_x_mm, p.pelvis_block_y_mm,
                                                    p.pelvis_block_z_mm);
   DimTags block = {{3, occ::addBox(block_min.x(), block_min.y(), block_min.z(),
                                    p.pelvis_block_x_mm, p.pelvis_block_y_mm, p.pelvis_block_z_mm)}};
-  const double opening = socket_opening_deg(p) * kDegToRad;
   block = restrict_to_socket(block, a, opening, big);
-  const DimTags acetabular_bone = cut(block, ball(Vec3::Zero(), socket_radius));
+  return cut(block, ball(Vec3::Zero(), p.articular_radius_mm + p.acetabular_cartilage_mm));
+}
 
-  // Directions in the meridian plane of `towards` (perpendicular to a) at `angle` from a.
-  auto meridian = [&](const Vec3& towards, double angle) {
-    return Vec3(std::cos(angle) * a + std::sin(angle) * unit_perpendicular(a, towards));
-  };
+// The horseshoe: the socket's shell of cartilage without the fossa, open at the notch where the
+// fossa does not reach the rim.
+DimTags acetabular_cartilage_solid(const HipParameters& p, const Vec3& a, double opening, double big) {
+  const double radius = p.articular_radius_mm;
+  const double socket_radius = radius + p.acetabular_cartilage_mm;
   // Inferior rim direction. The acetabular fossa is part of the pelvis, not of the rim: its axis
   // lies 30 deg beyond the inferior rim of the hemispherical socket towards the acetabular pole
   // -a, whatever the rim's depth (a rim that moved with CE would bring the fossa under the
   // loaded dome of a shallow socket).
-  const Vec3 inferior_rim = meridian(-Vec3::UnitZ(), opening);
+  const Vec3 inferior_rim = meridian(a, -Vec3::UnitZ(), opening);
   const double fossa_tilt = 30.0 * kDegToRad;
   const double half_pi = 0.5 * std::numbers::pi;
-  const Vec3 fossa_axis = meridian(-Vec3::UnitZ(), half_pi + fossa_tilt);
+  const Vec3 fossa_axis = meridian(a, -Vec3::UnitZ(), half_pi + fossa_tilt);
   DimTags shell = cut(ball(Vec3::Zero(), socket_radius), ball(Vec3::Zero(), radius));
   shell = restrict_to_socket(shell, a, opening, big);
   const double fossa_radius =
@@ -326,15 +323,41 @@ TissueSolids build_solids(const HipParameters& p) {
     acetabular_cartilage = cut(acetabular_cartilage, cylinder(Vec3::Zero(), (socket_radius + 20.0) * inferior_rim,
                                                               0.5 * p.notch_width_mm));
   }
+  return acetabular_cartilage;
+}
 
-  // Labrum: triangular section in a meridian plane of a, revolved about a: base on the rim cone
-  // from R to R + base, tip on the R sphere asin(labrum_height / R) nearer the axis than the rim
-  // (the section of a hemispherical socket, whose tip stands labrum_height above the rim plane,
-  // turned with the rim).
+// The wedge between two half-planes through the acetabular axis a, at the azimuths of `sector`.
+DimTags neck_wedge(const std::pair<double, double>& sector, const Vec3& a, double big) {
+  const Vec3 e1 = unit_perpendicular(a, Vec3::UnitZ());
+  const Vec3 e2 = a.cross(e1);
+  const Vec3 m0 = std::cos(sector.first) * e1 + std::sin(sector.first) * e2;
+  const double extent = big;
+  const Vec3 c0 = -extent * a, c1 = -extent * a + extent * m0, c2 = extent * a + extent * m0, c3 = extent * a;
+  std::vector<int> corners;
+  for (const Vec3& c : {c0, c1, c2, c3}) corners.push_back(occ::addPoint(c.x(), c.y(), c.z()));
+  std::vector<int> sides;
+  for (int k = 0; k < 4; ++k) sides.push_back(occ::addLine(corners[k], corners[(k + 1) % 4]));
+  const int face = occ::addPlaneSurface({occ::addCurveLoop(sides)});
+  DimTags wedge_parts;
+  occ::revolve({{2, face}}, 0, 0, 0, a.x(), a.y(), a.z(), sector.second - sector.first, wedge_parts);
+  DimTags wedge;
+  for (const auto& dim_tag : wedge_parts) {
+    if (dim_tag.first == 3) wedge.push_back(dim_tag);
+  }
+  occ::remove({{2, face}}, true);
+  return wedge;
+}
+
+// Labrum: triangular section in a meridian plane of a, revolved about a: base on the rim cone
+// from R to R + base, tip on the R sphere asin(labrum_height / R) nearer the axis than the rim
+// (the section of a hemispherical socket, whose tip stands labrum_height above the rim plane,
+// turned with the rim); open at the notch.
+DimTags labrum_solid(const HipParameters& p, const Vec3& a, double opening, double big) {
+  const double radius = p.articular_radius_mm;
   const double tip_angle = opening - std::asin(p.labrum_height_mm / radius);
-  const Vec3 pa = radius * meridian(Vec3::UnitZ(), opening);
-  const Vec3 pb = (radius + p.labrum_base_mm) * meridian(Vec3::UnitZ(), opening);
-  const Vec3 pt = radius * meridian(Vec3::UnitZ(), tip_angle);
+  const Vec3 pa = radius * meridian(a, Vec3::UnitZ(), opening);
+  const Vec3 pb = (radius + p.labrum_base_mm) * meridian(a, Vec3::UnitZ(), opening);
+  const Vec3 pt = radius * meridian(a, Vec3::UnitZ(), tip_angle);
   const int origin_tag = occ::addPoint(0, 0, 0);
   const int a_tag = occ::addPoint(pa.x(), pa.y(), pa.z());
   const int b_tag = occ::addPoint(pb.x(), pb.y(), pb.z());
@@ -352,6 +375,7 @@ TissueSolids build_solids(const HipParameters& p) {
     if (dim_tag.first == 3) labrum.push_back(dim_tag);
   }
   occ::remove({{2, section}}, true);
+  const Vec3 inferior_rim = meridian(a, -Vec3::UnitZ(), opening);
   labrum = cut(labrum, cylinder(Vec3::Zero(), (radius + p.labrum_base_mm + 20.0) * inferior_rim,
                                 0.5 * p.notch_width_mm));
   // Where the femoral neck passes under the rim in the neutral pose, the labrum stops short of
@@ -365,27 +389,27 @@ TissueSolids build_solids(const HipParameters& p) {
   // sector's faces are half-planes through the acetabular axis, radial like the rim (a plane
   // cut meshes into hexahedral columns from the HJC). Hips whose rim stays clear of the neck are
   // unchanged.
-  if (const auto sector = labrum_neck_sector(p, a, opening, tip_angle)) {
-    const Vec3 e1 = unit_perpendicular(a, Vec3::UnitZ());
-    const Vec3 e2 = a.cross(e1);
-    const Vec3 m0 = std::cos(sector->first) * e1 + std::sin(sector->first) * e2;
-    const double extent = big;
-    const Vec3 c0 = -extent * a, c1 = -extent * a + extent * m0, c2 = extent * a + extent * m0, c3 = extent * a;
-    std::vector<int> corners;
-    for (const Vec3& c : {c0, c1, c2, c3}) corners.push_back(occ::addPoint(c.x(), c.y(), c.z()));
-    std::vector<int> sides;
-    for (int k = 0; k < 4; ++k) sides.push_back(occ::addLine(corners[k], corners[(k + 1) % 4]));
-    const int face = occ::addPlaneSurface({occ::addCurveLoop(sides)});
-    DimTags wedge_parts;
-    occ::revolve({{2, face}}, 0, 0, 0, a.x(), a.y(), a.z(), sector->second - sector->first, wedge_parts);
-    DimTags wedge;
-    for (const auto& dim_tag : wedge_parts) {
-      if (dim_tag.first == 3) wedge.push_back(dim_tag);
-    }
-    occ::remove({{2, face}}, true);
-    labrum = cut(labrum, wedge);
-  }
+  if (const auto sector = labrum_neck_sector(p, a, opening, tip_angle)) labrum = cut(labrum, neck_wedge(*sector, a, big));
+  return labrum;
+}
 
+struct TissueSolids {
+  std::vector<std::pair<std::string, DimTags>> tissues;
+};
+
+// The five tissues as OCC solids in the current model (see hip_generator.h for the recipe), made
+// in a fixed order: OpenCASCADE numbers the entities as they are made, and the meshes follow.
+TissueSolids build_solids(const HipParameters& p) {
+  const double big = 4.0 * (p.pelvis_block_x_mm + p.pelvis_block_y_mm + p.pelvis_block_z_mm);
+  const Vec3 a = acetabular_axis(p);
+  const double opening = socket_opening_deg(p) * kDegToRad;
+  TissueSolids solids;
+  const auto [bone, femoral_cartilage] = femur_solids(p);
+  solids.tissues.emplace_back("femur_bone", bone);
+  solids.tissues.emplace_back("femoral_cartilage", femoral_cartilage);
+  const DimTags acetabular_bone = acetabular_bone_solid(p, a, opening, big);
+  const DimTags acetabular_cartilage = acetabular_cartilage_solid(p, a, opening, big);
+  const DimTags labrum = labrum_solid(p, a, opening, big);
   solids.tissues.emplace_back("acetabular_bone", acetabular_bone);
   solids.tissues.emplace_back("acetabular_cartilage", acetabular_cartilage);
   solids.tissues.emplace_back("labrum", labrum);
