@@ -83,10 +83,7 @@ class CondensedContact {
     unsigned int component = 0;                 // constrained component
     double normal_component = 1.0;
   };
-  // h_[n] = K0^-1 B_n^T over all surface dofs, for `count` constraints at once.
-  void compute_h(const std::size_t* nodes, std::size_t count);
-  static constexpr std::size_t kBlock = 16;       // constraints per block of compute_h
-  static constexpr std::size_t kRowChunk = 256;   // rows per chunk: a block's columns stay cached
+  void compute_h(std::size_t n);  // h_[n] = K0^-1 B_n^T over all surface dofs
 
   BodyCompliance* bodies_ = nullptr;
   const ContactModel* model_ = nullptr;
