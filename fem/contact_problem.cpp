@@ -6,6 +6,7 @@
 #include "fem/condensed_contact.h"
 #include "fem/contact_constraints.h"
 #include "fem/contact_output.h"
+#include "fem/contact_search_ahead.h"
 #include "fem/contact_summary.h"
 #include "fem/elastic_system.h"
 #include "fem/load_control.h"
@@ -19,6 +20,7 @@
 
 #include <cmath>
 #include <iostream>
+#include <optional>
 #include <string>
 
 namespace hipfai::fem {
@@ -89,6 +91,11 @@ class ContactProblem::Impl {
   LinearSolver solver_kind = LinearSolver::kCgAmg;
   // The contact surfaces' faces, made once and turned with their bodies on later runs.
   ContactSurfaces surfaces;
+  // The next run's model, when the caller expects one, and the search of its contact, run
+  // beside this run's solve.
+  std::optional<ContactModel> next_model;
+  ContactSearchAhead search_ahead;
+  bool searched_ahead = false;  // this run's nodes came from it
   std::vector<SlaveNode> nodes;
   std::vector<bool> active;
   // Of the last run: its solved state, the nodes' forces and gaps (empty: no state solved),
@@ -129,7 +136,20 @@ void ContactProblem::Impl::setup_system() {
 void ContactProblem::Impl::find_contact_nodes() {
   dealii::TimerOutput::Scope scope(timer, "contact search");
   surfaces.update(system, model);
-  nodes = collect_slave_nodes(system, model, surfaces, constraints.fixed_dofs(), options.tangent_plane_cull);
+  std::optional<std::vector<SlaveNode>> found = search_ahead.take(
+      system, surfaces, model, constraints.fixed_dofs(), options.tangent_plane_cull);
+  searched_ahead = found.has_value();
+  if (searched_ahead) pcout << "fem: contact nodes from the search run beside the previous run" << std::endl;
+  nodes = found ? std::move(*found)
+                : collect_slave_nodes(system, model, surfaces, constraints.fixed_dofs(),
+                                      options.tangent_plane_cull);
+  if (next_model) {
+    // One thread: the run's own stages keep the worker pool (a search that entered it would
+    // hold its slots while the solve waits for them).
+    search_ahead.start(system, surfaces, *next_model, constraints.fixed_dofs(),
+                       options.tangent_plane_cull, 1);
+    next_model.reset();
+  }
 }
 
 std::vector<Linearization> ContactProblem::Impl::solve_active_set(
@@ -301,6 +321,11 @@ void ContactProblem::Impl::postprocess(ContactResult& result) {
 ContactResult ContactProblem::Impl::run() {
   const dealii::Timer wall_clock;
   timer.reset();
+  // The search ahead reads the mesh: it ends before the run does, also when the run throws.
+  struct WaitForSearchAhead {
+    ContactSearchAhead& search;
+    ~WaitForSearchAhead() { search.wait(); }
+  } wait_for_search_ahead{search_ahead};
   check_references(model);
   setup_system();
   find_contact_nodes();
@@ -309,6 +334,7 @@ ContactResult ContactProblem::Impl::run() {
   result.statistics.n_cells = system.triangulation().n_global_active_cells();
   result.statistics.n_dofs = system.dof_handler().n_dofs();
   result.statistics.n_ranks = dealii::Utilities::MPI::n_mpi_processes(system.communicator());
+  result.statistics.searched_ahead = searched_ahead;
   std::vector<dealii::Tensor<1, 3>> translations;
   for (const RigidBody& body : model.rigid_bodies) translations.push_back(body.translation_mm);
   state = Linearization();
@@ -331,6 +357,10 @@ ContactResult ContactProblem::Impl::run() {
   if (!options.vtu_file.empty()) {
     dealii::TimerOutput::Scope scope(timer, "output");
     output_results(options.vtu_file);
+  }
+  {
+    dealii::TimerOutput::Scope scope(timer, "contact search ahead (waiting)");
+    search_ahead.wait();
   }
   result.statistics.wall_time_s = wall_clock.wall_time();
   const SolveStatistics& counts = result.statistics;
@@ -380,5 +410,7 @@ ContactModel& ContactProblem::model() { return impl_->model; }
 const ContactModel& ContactProblem::model() const { return impl_->model; }
 
 void ContactProblem::write_vtu(const std::string& file) const { impl_->output_results(file); }
+
+void ContactProblem::expect_next(ContactModel next) { impl_->next_model = std::move(next); }
 
 }  // namespace hipfai::fem

@@ -45,6 +45,8 @@ struct SolveStatistics {
   unsigned int factorisations = 0;         // direct solver: Cholesky factorisations
   unsigned int low_rank_updates = 0;  // direct solver: active sets solved by a bordered correction
   double wall_time_s = 0.0;           // wall time of the solve (s)
+  // The contact nodes came from the search run beside the previous run (ContactProblem::expect_next).
+  bool searched_ahead = false;
   // Set by run_motion: solves the step was split into (1: none) and failed attempts that were
   // cut back.
   unsigned int sub_steps = 1;

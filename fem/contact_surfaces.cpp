@@ -43,10 +43,6 @@ void ContactSurfaces::update(const ElasticSystem& system, const ContactModel& mo
     boundaries.insert(pair.slave_boundary_id);
     if (pair.master_rigid_body < 0) boundaries.insert(pair.master_boundary_id);
   }
-  // Each cell's bone: the rotation and centre its vertices were placed with.
-  std::map<dealii::types::material_id, int> rigid_of_material;
-  for (const Body& body : model.bodies) rigid_of_material[body.material_id] = body.bonded_rigid_body;
-  const dealii::Tensor<2, 3> identity = dealii::unit_symmetric_tensor<3>();
   // Support points agree to round-off when the mapping turns with the body.
   const double tolerance = 1e-10 * system.diameter();
   // A face is determined by its support points only if the element's nodes on it can carry the
@@ -63,10 +59,8 @@ void ContactSurfaces::update(const ElasticSystem& system, const ContactModel& mo
       for (const unsigned int face_no : cell->face_indices()) {
         const auto face = cell->face(face_no);
         if (!face->at_boundary() || face->boundary_id() != id) continue;
-        const auto it = rigid_of_material.find(cell->material_id());
-        const int rigid = it == rigid_of_material.end() ? -1 : it->second;
-        const dealii::Tensor<2, 3>& rotation = rigid < 0 ? identity : model.rigid_bodies[rigid].rotation;
-        const dealii::Point<3> centre = rigid < 0 ? dealii::Point<3>() : model.rigid_bodies[rigid].rotation_center_mm;
+        // The rotation and centre the cell's vertices were placed with.
+        const auto [rotation, centre] = placement(model, cell->material_id());
         const bool known = index < made.size() && made[index].patch.cell == cell &&
                            made[index].patch.face_no == face_no;
         if (!known) {
@@ -96,6 +90,41 @@ void ContactSurfaces::update(const ElasticSystem& system, const ContactModel& mo
     }
     made.erase(made.begin() + static_cast<std::ptrdiff_t>(std::min(index, made.size())), made.end());
   }
+}
+
+std::pair<dealii::Tensor<2, 3>, dealii::Point<3>> ContactSurfaces::placement(
+    const ContactModel& model, dealii::types::material_id material) {
+  int rigid = -1;  // the last body of the material decides, as in ElasticSystem::place_bodies
+  for (const Body& body : model.bodies)
+    if (body.material_id == material) rigid = body.bonded_rigid_body;
+  if (rigid < 0) return {dealii::unit_symmetric_tensor<3>(), dealii::Point<3>()};
+  return {model.rigid_bodies[rigid].rotation, model.rigid_bodies[rigid].rotation_center_mm};
+}
+
+ContactSurfaces ContactSurfaces::predicted(const ContactModel& model) const {
+  ContactSurfaces out;
+  for (const auto& [id, made] : made_) {
+    std::vector<FacePatch>& current = out.current_[id];
+    for (const MadeFace& face : made) {
+      const auto [rotation, centre] = placement(model, face.patch.cell->material_id());
+      if (rotation == face.rotation)
+        current.push_back(face.patch);
+      else
+        current.push_back(face.patch.turned(rotation * dealii::transpose(face.rotation), centre));
+    }
+  }
+  return out;
+}
+
+bool ContactSurfaces::same_faces(const ContactSurfaces& other) const {
+  if (current_.size() != other.current_.size()) return false;
+  for (const auto& [id, faces] : current_) {
+    const auto it = other.current_.find(id);
+    if (it == other.current_.end() || it->second.size() != faces.size()) return false;
+    for (std::size_t f = 0; f < faces.size(); ++f)
+      if (!faces[f].identical(it->second[f])) return false;
+  }
+  return true;
 }
 
 const std::vector<FacePatch>& ContactSurfaces::faces(dealii::types::boundary_id boundary_id) const {

@@ -36,6 +36,13 @@ class ContactSurfaces {
   // boundary no pair names or that has no faces.
   const std::vector<FacePatch>& faces(dealii::types::boundary_id boundary_id) const;
 
+  // The faces update() would give for `model`'s placement if every face passed its check: the
+  // faces as made, turned with their bones to the model's rotations. Reads neither the system nor
+  // the mesh, so it can be made while the mesh is in another placement (a search ahead).
+  ContactSurfaces predicted(const ContactModel& model) const;
+  // True when both hold the same boundaries with bit-for-bit the same faces.
+  bool same_faces(const ContactSurfaces& other) const;
+
   // Faces made from the mapping since construction; the others were reused or turned.
   std::size_t faces_made() const { return faces_made_; }
 
@@ -49,6 +56,10 @@ class ContactSurfaces {
   };
   MadeFace make(const ElasticSystem& system, const dealii::DoFHandler<3>::active_cell_iterator& cell,
                 unsigned int face_no, const dealii::Tensor<2, 3>& rotation);
+
+  // The rotation and centre a cell's body is placed with in `model` (identity: not bonded).
+  static std::pair<dealii::Tensor<2, 3>, dealii::Point<3>> placement(
+      const ContactModel& model, dealii::types::material_id material);
 
   std::map<dealii::types::boundary_id, std::vector<MadeFace>> made_;
   std::map<dealii::types::boundary_id, std::vector<FacePatch>> current_;

@@ -1,7 +1,5 @@
 #include "fem/elastic_system.h"
 
-#include <deal.II/grid/grid_tools.h>
-
 #include "core/error.h"
 #include "fem/thread_chunks.h"
 
@@ -47,38 +45,83 @@ ElasticSystem::ElasticSystem(MPI_Comm communicator, unsigned int fe_degree,
   }
 }
 
+namespace {
+
+// GridTools::diameter's measure: the largest distance between two boundary vertices (the same
+// pairwise scan and arithmetic, so the same number), of any placement of the vertices.
+double boundary_diameter(const std::vector<dealii::Point<3>>& vertices,
+                         const std::vector<bool>& on_boundary) {
+  double max_distance_sqr = 0.0;
+  for (std::size_t i = 0; i < vertices.size(); ++i) {
+    if (!on_boundary[i]) continue;
+    for (std::size_t j = i + 1; j < vertices.size(); ++j) {
+      if (on_boundary[j] && (vertices[i] - vertices[j]).norm_square() > max_distance_sqr)
+        max_distance_sqr = (vertices[i] - vertices[j]).norm_square();
+    }
+  }
+  return std::sqrt(max_distance_sqr);
+}
+
+}  // namespace
+
+const std::vector<bool>& ElasticSystem::boundary_vertices() const {
+  if (boundary_vertices_.size() != triangulation_.n_vertices()) {
+    boundary_vertices_.assign(triangulation_.n_vertices(), false);
+    for (const auto& cell : triangulation_.active_cell_iterators()) {
+      for (const unsigned int face : cell->face_indices()) {
+        if (!cell->face(face)->at_boundary()) continue;
+        for (unsigned int i = 0; i < cell->face(face)->n_vertices(); ++i)
+          boundary_vertices_[cell->face(face)->vertex_index(i)] = true;
+      }
+    }
+  }
+  return boundary_vertices_;
+}
+
 double ElasticSystem::diameter() const {
-  if (diameter_ < 0.0) diameter_ = dealii::GridTools::diameter(triangulation_);
+  if (diameter_ < 0.0) diameter_ = boundary_diameter(triangulation_.get_vertices(), boundary_vertices());
   return diameter_;
 }
 
-void ElasticSystem::place_bodies(const ContactModel& model) {
-  diameter_ = -1.0;
-  if (reference_vertices_.empty()) reference_vertices_ = triangulation_.get_vertices();
+double ElasticSystem::diameter_if_placed(const ContactModel& model) const {
+  if (reference_vertices_.empty()) return diameter();
+  return boundary_diameter(placed_vertices(model), boundary_vertices());
+}
+
+std::vector<dealii::Point<3>> ElasticSystem::placed_vertices(const ContactModel& model) const {
   std::map<dealii::types::material_id, int> rigid_of_material;
   for (const Body& body : model.bodies)
     rigid_of_material[body.material_id] = body.bonded_rigid_body;
-  std::vector<bool> placed(reference_vertices_.size(), false);
+  std::vector<dealii::Point<3>> placed = reference_vertices_;
+  std::vector<bool> done(reference_vertices_.size(), false);
   for (const auto& cell : triangulation_.cell_iterators()) {
     const auto it = rigid_of_material.find(cell->material_id());
     const int rigid = it == rigid_of_material.end() ? -1 : it->second;
     for (const unsigned int v : cell->vertex_indices()) {
       const unsigned int index = cell->vertex_index(v);
-      if (placed[index]) continue;  // bodies that share a vertex: the first one places it
-      placed[index] = true;
+      if (done[index]) continue;  // bodies that share a vertex: the first one places it
+      done[index] = true;
+      if (rigid < 0) continue;
+      const RigidBody& body = model.rigid_bodies[rigid];
       const dealii::Point<3>& x = reference_vertices_[index];
-      if (rigid < 0) {
-        cell->vertex(v) = x;
-      } else {
-        const RigidBody& body = model.rigid_bodies[rigid];
-        cell->vertex(v) = body.rotation_center_mm + body.rotation * (x - body.rotation_center_mm);
-      }
+      placed[index] = body.rotation_center_mm + body.rotation * (x - body.rotation_center_mm);
     }
+  }
+  return placed;
+}
+
+void ElasticSystem::place_bodies(const ContactModel& model) {
+  diameter_ = -1.0;
+  if (reference_vertices_.empty()) reference_vertices_ = triangulation_.get_vertices();
+  const std::vector<dealii::Point<3>> placed = placed_vertices(model);
+  for (const auto& cell : triangulation_.cell_iterators()) {
+    for (const unsigned int v : cell->vertex_indices()) cell->vertex(v) = placed[cell->vertex_index(v)];
   }
 }
 
 void ElasticSystem::setup(const ContactModel& model) {
   diameter_ = -1.0;  // the mesh may have been changed since it was placed
+  boundary_vertices_.clear();
   lame_by_material_.clear();
   for (const Body& body : model.bodies) {
     lame_by_material_[body.material_id] = {body.material.lame_lambda_mpa(),

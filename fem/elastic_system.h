@@ -52,9 +52,13 @@ class ElasticSystem {
   // Moves the mesh to the model's pose: the cells of a body bonded to a rigid body rotated with
   // it from the reference vertices (saved on the first call, so rotations do not accumulate).
   void place_bodies(const ContactModel& model);
-  // The triangulation's diameter in its current placement (GridTools::diameter, a pairwise scan
-  // of the boundary vertices), computed once per set-up: the contact stages of a run ask for it several times.
+  // The triangulation's diameter in its current placement (GridTools::diameter's measure, a
+  // pairwise scan of the boundary vertices), computed once per set-up: the contact stages of a
+  // run ask for it several times.
   double diameter() const;
+  // The same number for the placement place_bodies(model) would make, without moving the mesh
+  // (bit for bit what diameter() gives after it); the current one before the first placement.
+  double diameter_if_placed(const ContactModel& model) const;
   // Lame constants per material, dofs and their support points. Throws hipfai::Error for a cell
   // whose material id belongs to no body.
   void setup(const ContactModel& model);
@@ -106,6 +110,10 @@ class ElasticSystem {
  private:
   void cell_stiffness(const dealii::DoFHandler<3>::active_cell_iterator& cell,
                       dealii::FEValues<3>& fe_values, dealii::FullMatrix<double>& matrix) const;
+  // Every vertex where place_bodies(model) puts it (from the reference vertices).
+  std::vector<dealii::Point<3>> placed_vertices(const ContactModel& model) const;
+  // Per vertex: on a boundary face (marked once per triangulation).
+  const std::vector<bool>& boundary_vertices() const;
 
   MPI_Comm comm_;
   dealii::parallel::shared::Triangulation<3> triangulation_;
@@ -121,6 +129,7 @@ class ElasticSystem {
   std::vector<dealii::Point<3>> support_points_;  // of every dof
   std::vector<dealii::Point<3>> reference_vertices_;
   mutable double diameter_ = -1.0;  // of the current placement, < 0 until asked
+  mutable std::vector<bool> boundary_vertices_;
   // Stiffness of every locally owned cell (by active cell index) in the configuration of this
   // run, with the vertices and Lame constants each was computed with: a cell whose vertices have
   // not moved since (the tissues of the fixed bodies) keeps its matrix in the next run — the

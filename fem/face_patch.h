@@ -28,6 +28,12 @@ class FacePatch {
   // point of the patch turned, bounds and orientation following.
   FacePatch turned(const dealii::Tensor<2, 3>& rotation, const dealii::Point<3>& centre) const;
 
+  // The same patch bit for bit: the same face, interpolation nodes and bounds' grid.
+  bool identical(const FacePatch& other) const {
+    return cell == other.cell && face_no == other.face_no && degree_ == other.degree_ &&
+           orientation_ == other.orientation_ && nodes_ == other.nodes_ && samples_ == other.samples_;
+  }
+
   // Degree of the interpolating polynomial (the mapping's, or kDegree).
   unsigned int degree() const { return degree_; }
 

@@ -120,16 +120,16 @@ struct MortarIntegrals {
 
 MortarIntegrals integrate_mortar(const ElasticSystem& system, const BoundaryProjector& projector,
                                  const std::vector<FacePatch>& slave_faces,
-                                 const PairNodes& pair_nodes, double search_radius_mm,
-                                 bool tangent_plane_cull) {
+                                 const PairNodes& pair_nodes,
+                                 const ContactSearchSettings& settings) {
   const std::size_t count = pair_nodes.nodes.size();
   MortarIntegrals out;
   out.mortar.resize(count);
   out.weighted_gap.assign(count, dealii::Tensor<1, 3>());
   out.covered.assign(count, 0.0);
   MortarSegmentOptions segment_options;
-  segment_options.search_radius_mm = search_radius_mm;
-  segment_options.tangent_plane_cull = tangent_plane_cull;
+  segment_options.search_radius_mm = settings.search_radius_mm;
+  segment_options.tangent_plane_cull = settings.tangent_plane_cull;
   const MortarSegmenter segmenter(projector.faces(), segment_options);
   const dealii::FESystem<3>& fe = system.fe();
   const TensorLagrange base(fe.base_element(0));
@@ -198,8 +198,7 @@ MortarIntegrals integrate_mortar(const ElasticSystem& system, const BoundaryProj
     }
   };
   // Faces opposite the master cost far more than the rest: blocks taken dynamically.
-  parallel_blocks(slave_faces.size(), static_cast<int>(threads_per_rank(system.communicator())), 8,
-                  integrate_faces);
+  parallel_blocks(slave_faces.size(), static_cast<int>(settings.n_threads), 8, integrate_faces);
 
   std::vector<global_dof_index> dofs(fe.n_dofs_per_cell()), master_dofs(fe.n_dofs_per_cell());
   for (std::size_t f = 0; f < slave_faces.size(); ++f) {
@@ -258,9 +257,17 @@ std::vector<SlaveNode> collect_slave_nodes(const ElasticSystem& system, const Co
                                            const ContactSurfaces& surfaces,
                                            const std::vector<bool>& fixed_dof,
                                            bool tangent_plane_cull) {
+  return collect_slave_nodes(system, model, surfaces, fixed_dof,
+                             {contact_search_radius(system.diameter()),
+                              threads_per_rank(system.communicator()), tangent_plane_cull});
+}
+
+std::vector<SlaveNode> collect_slave_nodes(const ElasticSystem& system, const ContactModel& model,
+                                           const ContactSurfaces& surfaces,
+                                           const std::vector<bool>& fixed_dof,
+                                           const ContactSearchSettings& settings) {
   std::vector<SlaveNode> nodes;
-  // Search radius: contact partners are close; 5 % of the model size is generous.
-  const double search_radius_mm = 0.05 * system.diameter();
+  const double search_radius_mm = settings.search_radius_mm;
   for (unsigned int p = 0; p < model.contact_pairs.size(); ++p) {
     const ContactPair& pair = model.contact_pairs[p];
     std::unique_ptr<BoundaryProjector> projector;
@@ -280,7 +287,7 @@ std::vector<SlaveNode> collect_slave_nodes(const ElasticSystem& system, const Co
     MortarIntegrals integrals;
     if (projector)
       integrals = integrate_mortar(system, *projector, surfaces.faces(pair.slave_boundary_id),
-                                   pair_nodes, search_radius_mm, tangent_plane_cull);
+                                   pair_nodes, settings);
 
     // Project, choose the constrained component, drop nodes that cannot be constrained.
     for (std::size_t local = 0; local < pair_nodes.nodes.size(); ++local) {

@@ -61,4 +61,23 @@ std::vector<SlaveNode> collect_slave_nodes(const ElasticSystem& system, const Co
                                            const std::vector<bool>& fixed_dof,
                                            bool tangent_plane_cull = true);
 
+// How far the search looks: contact partners are close, and 5 % of the model's size (its
+// diameter) is generous.
+inline double contact_search_radius(double diameter_mm) { return 0.05 * diameter_mm; }
+
+// What the search takes from its caller rather than from the system, so that it can search a
+// placement other than the mesh's current one (with `surfaces` turned to it) on any thread.
+struct ContactSearchSettings {
+  double search_radius_mm = 0.0;  // contact_search_radius of that placement's diameter
+  std::size_t n_threads = 1;      // threads of the mortar integration
+  bool tangent_plane_cull = true;
+};
+// The same with the settings given. Reads the system's slave surfaces (dofs, support points,
+// mapping) and its dof numbering, never its placement of the master faces (`surfaces` has them),
+// and makes no MPI call.
+std::vector<SlaveNode> collect_slave_nodes(const ElasticSystem& system, const ContactModel& model,
+                                           const ContactSurfaces& surfaces,
+                                           const std::vector<bool>& fixed_dof,
+                                           const ContactSearchSettings& settings);
+
 }  // namespace hipfai::fem

@@ -71,15 +71,16 @@ struct State {
 
 class CutbackSolver {
  public:
-  CutbackSolver(ContactProblem& problem, unsigned int body, unsigned int max_depth)
-      : problem_(problem), body_(body), max_depth_(max_depth) {}
+  CutbackSolver(ContactProblem& problem, unsigned int body, unsigned int max_depth, bool search_ahead)
+      : problem_(problem), body_(body), max_depth_(max_depth), search_ahead_(search_ahead) {}
 
   // Solves `target` starting from the converged `from`; on success `from` becomes the target's
-  // converged state. Returns the last attempt with the effort of all attempts summed.
-  ContactResult solve(State& from, const MotionStep& target) {
+  // converged state. Returns the last attempt with the effort of all attempts summed. `next`:
+  // the rotation of the step after (null: none), whose contact search runs beside the solve.
+  ContactResult solve(State& from, const MotionStep& target, const dealii::Tensor<2, 3>* next) {
     ContactResult effort;  // only its counters are used
     effort.statistics.sub_steps = 0;
-    ContactResult last = attempt(from, target, 0, effort);
+    ContactResult last = attempt(from, target, 0, effort, next);
     last.statistics.active_set_iterations = effort.statistics.active_set_iterations;
     last.statistics.linear_solves = effort.statistics.linear_solves;
     last.statistics.linear_iterations = effort.statistics.linear_iterations;
@@ -92,11 +93,18 @@ class CutbackSolver {
   }
 
  private:
-  ContactResult attempt(State& from, const MotionStep& target, unsigned int depth, ContactResult& effort) {
+  // `after`: the rotation of the run that follows if this one converges (null: none).
+  ContactResult attempt(State& from, const MotionStep& target, unsigned int depth, ContactResult& effort,
+                        const dealii::Tensor<2, 3>* after) {
     RigidBody& body = problem_.model().rigid_bodies[body_];
     body.rotation = target.rotation;
     body.force_n = target.force_n;
     body.translation_mm = from.translation_mm;
+    if (after && search_ahead_) {
+      ContactModel next = problem_.model();
+      next.rigid_bodies[body_].rotation = *after;
+      problem_.expect_next(std::move(next));
+    }
     ContactResult result = problem_.run();
     add_effort(effort, result);
     // ContactProblem::run checks every number it returns (kNonFinite otherwise).
@@ -112,14 +120,15 @@ class CutbackSolver {
     ++effort.statistics.cutbacks;
     const MotionStep middle{interpolate_rotation(from.rotation, target.rotation, 0.5),
                             0.5 * (from.force_n + target.force_n)};
-    ContactResult half = attempt(from, middle, depth + 1, effort);
+    ContactResult half = attempt(from, middle, depth + 1, effort, &target.rotation);
     if (half.status != ContactStatus::kConverged) return half;
-    return attempt(from, target, depth + 1, effort);
+    return attempt(from, target, depth + 1, effort, after);
   }
 
   ContactProblem& problem_;
   unsigned int body_;
   unsigned int max_depth_;
+  bool search_ahead_;
 };
 
 // ParaView collection of the written steps, the step number as time.
@@ -162,12 +171,12 @@ std::vector<ContactResult> run_motion(
   }
   // The last converged state: the body as given before the first step.
   State converged{body.rotation, body.force_n, body.translation_mm};
-  CutbackSolver solver(problem, options.moving_body, options.max_cutback_depth);
+  CutbackSolver solver(problem, options.moving_body, options.max_cutback_depth, options.search_ahead);
   const bool rank0 = dealii::Utilities::MPI::this_mpi_process(problem.communicator()) == 0;
   std::vector<std::pair<double, std::string>> vtu_files;
   std::vector<ContactResult> results;
   for (std::size_t k = 0; k < steps.size(); ++k) {
-    results.push_back(solver.solve(converged, steps[k]));
+    results.push_back(solver.solve(converged, steps[k], k + 1 < steps.size() ? &steps[k + 1].rotation : nullptr));
     const bool last = k + 1 == steps.size();
     if (options.vtu_every > 0 && ((k + 1) % options.vtu_every == 0 || last)) {
       const std::string file = options.vtu_prefix + "_" + std::to_string(k + 1) + ".vtu";

@@ -44,6 +44,9 @@ struct MotionOptions {
   // <vtu_prefix>.pvd for ParaView. Rank 0 writes the .pvd; all ranks must call run_motion.
   unsigned int vtu_every = 0;
   std::string vtu_prefix;
+  // Search each step's contact while the step before is solved (ContactProblem::expect_next):
+  // the same answers, less wall time. Off: every step searches when it starts.
+  bool search_ahead = true;
 };
 
 // Solves the steps in order; `on_step(step index, result)` is called after each (e.g. to write

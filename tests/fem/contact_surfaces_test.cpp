@@ -7,6 +7,7 @@
 #include "fem/motion_solver.h"
 
 #include <deal.II/grid/grid_generator.h>
+#include <deal.II/grid/grid_tools.h>
 #include <deal.II/grid/manifold_lib.h>
 
 #include <gtest/gtest.h>
@@ -137,6 +138,35 @@ TEST(ContactSurfaces, AFixedBodyKeepsItsFaces) {
   surfaces.update(*shell.system, shell.model);
   EXPECT_EQ(surfaces.faces_made(), surfaces.faces(kInner).size() + surfaces.faces(kOuter).size());
   EXPECT_EQ(surfaces.faces(kOuter).front().samples(), first.samples());
+}
+
+// The search ahead (fem/contact_search_ahead.h) searches a placement the mesh is not in yet: its
+// faces and search radius must be those the mesh gives once placed, bit for bit.
+TEST(ContactSurfaces, PredictedFacesAndDiameterAreThoseOfThePlacementBitForBit) {
+  Shell shell;
+  ContactSurfaces surfaces;
+  surfaces.update(*shell.system, shell.model);
+  ContactModel next = shell.model;
+  next.rigid_bodies[0].rotation = rotation_about(dealii::Tensor<1, 3>({0.4, -1.0, 0.3}), 17.0);
+  const ContactSurfaces predicted = surfaces.predicted(next);
+  const double diameter = shell.system->diameter_if_placed(next);
+  EXPECT_FALSE(surfaces.same_faces(predicted));  // the faces have not turned yet
+  shell.model = next;
+  shell.place();
+  surfaces.update(*shell.system, shell.model);
+  EXPECT_TRUE(surfaces.same_faces(predicted));
+  EXPECT_EQ(shell.system->diameter(), diameter);
+  EXPECT_EQ(diameter, dealii::GridTools::diameter(shell.system->triangulation()));
+
+  // About a point that is not the manifold's centre the mapping does not turn with the body:
+  // update() makes the faces anew, and they are not the predicted (turned) ones.
+  next.rigid_bodies[0].rotation_center_mm = shell.centre + dealii::Tensor<1, 3>({0.0, 3.0, 0.0});
+  next.rigid_bodies[0].rotation = rotation_about(dealii::Tensor<1, 3>({1.0, 0.0, 0.0}), 9.0);
+  const ContactSurfaces elsewhere = surfaces.predicted(next);
+  shell.model = next;
+  shell.place();
+  surfaces.update(*shell.system, shell.model);
+  EXPECT_FALSE(surfaces.same_faces(elsewhere));
 }
 
 }  // namespace

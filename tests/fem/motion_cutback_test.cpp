@@ -197,5 +197,41 @@ TEST(FemMotionCutback, AnUnbalancedLoadFailsWithoutNaN) {
   for (const double value : results[0].peaks.max_von_mises_mpa) EXPECT_TRUE(std::isfinite(value));
 }
 
+// Each step's contact is searched while the step before is solved; a cutback's sub-steps are
+// poses the search ahead did not expect, which it must notice. The answers are those of the
+// motion searched step by step, bit for bit.
+TEST(FemMotionCutback, SearchAheadChangesNoAnswerAcrossACutback) {
+  const std::vector<MotionStep> steps = {tilted(0.0), tilted(0.02), tilted(0.025)};
+  std::vector<std::vector<ContactResult>> runs;
+  for (const bool ahead : {false, true}) {
+    ContactProblem problem(MPI_COMM_WORLD, ContactOptions{});
+    build_layer(problem, 4);
+    MotionOptions options = plate_motion();
+    options.search_ahead = ahead;
+    runs.push_back(run_motion(problem, steps, options, [&](std::size_t k, const ContactResult&) {
+      if (k == 0) problem.options().max_active_set_iterations = 2;  // step 1 is cut back
+    }));
+  }
+  const std::vector<ContactResult>& stepwise = runs[0];
+  const std::vector<ContactResult>& ahead = runs[1];
+  ASSERT_EQ(ahead.size(), steps.size());
+  EXPECT_GE(ahead[1].statistics.cutbacks, 1u);
+  for (std::size_t k = 0; k < steps.size(); ++k) {
+    EXPECT_FALSE(stepwise[k].statistics.searched_ahead);
+    // Step 0 has nothing before it; the last attempt of step 1 (at its pose, after a converged
+    // half step that expected it) and step 2 use the search run beside the run before.
+    EXPECT_EQ(ahead[k].statistics.searched_ahead, k > 0) << "step " << k;
+    ASSERT_EQ(ahead[k].status, stepwise[k].status) << "step " << k;
+    EXPECT_EQ(ahead[k].statistics.sub_steps, stepwise[k].statistics.sub_steps);
+    EXPECT_EQ(ahead[k].statistics.active_set_iterations, stepwise[k].statistics.active_set_iterations);
+    EXPECT_EQ(ahead[k].rigid_translation_mm[1], stepwise[k].rigid_translation_mm[1]) << "step " << k;
+    ASSERT_EQ(ahead[k].nodes.size(), stepwise[k].nodes.size());
+    for (std::size_t n = 0; n < ahead[k].nodes.size(); ++n) {
+      EXPECT_EQ(ahead[k].nodes[n].pressure_mpa, stepwise[k].nodes[n].pressure_mpa) << k << " " << n;
+      EXPECT_EQ(ahead[k].nodes[n].gap_mm, stepwise[k].nodes[n].gap_mm) << k << " " << n;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace hipfai::fem

@@ -219,5 +219,53 @@ TEST(FemMotion, LoadedCoreRelocatesAndTheContactResultantBalancesTheLoad) {
   }
 }
 
+// Searched beside the step before, each step's contact must be exactly what the step would have
+// searched itself (fem/contact_search_ahead.h), with the same answers bit for bit. The femoral
+// shell turns with its bone, so every step's master faces and search radius differ. As the
+// master (the hip's pairing: the acetabular side is the slave) the search ahead is used; as the
+// slave it moves between the steps, which the search ahead must notice (it read the slave nodes
+// in the previous placement), and every step searches anew.
+TEST(FemMotion, SearchAheadGivesTheStepsOfTheMotionSearchedStepByStep) {
+  const Tensor<1, 3> axis({1, 2, 3});
+  std::vector<MotionStep> steps;
+  for (int k = 0; k < 3; ++k)
+    steps.push_back({rotation_about_axis(axis, 0.2 * k), Tensor<1, 3>({40.0, -30.0, 60.0})});
+  // The mapping at the element's degree: a face is then determined by its support points, so a
+  // turned face can be checked and kept (at degree 4 every face is made anew at every step, and
+  // a search ahead, whose faces were turned, is never used).
+  ContactOptions contact_options;
+  contact_options.mapping_degree = 2;
+  contact_options.linear_solver = LinearSolver::kSubstructured;
+  for (const bool femoral_slave : {false, true}) {
+    std::vector<std::vector<ContactResult>> runs;
+    for (const bool ahead : {false, true}) {
+      ContactProblem problem(MPI_COMM_WORLD, contact_options);
+      build_shells(problem);
+      if (!femoral_slave) {
+        const ContactPair pair = problem.model().contact_pairs.front();
+        problem.model().contact_pairs = {{pair.master_boundary_id, -1, pair.slave_boundary_id}};
+      }
+      MotionOptions options;
+      options.search_ahead = ahead;
+      runs.push_back(run_motion(problem, steps, options));
+    }
+    for (std::size_t k = 0; k < steps.size(); ++k) {
+      const ContactResult& stepwise = runs[0][k];
+      const ContactResult& ahead = runs[1][k];
+      ASSERT_EQ(stepwise.status, ContactStatus::kConverged) << "step " << k;
+      ASSERT_EQ(ahead.status, ContactStatus::kConverged) << "step " << k;
+      EXPECT_EQ(ahead.statistics.searched_ahead, !femoral_slave && k > 0) << "step " << k;
+      EXPECT_EQ(ahead.statistics.active_set_iterations, stepwise.statistics.active_set_iterations);
+      EXPECT_EQ(ahead.rigid_translation_mm[0], stepwise.rigid_translation_mm[0]) << "step " << k;
+      EXPECT_EQ(ahead.peaks.max_pressure_mpa, stepwise.peaks.max_pressure_mpa) << "step " << k;
+      ASSERT_EQ(ahead.nodes.size(), stepwise.nodes.size());
+      for (std::size_t n = 0; n < ahead.nodes.size(); ++n) {
+        EXPECT_EQ(ahead.nodes[n].pressure_mpa, stepwise.nodes[n].pressure_mpa) << k << " " << n;
+        EXPECT_EQ(ahead.nodes[n].gap_mm, stepwise.nodes[n].gap_mm) << k << " " << n;
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace hipfai::fem
