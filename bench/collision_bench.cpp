@@ -203,7 +203,27 @@ class Bench {
   }
 
   void bench_striking(const Scenario& s);
+  // Ours on a striking scenario at `threads`: the one-pass query (its vertices into
+  // ours_vertices once), its ablations, and the pose cache.
+  void bench_one_pass(const Scenario& s, int threads, std::vector<std::int32_t>& ours_vertices);
+  void bench_one_pass_ablations(const Scenario& s, const contact::CylindricalTable& table, const BenchRow& row,
+                                const contact::CylindricalQueryOptions& q);
+  void bench_pose_cache(const Scenario& s, int threads, const contact::CylindricalQueryOptions& q);
   void bench_radial(const Scenario& s);
+  // Ours on a radial scenario: the query on the posed mesh with each mapping's table, and the
+  // pose query (the body pair prepared once).
+  void bench_radial_table(const Scenario& s, contact::RadialMapping mapping, int threads,
+                          std::vector<std::int32_t>& ours_vertices);
+  void bench_radial_pose_query(const Scenario& s, int threads);
+  // The radial peers: Embree and CGAL ray casting, spatial hashing of the surface, Maciel's ray sampling.
+  void bench_radial_casters(const Scenario& s);
+  void bench_ray_sampling(const Scenario& s);
+  // Peers of both kinds of scenario, checked against the reference as they run.
+  void bench_fcl(const Scenario& s, const Reference& reference, FclBoundingVolume bv);
+  void bench_tet_hashing(const Scenario& s, const Reference& reference);
+  // Exactness of the scenario's rows against the reference, the oracle's own row, and the
+  // scenario's results let go.
+  void finish_scenario(const Scenario& s, const Reference& reference);
   void bench_bandwidth_floor(const Scenario& s);
   void sweep_radial_table(const Scenario& s);
   void sweep_cylindrical_resolution(const Scenario& s);
@@ -235,155 +255,171 @@ void Bench::bench_striking(const Scenario& s) {
   log(s.name + ": " + std::to_string(s.total_vertices()) + " vertices, pose " + fmt(s.angle_deg) + " deg");
   const TriMesh posed = s.posed_mobile();
   std::vector<std::int32_t> ours_vertices;
-  // Ours: ring table (pre-processing) + one pass over the posed mesh (query).
-  for (int threads : options_.thread_counts) {
-    BenchRow row = base_row(s, "cylindrical", threads);
-    contact::CylindricalTable table;
-    row.memory = measure_memory([&] { table = contact::CylindricalTable::build(s.fixed, s.centre, s.axis, {}, &s.mobile); });
-    row.pre = time_pre([&] { table = contact::CylindricalTable::build(s.fixed, s.centre, s.axis, {}, &s.mobile); });
-    contact::CylindricalQueryOptions q;
-    q.num_threads = threads;
-    contact::PenetrationResult result;
-    row.query = time_query([&] { result = contact::cylindrical_segmenting(table, s.posed_mobile(), q); });
-    if (ours_vertices.empty()) {
-      for (const auto& p : result.pairs) ours_vertices.push_back(p.mobile_vertex);
-    }
-    measured_.rows.push_back(row);
-    // The same table and query taking the pose (each vertex posed as it is visited, no posed copy:
-    // FCL too takes a transform), and the ablation without the angular walk.
-    BenchRow pose_row = row;
-    pose_row.method = "cylindrical_pose";
-    contact::PenetrationResult posed_result;
-    const Eigen::Isometry3d pose = s.pose();
-    pose_row.query = time_query([&] { posed_result = contact::cylindrical_segmenting(table, s.mobile, pose, q); });
-    pose_row.note = "the one-pass query given the pose instead of a posed copy";
-    measured_.rows.push_back(pose_row);
-    // The query over the mobile mesh's vertex clusters (built once per body, as FCL builds its
-    // hierarchy of the mobile mesh), given the pose: pre-processing is the table and the clusters.
-    BenchRow cluster_row = row;
-    cluster_row.method = "cylindrical_clusters";
-    contact::VertexClusters clusters;
-    const TimingStats cluster_pre = time_pre([&] { clusters = contact::VertexClusters::build(s.mobile); });
-    add_stage(cluster_row.pre, cluster_pre);
-    contact::PenetrationResult cluster_result;
-    cluster_row.query = time_query([&] { cluster_result = contact::cylindrical_segmenting(table, clusters, pose, q); });
-    cluster_row.note = "the one-pass query over vertex clusters of the mobile mesh, given the pose";
-    measured_.rows.push_back(cluster_row);
-    BenchRow plain_row = row;
-    plain_row.method = "cylindrical_no_clusters";
-    contact::detail::CylindricalAblation plain;
-    plain.mobile_clusters = false;
-    contact::PenetrationResult plain_result;
-    plain_row.query =
-        time_query([&] { plain_result = contact::detail::cylindrical_segmenting(table, s.posed_mobile(), q, plain); });
-    plain_row.note = "the one-pass query without the table's mobile clusters (every vertex on its own)";
-    measured_.rows.push_back(plain_row);
-    BenchRow walk_row = row;
-    walk_row.method = "cylindrical_no_regions";
-    contact::detail::CylindricalAblation walk = plain;
-    walk.outside_regions = false;
-    contact::PenetrationResult walk_result;
-    walk_row.query =
-        time_query([&] { walk_result = contact::detail::cylindrical_segmenting(table, s.posed_mobile(), q, walk); });
-    walk_row.note = "the one-pass query without the clusters or the outside regions (every circle in a non-empty cell walked)";
-    measured_.rows.push_back(walk_row);
-    BenchRow every_row = row;
-    every_row.method = "cylindrical_every_candidate";
-    contact::detail::CylindricalAblation every = walk;
-    every.angular_walk = false;
-    contact::PenetrationResult every_result;
-    every_row.query =
-        time_query([&] { every_result = contact::detail::cylindrical_segmenting(table, s.posed_mobile(), q, every); });
-    every_row.note = "the one-pass query without the angular walk, the regions or the clusters (every candidate of the ring cell tested)";
-    measured_.rows.push_back(every_row);
-    // The pose cache (§3.2.3.2): crossings pre-computed per axis, the query is a pass over them.
-    // It reads every crossing, so its table is built without the angular index.
-    contact::CylindricalTableOptions cache_table_options;
-    cache_table_options.angular_index = false;
-    const auto build_cache_table = [&] {
-      return contact::CylindricalTable::build(s.fixed, s.centre, s.axis, cache_table_options, &s.mobile);
-    };
-    contact::CylindricalTable cache_table;
-    BenchRow cache_row = base_row(s, "cylindrical_pose_cache", threads);
-    std::unique_ptr<contact::CylindricalPoseCache> cache;
-    cache_row.memory = measure_memory([&] {
-      cache_table = build_cache_table();
-      cache = std::make_unique<contact::CylindricalPoseCache>(cache_table, s.mobile, q);
-    });
-    const TimingStats cache_table_pre = time_pre([&] { cache_table = build_cache_table(); });
-    const TimingStats cache_pre = time_pre([&] { cache = std::make_unique<contact::CylindricalPoseCache>(cache_table, s.mobile, q); });
-    cache_row.pre = cache_table_pre;
-    add_stage(cache_row.pre, cache_pre);
-    contact::PenetrationResult cached;
-    cache_row.query = time_query([&] { cached = cache->query(s.angle_deg); });
-    measured_.rows.push_back(cache_row);
-    // Ablation: the same cache without its arc index, the exact test of every tracked vertex.
-    BenchRow scan_row = cache_row;
-    scan_row.method = "cylindrical_pose_cache_scan";
-    contact::PenetrationResult scanned;
-    scan_row.query = time_query([&] { scanned = cache->query_every_vertex(s.angle_deg); });
-    scan_row.note = "the pose cache without its arc index (every tracked vertex tested)";
-    measured_.rows.push_back(scan_row);
-    // Exactness is filled below for every row of this scenario.
-    results_[s.name + "/cylindrical/" + std::to_string(threads)] = result;
-    results_[s.name + "/cylindrical_pose/" + std::to_string(threads)] = posed_result;
-    results_[s.name + "/cylindrical_clusters/" + std::to_string(threads)] = cluster_result;
-    results_[s.name + "/cylindrical_no_clusters/" + std::to_string(threads)] = plain_result;
-    results_[s.name + "/cylindrical_no_regions/" + std::to_string(threads)] = walk_result;
-    results_[s.name + "/cylindrical_every_candidate/" + std::to_string(threads)] = every_result;
-    results_[s.name + "/cylindrical_pose_cache/" + std::to_string(threads)] = cached;
-    results_[s.name + "/cylindrical_pose_cache_scan/" + std::to_string(threads)] = scanned;
-  }
+  for (int threads : options_.thread_counts) bench_one_pass(s, threads, ours_vertices);
   bench_bandwidth_floor(s);
   const Reference reference = make_reference(s, posed, ours_vertices, budget_);
   // FCL, both bounding volumes, all contacts with contact data (the configuration the goals name).
-  for (auto bv : {FclBoundingVolume::kObbRss, FclBoundingVolume::kObb}) {
-    BenchRow row = base_row(s, std::string("fcl_") + to_string(bv), 1);
-    FclModel fixed_model, mobile_model;
-    row.memory = measure_memory([&] {
-      fixed_model = FclModel(s.fixed, bv);
-      mobile_model = FclModel(s.mobile, bv);
-    });
-    row.pre = time_pre([&] {
-      fixed_model = FclModel(s.fixed, bv);
-      mobile_model = FclModel(s.mobile, bv);
-    });
-    FclCollideResult result;
-    row.query = time_query([&] { result = fixed_model.collide(mobile_model, s.pose()); });
-    row.exact = compare(reference, implied_mobile_vertices(s.mobile, result), nullptr);
-    row.reference = reference.kind;
-    row.note = std::to_string(result.triangle_pairs.size()) + " triangle pairs; vertices of the mobile triangles";
-    measured_.rows.push_back(row);
-  }
+  for (auto bv : {FclBoundingVolume::kObbRss, FclBoundingVolume::kObb}) bench_fcl(s, reference, bv);
   // Spatial hashing on gmsh tetrahedra of the fixed solid.
-  if (s.fixed.num_triangles() <= budget_.tet_max_triangles) {
-    try {
-      const auto [tet_mesh, tet_ms] = tets_of(s.fixed);
-      const TetMesh& tets = *tet_mesh;
-      const std::size_t num_tets = tets.tets.size();
-      for (int threads : options_.thread_counts) {
-        BenchRow row = base_row(s, "spatial_hash_tets", threads);
-        std::unique_ptr<TetSpatialHash> hash;
-        row.memory = measure_memory([&] { hash = std::make_unique<TetSpatialHash>(tets); });
-        row.pre = time_pre([&] { hash = std::make_unique<TetSpatialHash>(tets); });
-        std::vector<std::int32_t> found;
-        row.query = time_query([&] { found = hash->penetrating_vertices(s.posed_mobile(), threads); });
-        row.exact = compare(reference, found, nullptr);
-        row.reference = reference.kind;
-        row.note = std::to_string(num_tets) + " tets (gmsh " + fmt(tet_ms) + " ms, not in pre); no depth";
-        measured_.rows.push_back(row);
-      }
-    } catch (const Error& error) {
-      measured_.notes.push_back(s.name + ": spatial hashing on tetrahedra skipped: " + error.what());
-    }
+  if (s.fixed.num_triangles() <= budget_.tet_max_triangles) bench_tet_hashing(s, reference);
+  finish_scenario(s, reference);
+}
+
+void Bench::bench_one_pass(const Scenario& s, int threads, std::vector<std::int32_t>& ours_vertices) {
+  // Ours: ring table (pre-processing) + one pass over the posed mesh (query).
+  BenchRow row = base_row(s, "cylindrical", threads);
+  contact::CylindricalTable table;
+  row.memory = measure_memory([&] { table = contact::CylindricalTable::build(s.fixed, s.centre, s.axis, {}, &s.mobile); });
+  row.pre = time_pre([&] { table = contact::CylindricalTable::build(s.fixed, s.centre, s.axis, {}, &s.mobile); });
+  contact::CylindricalQueryOptions q;
+  q.num_threads = threads;
+  contact::PenetrationResult result;
+  row.query = time_query([&] { result = contact::cylindrical_segmenting(table, s.posed_mobile(), q); });
+  if (ours_vertices.empty()) {
+    for (const auto& p : result.pairs) ours_vertices.push_back(p.mobile_vertex);
   }
-  // Exactness of our rows.
+  measured_.rows.push_back(row);
+  // The same table and query taking the pose (each vertex posed as it is visited, no posed copy:
+  // FCL too takes a transform), and the ablation without the angular walk.
+  BenchRow pose_row = row;
+  pose_row.method = "cylindrical_pose";
+  contact::PenetrationResult posed_result;
+  const Eigen::Isometry3d pose = s.pose();
+  pose_row.query = time_query([&] { posed_result = contact::cylindrical_segmenting(table, s.mobile, pose, q); });
+  pose_row.note = "the one-pass query given the pose instead of a posed copy";
+  measured_.rows.push_back(pose_row);
+  // The query over the mobile mesh's vertex clusters (built once per body, as FCL builds its
+  // hierarchy of the mobile mesh), given the pose: pre-processing is the table and the clusters.
+  BenchRow cluster_row = row;
+  cluster_row.method = "cylindrical_clusters";
+  contact::VertexClusters clusters;
+  const TimingStats cluster_pre = time_pre([&] { clusters = contact::VertexClusters::build(s.mobile); });
+  add_stage(cluster_row.pre, cluster_pre);
+  contact::PenetrationResult cluster_result;
+  cluster_row.query = time_query([&] { cluster_result = contact::cylindrical_segmenting(table, clusters, pose, q); });
+  cluster_row.note = "the one-pass query over vertex clusters of the mobile mesh, given the pose";
+  measured_.rows.push_back(cluster_row);
+  // Exactness is filled in finish_scenario for every row of this scenario.
+  results_[s.name + "/cylindrical/" + std::to_string(threads)] = result;
+  results_[s.name + "/cylindrical_pose/" + std::to_string(threads)] = posed_result;
+  results_[s.name + "/cylindrical_clusters/" + std::to_string(threads)] = cluster_result;
+  bench_one_pass_ablations(s, table, row, q);
+  bench_pose_cache(s, threads, q);
+}
+
+void Bench::bench_one_pass_ablations(const Scenario& s, const contact::CylindricalTable& table, const BenchRow& row,
+                                     const contact::CylindricalQueryOptions& q) {
+  const auto ablate = [&](const std::string& method, const contact::detail::CylindricalAblation& ablation,
+                          const std::string& note) {
+    BenchRow ablated = row;
+    ablated.method = method;
+    contact::PenetrationResult result;
+    ablated.query =
+        time_query([&] { result = contact::detail::cylindrical_segmenting(table, s.posed_mobile(), q, ablation); });
+    ablated.note = note;
+    measured_.rows.push_back(ablated);
+    results_[s.name + "/" + method + "/" + std::to_string(row.threads)] = result;
+  };
+  contact::detail::CylindricalAblation plain;
+  plain.mobile_clusters = false;
+  ablate("cylindrical_no_clusters", plain,
+         "the one-pass query without the table's mobile clusters (every vertex on its own)");
+  contact::detail::CylindricalAblation walk = plain;
+  walk.outside_regions = false;
+  ablate("cylindrical_no_regions", walk,
+         "the one-pass query without the clusters or the outside regions (every circle in a non-empty cell walked)");
+  contact::detail::CylindricalAblation every = walk;
+  every.angular_walk = false;
+  ablate("cylindrical_every_candidate", every,
+         "the one-pass query without the angular walk, the regions or the clusters (every candidate of the ring cell "
+         "tested)");
+}
+
+void Bench::bench_pose_cache(const Scenario& s, int threads, const contact::CylindricalQueryOptions& q) {
+  // The pose cache (§3.2.3.2): crossings pre-computed per axis, the query is a pass over them.
+  // It reads every crossing, so its table is built without the angular index.
+  contact::CylindricalTableOptions cache_table_options;
+  cache_table_options.angular_index = false;
+  const auto build_cache_table = [&] {
+    return contact::CylindricalTable::build(s.fixed, s.centre, s.axis, cache_table_options, &s.mobile);
+  };
+  contact::CylindricalTable cache_table;
+  BenchRow cache_row = base_row(s, "cylindrical_pose_cache", threads);
+  std::unique_ptr<contact::CylindricalPoseCache> cache;
+  cache_row.memory = measure_memory([&] {
+    cache_table = build_cache_table();
+    cache = std::make_unique<contact::CylindricalPoseCache>(cache_table, s.mobile, q);
+  });
+  const TimingStats cache_table_pre = time_pre([&] { cache_table = build_cache_table(); });
+  const TimingStats cache_pre = time_pre([&] { cache = std::make_unique<contact::CylindricalPoseCache>(cache_table, s.mobile, q); });
+  cache_row.pre = cache_table_pre;
+  add_stage(cache_row.pre, cache_pre);
+  contact::PenetrationResult cached;
+  cache_row.query = time_query([&] { cached = cache->query(s.angle_deg); });
+  measured_.rows.push_back(cache_row);
+  // Ablation: the same cache without its arc index, the exact test of every tracked vertex.
+  BenchRow scan_row = cache_row;
+  scan_row.method = "cylindrical_pose_cache_scan";
+  contact::PenetrationResult scanned;
+  scan_row.query = time_query([&] { scanned = cache->query_every_vertex(s.angle_deg); });
+  scan_row.note = "the pose cache without its arc index (every tracked vertex tested)";
+  measured_.rows.push_back(scan_row);
+  results_[s.name + "/cylindrical_pose_cache/" + std::to_string(threads)] = cached;
+  results_[s.name + "/cylindrical_pose_cache_scan/" + std::to_string(threads)] = scanned;
+}
+
+void Bench::bench_fcl(const Scenario& s, const Reference& reference, FclBoundingVolume bv) {
+  BenchRow row = base_row(s, std::string("fcl_") + to_string(bv), 1);
+  FclModel fixed_model, mobile_model;
+  row.memory = measure_memory([&] {
+    fixed_model = FclModel(s.fixed, bv);
+    mobile_model = FclModel(s.mobile, bv);
+  });
+  row.pre = time_pre([&] {
+    fixed_model = FclModel(s.fixed, bv);
+    mobile_model = FclModel(s.mobile, bv);
+  });
+  FclCollideResult result;
+  row.query = time_query([&] { result = fixed_model.collide(mobile_model, s.pose()); });
+  row.exact = compare(reference, implied_mobile_vertices(s.mobile, result), nullptr);
+  row.reference = reference.kind;
+  row.note = std::to_string(result.triangle_pairs.size()) + " triangle pairs; vertices of the mobile triangles";
+  measured_.rows.push_back(row);
+}
+
+void Bench::bench_tet_hashing(const Scenario& s, const Reference& reference) {
+  try {
+    const auto [tet_mesh, tet_ms] = tets_of(s.fixed);
+    const TetMesh& tets = *tet_mesh;
+    const std::size_t num_tets = tets.tets.size();
+    for (int threads : options_.thread_counts) {
+      BenchRow row = base_row(s, "spatial_hash_tets", threads);
+      std::unique_ptr<TetSpatialHash> hash;
+      row.memory = measure_memory([&] { hash = std::make_unique<TetSpatialHash>(tets); });
+      row.pre = time_pre([&] { hash = std::make_unique<TetSpatialHash>(tets); });
+      std::vector<std::int32_t> found;
+      row.query = time_query([&] { found = hash->penetrating_vertices(s.posed_mobile(), threads); });
+      row.exact = compare(reference, found, nullptr);
+      row.reference = reference.kind;
+      row.note = std::to_string(num_tets) + " tets (gmsh " + fmt(tet_ms) + " ms, not in pre); no depth";
+      measured_.rows.push_back(row);
+    }
+  } catch (const Error& error) {
+    measured_.notes.push_back(s.name + ": spatial hashing on tetrahedra skipped: " + error.what());
+  }
+}
+
+void Bench::finish_scenario(const Scenario& s, const Reference& reference) {
   for (auto& row : measured_.rows) {
     if (row.scenario != s.name) continue;
     const auto found = results_.find(s.name + "/" + row.method + "/" + std::to_string(row.threads));
     if (found == results_.end()) continue;
     row.exact = compare(reference, found->second);
     row.reference = reference.kind;
+    if (row.method == "maciel_ray_sampling" && !reference.depth.empty()) {
+      row.note += "; miss rate " + fmt(100.0 * static_cast<double>(row.exact.false_negatives) /
+                                           static_cast<double>(reference.depth.size())) + " %";
+    }
   }
   // The oracle itself (one run), where it is exhaustive.
   if (reference.kind == "oracle") {
@@ -433,49 +469,62 @@ void Bench::bench_radial(const Scenario& s) {
   const std::vector<contact::RadialMapping> mappings{contact::RadialMapping::kCube, contact::RadialMapping::kCartesian,
                                                      contact::RadialMapping::kSpherical};
   for (auto mapping : mappings) {
-    for (int threads : options_.thread_counts) {
-      BenchRow row = base_row(s, std::string("radial_") + contact::to_string(mapping), threads);
-      contact::RadialTable table;
-      const auto table_options = radial_table_options(s, mapping);
-      row.memory = measure_memory([&] { table = contact::build_radial_table(s.fixed, s.centre, table_options); });
-      row.pre = time_pre([&] { table = contact::build_radial_table(s.fixed, s.centre, table_options); });
-      contact::RadialQueryOptions q;
-      q.configuration = s.configuration;
-      q.num_threads = threads;
-      contact::PenetrationResult result;
-      row.query = time_query([&] { result = contact::radial_segmenting(table, s.fixed, s.posed_mobile(), q); });
-      if (ours_vertices.empty()) {
-        for (const auto& p : result.pairs) ours_vertices.push_back(p.mobile_vertex);
-      }
-      row.note = "table " + std::to_string(table.grid.num_cells()) + " cells, " +
-                 std::to_string(table.always_candidates.size()) + " always-checked triangles (plane through O)";
-      results_[s.name + "/" + row.method + "/" + std::to_string(threads)] = result;
-      measured_.rows.push_back(row);
-    }
+    for (int threads : options_.thread_counts) bench_radial_table(s, mapping, threads, ours_vertices);
   }
-  // The same query prepared once per body pair (RadialPoseQuery): vertices the radial spans rule
-  // out at every pose are dropped once; the query takes the pose, like FCL, and poses the rest.
-  for (int threads : options_.thread_counts) {
-    BenchRow row = base_row(s, "radial_cube_pose", threads);
-    contact::RadialTable table = contact::build_radial_table(s.fixed, s.centre, radial_table_options(s, contact::RadialMapping::kCube));
-    contact::RadialQueryOptions q;
-    q.configuration = s.configuration;
-    q.num_threads = threads;
-    std::unique_ptr<contact::RadialPoseQuery> prepared;
-    row.memory = measure_memory([&] { prepared = std::make_unique<contact::RadialPoseQuery>(table, s.fixed, s.mobile, q); });
-    const TimingStats prepare = time_pre([&] { prepared = std::make_unique<contact::RadialPoseQuery>(table, s.fixed, s.mobile, q); });
-    row.pre = time_pre([&] { table = contact::build_radial_table(s.fixed, s.centre, radial_table_options(s, contact::RadialMapping::kCube)); });
-    add_stage(row.pre, prepare);
-    prepared = std::make_unique<contact::RadialPoseQuery>(table, s.fixed, s.mobile, q);
-    contact::PenetrationResult result;
-    row.query = time_query([&] { result = prepared->query(s.pose()); });
-    row.note = std::to_string(prepared->num_kept_vertices()) + " of " + std::to_string(s.mobile.num_vertices()) +
-               " mobile vertices kept for the body pair";
-    results_[s.name + "/" + row.method + "/" + std::to_string(threads)] = result;
-    measured_.rows.push_back(row);
-  }
+  for (int threads : options_.thread_counts) bench_radial_pose_query(s, threads);
   bench_bandwidth_floor(s);
   const Reference reference = make_reference(s, posed, ours_vertices, budget_);
+  bench_radial_casters(s);
+  if (s.family == "sphere_cube" && s.fixed.num_triangles() <= budget_.tet_max_triangles) bench_tet_hashing(s, reference);
+  bench_fcl(s, reference, FclBoundingVolume::kObbRss);
+  bench_ray_sampling(s);
+  finish_scenario(s, reference);
+}
+
+void Bench::bench_radial_table(const Scenario& s, contact::RadialMapping mapping, int threads,
+                               std::vector<std::int32_t>& ours_vertices) {
+  BenchRow row = base_row(s, std::string("radial_") + contact::to_string(mapping), threads);
+  contact::RadialTable table;
+  const auto table_options = radial_table_options(s, mapping);
+  row.memory = measure_memory([&] { table = contact::build_radial_table(s.fixed, s.centre, table_options); });
+  row.pre = time_pre([&] { table = contact::build_radial_table(s.fixed, s.centre, table_options); });
+  contact::RadialQueryOptions q;
+  q.configuration = s.configuration;
+  q.num_threads = threads;
+  contact::PenetrationResult result;
+  row.query = time_query([&] { result = contact::radial_segmenting(table, s.fixed, s.posed_mobile(), q); });
+  if (ours_vertices.empty()) {
+    for (const auto& p : result.pairs) ours_vertices.push_back(p.mobile_vertex);
+  }
+  row.note = "table " + std::to_string(table.grid.num_cells()) + " cells, " +
+             std::to_string(table.always_candidates.size()) + " always-checked triangles (plane through O)";
+  results_[s.name + "/" + row.method + "/" + std::to_string(threads)] = result;
+  measured_.rows.push_back(row);
+}
+
+// The same query prepared once per body pair (RadialPoseQuery): vertices the radial spans rule
+// out at every pose are dropped once; the query takes the pose, like FCL, and poses the rest.
+void Bench::bench_radial_pose_query(const Scenario& s, int threads) {
+  BenchRow row = base_row(s, "radial_cube_pose", threads);
+  contact::RadialTable table = contact::build_radial_table(s.fixed, s.centre, radial_table_options(s, contact::RadialMapping::kCube));
+  contact::RadialQueryOptions q;
+  q.configuration = s.configuration;
+  q.num_threads = threads;
+  std::unique_ptr<contact::RadialPoseQuery> prepared;
+  row.memory = measure_memory([&] { prepared = std::make_unique<contact::RadialPoseQuery>(table, s.fixed, s.mobile, q); });
+  const TimingStats prepare = time_pre([&] { prepared = std::make_unique<contact::RadialPoseQuery>(table, s.fixed, s.mobile, q); });
+  row.pre = time_pre([&] { table = contact::build_radial_table(s.fixed, s.centre, radial_table_options(s, contact::RadialMapping::kCube)); });
+  add_stage(row.pre, prepare);
+  prepared = std::make_unique<contact::RadialPoseQuery>(table, s.fixed, s.mobile, q);
+  contact::PenetrationResult result;
+  row.query = time_query([&] { result = prepared->query(s.pose()); });
+  row.note = std::to_string(prepared->num_kept_vertices()) + " of " + std::to_string(s.mobile.num_vertices()) +
+             " mobile vertices kept for the body pair";
+  results_[s.name + "/" + row.method + "/" + std::to_string(threads)] = result;
+  measured_.rows.push_back(row);
+}
+
+void Bench::bench_radial_casters(const Scenario& s) {
   for (int threads : options_.thread_counts) {
     BenchRow row = base_row(s, "embree", threads);
     std::unique_ptr<EmbreeRadialCaster> caster;
@@ -508,75 +557,19 @@ void Bench::bench_radial(const Scenario& s) {
     row.note = "cells walked along each ray";
     measured_.rows.push_back(row);
   }
-  if (s.family == "sphere_cube" && s.fixed.num_triangles() <= budget_.tet_max_triangles) {
-    try {
-      const auto [tet_mesh, tet_ms] = tets_of(s.fixed);
-      const TetMesh& tets = *tet_mesh;
-      const std::size_t num_tets = tets.tets.size();
-      for (int threads : options_.thread_counts) {
-        BenchRow row = base_row(s, "spatial_hash_tets", threads);
-        std::unique_ptr<TetSpatialHash> hash;
-        row.memory = measure_memory([&] { hash = std::make_unique<TetSpatialHash>(tets); });
-        row.pre = time_pre([&] { hash = std::make_unique<TetSpatialHash>(tets); });
-        std::vector<std::int32_t> found;
-        row.query = time_query([&] { found = hash->penetrating_vertices(s.posed_mobile(), threads); });
-        row.exact = compare(reference, found, nullptr);
-        row.reference = reference.kind;
-        row.note = std::to_string(num_tets) + " tets (gmsh " + fmt(tet_ms) + " ms, not in pre); no depth";
-        measured_.rows.push_back(row);
-      }
-    } catch (const Error& error) {
-      measured_.notes.push_back(s.name + ": spatial hashing on tetrahedra skipped: " + error.what());
-    }
-  }
-  {
-    BenchRow row = base_row(s, "fcl_OBBRSS", 1);
-    FclModel fixed_model, mobile_model;
-    row.memory = measure_memory([&] {
-      fixed_model = FclModel(s.fixed, FclBoundingVolume::kObbRss);
-      mobile_model = FclModel(s.mobile, FclBoundingVolume::kObbRss);
-    });
-    row.pre = time_pre([&] {
-      fixed_model = FclModel(s.fixed, FclBoundingVolume::kObbRss);
-      mobile_model = FclModel(s.mobile, FclBoundingVolume::kObbRss);
-    });
-    FclCollideResult result;
-    row.query = time_query([&] { result = fixed_model.collide(mobile_model, s.pose()); });
-    row.exact = compare(reference, implied_mobile_vertices(s.mobile, result), nullptr);
-    row.reference = reference.kind;
-    row.note = std::to_string(result.triangle_pairs.size()) + " triangle pairs; vertices of the mobile triangles";
-    measured_.rows.push_back(row);
-  }
-  {
-    BenchRow row = base_row(s, "maciel_ray_sampling", 1);
-    const auto table_options = radial_table_options(s, contact::RadialMapping::kCube);
-    contact::RaySamplingTable table;
-    row.memory = measure_memory([&] { table = contact::build_ray_sampling_table(s.fixed, s.centre, table_options, s.configuration); });
-    row.pre = time_pre([&] { table = contact::build_ray_sampling_table(s.fixed, s.centre, table_options, s.configuration); });
-    contact::PenetrationResult result;
-    row.query = time_query([&] { result = contact::ray_sampling(table, s.fixed, s.posed_mobile()); });
-    results_[s.name + "/maciel_ray_sampling/1"] = result;
-    row.note = "cube mapping, same table size; pre uses the exact table as accelerator";
-    measured_.rows.push_back(row);
-  }
-  for (auto& row : measured_.rows) {
-    if (row.scenario != s.name) continue;
-    const auto found = results_.find(s.name + "/" + row.method + "/" + std::to_string(row.threads));
-    if (found == results_.end()) continue;
-    row.exact = compare(reference, found->second);
-    row.reference = reference.kind;
-    if (row.method == "maciel_ray_sampling" && !reference.depth.empty()) {
-      row.note += "; miss rate " + fmt(100.0 * static_cast<double>(row.exact.false_negatives) /
-                                           static_cast<double>(reference.depth.size())) + " %";
-    }
-  }
-  if (reference.kind == "oracle") {
-    BenchRow row = base_row(s, "oracle", 2);
-    row.query = summarise({reference.ms});
-    row.note = "exhaustive, every vertex x every triangle (one run)";
-    measured_.rows.push_back(row);
-  }
-  results_.clear();
+}
+
+void Bench::bench_ray_sampling(const Scenario& s) {
+  BenchRow row = base_row(s, "maciel_ray_sampling", 1);
+  const auto table_options = radial_table_options(s, contact::RadialMapping::kCube);
+  contact::RaySamplingTable table;
+  row.memory = measure_memory([&] { table = contact::build_ray_sampling_table(s.fixed, s.centre, table_options, s.configuration); });
+  row.pre = time_pre([&] { table = contact::build_ray_sampling_table(s.fixed, s.centre, table_options, s.configuration); });
+  contact::PenetrationResult result;
+  row.query = time_query([&] { result = contact::ray_sampling(table, s.fixed, s.posed_mobile()); });
+  results_[s.name + "/maciel_ray_sampling/1"] = result;
+  row.note = "cube mapping, same table size; pre uses the exact table as accelerator";
+  measured_.rows.push_back(row);
 }
 
 // ------------------------------------------------------------------ sweeps
