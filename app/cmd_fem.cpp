@@ -201,9 +201,7 @@ const CLI::Validator kFiniteLengthMm(
     },
     "MM > 0");
 
-const CommandRegistrar registrar{"fem", [](CLI::App& parent) {
-  auto* fem_command = parent.add_subcommand("fem", "Finite-element contact model (deal.II/PETSc)");
-  fem_command->require_subcommand(1);
+void add_verify_command(CLI::App* fem_command) {
   auto options = std::make_shared<FemVerifyOptions>();
   auto* verify = fem_command->add_subcommand(
       "verify", "Run verification cases against closed-form solutions");
@@ -218,7 +216,9 @@ const CommandRegistrar registrar{"fem", [](CLI::App& parent) {
       ->check(CLI::Range(1, 3));
   verify->add_flag("--verbose", options->verbose, "Print active-set iterations");
   verify->callback([options] { run_fem_verify(*options); });
+}
 
+void add_shells_command(CLI::App* fem_command) {
   auto shells_options = std::make_shared<FemShellsOptions>();
   auto* shells = fem_command->add_subcommand(
       "shells", "Femur motion on concentric cartilage shells (spherical joint), HDF5 per step");
@@ -233,7 +233,9 @@ const CommandRegistrar registrar{"fem", [](CLI::App& parent) {
       ->check(CLI::Range(0.0, 0.5));
   shells->add_option("--out", shells_options->out_file, "HDF5 results file")->required();
   shells->callback([shells_options] { run_fem_shells(*shells_options); });
+}
 
+void add_run_command(CLI::App* fem_command) {
   auto run_options = std::make_shared<FemRunOptions>();
   auto* run = fem_command->add_subcommand(
       "run", "Hip FE model of a model directory through a motion (standing-to-sitting by default)");
@@ -273,7 +275,9 @@ const CommandRegistrar registrar{"fem", [](CLI::App& parent) {
       ->check(CLI::Range(0, 256));
   run->add_flag("--verbose", run_options->verbose, "Print active-set iterations");
   run->callback([run_options] { run_fem_hip(*run_options); });
+}
 
+void add_levels_command(CLI::App* fem_command) {
   auto levels_options = std::make_shared<studies::FemLevelsOptions>();
   auto* levels = fem_command->add_subcommand(
       "levels", "The hip FE model at each mesh level: accuracy vs the finest level and time (table + plots)");
@@ -312,6 +316,15 @@ const CommandRegistrar registrar{"fem", [](CLI::App& parent) {
     const studies::FemLevelsResult result = studies::compute_fem_levels(*levels_options);
     studies::write_fem_levels_report(result, *levels_options);
   });
+}
+
+const CommandRegistrar registrar{"fem", [](CLI::App& parent) {
+  auto* fem_command = parent.add_subcommand("fem", "Finite-element contact model (deal.II/PETSc)");
+  fem_command->require_subcommand(1);
+  add_verify_command(fem_command);
+  add_shells_command(fem_command);
+  add_run_command(fem_command);
+  add_levels_command(fem_command);
 }};
 
 }  // namespace
