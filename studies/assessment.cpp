@@ -171,6 +171,171 @@ AnatomicalFrame AssessmentResult::frame_to_input(const AnatomicalFrame& frame) c
   return mirror_frame(frame, to_input);
 }
 
+namespace {
+
+// The pelvis frame in the input's coordinates: given (--frame), or the anterior pelvic plane found
+// on the bone with its landmarks.
+struct InputPelvis {
+  AnatomicalFrame frame;
+  std::optional<anatomy::PelvisLandmarks> landmarks;
+};
+
+InputPelvis pelvis_in_input(const AssessmentRequest& request, const anatomy::UserFrame* given, const Vec3& hjc_input,
+                            const Vec3& towards_head, Stages& stages, AssessmentResult& r) {
+  InputPelvis pelvis;
+  if (given && given->pelvis) {
+    pelvis.frame = *given->pelvis;
+    pelvis.frame.origin_mm = hjc_input;
+    r.pelvis_frame_source = "given (--frame, " + given->source_kind + ")";
+    return pelvis;
+  }
+  anatomy::PelvisLandmarksRequest pelvis_request;
+  pelvis_request.pelvis = request.pelvis;
+  pelvis_request.hjc_mm = hjc_input;
+  pelvis_request.superior_hint = towards_head;
+  pelvis_request.what = request.pelvis_name;
+  pelvis.landmarks = stages.run("pelvis landmarks", [&] { return anatomy::find_pelvis_landmarks(pelvis_request); });
+  pelvis.frame = pelvis.landmarks->frame;
+  r.pelvis_frame_source = "found on the bone: anterior pelvic plane (Lewinnek et al. 1978; Kai et al. 2014)";
+  return pelvis;
+}
+
+// --side, else the frame's, else the half of the pelvis holding the head, else the femur's; a
+// side given against the bones' is an error.
+void choose_side(AssessmentResult& r, const AssessmentRequest& request, const anatomy::UserFrame* given,
+                 const InputPelvis& pelvis, const anatomy::FemurLandmarks& femur) {
+  std::optional<Side> from_bones;
+  if (pelvis.landmarks) from_bones = pelvis.landmarks->side;
+  std::optional<Side> from_frame = given ? given->side : std::nullopt;
+  r.side = request.side.value_or(from_frame.value_or(from_bones.value_or(femur.side.value_or(Side::kRight))));
+  r.side_source = request.side ? "--side" : from_frame ? "--frame" : from_bones ? "the half of the pelvis holding the femoral head"
+                  : femur.side ? "the femur (" + femur.side_method + ")" : "assumed right (nothing tells)";
+  if (from_bones && *from_bones != r.side) {
+    throw_error("assess: the hip is given as ", anatomy::side_name(r.side), " but the femoral head lies in the ",
+                anatomy::side_name(*from_bones), " half of the pelvis");
+  }
+}
+
+// A left hip mirrored into a right one through the pelvis' midsagittal plane: the bones, the pelvis
+// frame and landmarks (right and left swapped), and the femur's landmarks found again.
+void mirror_left_hip(AssessmentResult& r, InputPelvis& pelvis, const Vec3& hjc_input, geometry::TriMesh& femur_mesh,
+                     anatomy::FemurLandmarksRequest& femur_request, anatomy::FemurLandmarks& femur, Stages& stages) {
+  const Vec3 midline = pelvis.landmarks ? Vec3(0.5 * (pelvis.landmarks->asis_right_mm + pelvis.landmarks->asis_left_mm))
+                                        : hjc_input;
+  r.to_input = anatomy::reflection(midline, pelvis.frame.right);
+  femur_mesh = anatomy::reflected(femur_mesh, r.to_input);
+  r.pelvis = anatomy::reflected(r.pelvis, r.to_input);
+  pelvis.frame = mirror_frame(pelvis.frame, r.to_input);
+  if (pelvis.landmarks) {
+    anatomy::PelvisLandmarks m = *pelvis.landmarks;
+    m.asis_right_mm = r.to_input * pelvis.landmarks->asis_left_mm;
+    m.asis_left_mm = r.to_input * pelvis.landmarks->asis_right_mm;
+    m.pubic_tubercle_right_mm = r.to_input * pelvis.landmarks->pubic_tubercle_left_mm;
+    m.pubic_tubercle_left_mm = r.to_input * pelvis.landmarks->pubic_tubercle_right_mm;
+    m.frame = pelvis.frame;
+    m.side = Side::kRight;
+    pelvis.landmarks = m;
+  }
+  femur_request.femur = &femur_mesh;
+  if (femur_request.head_centre_hint_mm) femur_request.head_centre_hint_mm = r.to_input * *femur_request.head_centre_hint_mm;
+  femur_request.anterior_hint = pelvis.frame.anterior;
+  femur = stages.run("femur landmarks (mirrored)", [&] { return anatomy::find_femur_landmarks(femur_request); });
+}
+
+// The femur frame (given, or found), the neck axis and the neutral rotation, in working coordinates.
+void set_femur_frame(AssessmentResult& r, const anatomy::UserFrame* given, const anatomy::FemurLandmarks& femur) {
+  if (given && given->femur) {
+    r.femur_frame = r.side == Side::kLeft ? mirror_frame(*given->femur, r.to_input) : *given->femur;
+    r.femur_frame_source = "given (--frame, " + given->source_kind + ")";
+  } else {
+    r.femur_frame = femur_frame_of(femur, r.pelvis_frame, r.femur_frame_source);
+  }
+  r.femur_frame.origin_mm = r.hjc_mm;
+  r.femur_landmarks = femur;
+  r.neck_axis = femur.neck_axis;
+  r.neck_axis_source = "found on the bone";
+  if (given && given->neck_axis) {
+    r.neck_axis = (r.to_input.linear() * *given->neck_axis).normalized();
+    r.neck_axis_source = "given (--frame)";
+  }
+  r.neutral_rotation = r.pelvis_frame.axes() * r.femur_frame.axes().transpose();
+}
+
+// Bone-to-bone depths over the user's motion, about the HJC in the hip frame.
+anatomy::MotionDepths motion_depths(const AssessmentResult& r, const AssessmentRequest& request,
+                                    const anatomy::FemurLandmarks& femur) {
+  anatomy::MotionDepthsRequest depths;
+  depths.pelvis = &r.pelvis;
+  depths.femur = &r.femur_neutral;
+  depths.hjc_mm = r.hjc_mm;
+  depths.hip_axes = r.pelvis_frame.axes();
+  depths.acetabulum = acetabular_clock_face(r.acetabulum);
+  AnatomicalFrame femur_at_neutral = r.femur_frame;
+  femur_at_neutral.anterior = r.neutral_rotation * r.femur_frame.anterior;
+  femur_at_neutral.superior = r.neutral_rotation * r.femur_frame.superior;
+  depths.femoral_head = femoral_clock_face(r.hjc_mm + r.neutral_rotation * (femur.head_centre_mm - r.hjc_mm),
+                                           r.neutral_rotation * r.neck_axis, femur_at_neutral);
+  for (const auto& step : request.motion->steps) depths.poses.push_back(step.pose);
+  depths.num_threads = request.threads;
+  depths.radial_reach_mm = kRadialReachHeadRadii * femur.head_radius_mm;
+  return anatomy::bone_depths_over_motion(depths);
+}
+
+// Virtual osteochondroplasty down to --resect-alpha-deg; returns the resected femur.
+geometry::TriMesh resect_cam(AssessmentResult& r, const AssessmentRequest& request,
+                             const geometry::TriMesh& femur_mesh, Stages& stages) {
+  const anatomy::SelfIntersectionRepair solid =
+      stages.run("femur solid check", [&] { return anatomy::repair_self_intersections(femur_mesh, request.femur_name); });
+  anatomy::CamResectionRequest cam;
+  cam.femur = &solid.mesh;
+  cam.head_centre_mm = r.before.measures.alpha.head_centre_mm;
+  cam.head_radius_mm = r.before.measures.alpha.head_radius_mm;
+  cam.neck_axis = r.neck_axis;
+  cam.anterior = r.femur_frame.anterior;
+  cam.superior = r.femur_frame.superior;
+  cam.target_alpha_deg = *request.resect_alpha_deg;
+  cam.tolerance_mm = r.before.measures.alpha.tolerance_mm;
+  const anatomy::CamResection done = stages.run("cam resection", [&] { return anatomy::resect_cam(cam); });
+  geometry::TriMesh femur_after = done.resected;
+  r.resections.push_back(summary("cam", cam.target_alpha_deg, solid, done, femur_after));
+  return femur_after;
+}
+
+// Virtual rim trimming by --trim-rim-deg; returns the trimmed pelvis.
+geometry::TriMesh trim_rim(AssessmentResult& r, const AssessmentRequest& request, Stages& stages) {
+  const anatomy::SelfIntersectionRepair solid =
+      stages.run("pelvis solid check", [&] { return anatomy::repair_self_intersections(r.pelvis, request.pelvis_name); });
+  anatomy::RimTrimRequest rim;
+  rim.pelvis = &solid.mesh;
+  rim.acetabular_centre_mm = r.acetabulum.centre_mm;
+  rim.acetabular_radius_mm = r.acetabulum.radius_mm;
+  rim.opening_axis = r.acetabulum.axis;
+  rim.anterior = r.acetabulum.clock_anterior;
+  rim.superior = r.acetabulum.clock_superior;
+  for (const auto& p : r.acetabulum.rim) rim.rim.push_back({p.clock_deg, p.polar_deg});
+  rim.trim_deg = *request.trim_rim_deg;
+  const anatomy::RimTrim done = stages.run("rim trimming", [&] { return anatomy::trim_rim(rim); });
+  geometry::TriMesh pelvis_after = done.trimmed;
+  r.resections.push_back(summary("rim", rim.trim_deg, solid, done, pelvis_after));
+  return pelvis_after;
+}
+
+// The resections asked for, then the measures and clinical motions again.
+void resect(AssessmentResult& r, const AssessmentRequest& request, const geometry::TriMesh& femur_mesh, Stages& stages) {
+  geometry::TriMesh femur_after = femur_mesh;
+  geometry::TriMesh pelvis_after = r.pelvis;
+  if (request.resect_alpha_deg) femur_after = resect_cam(r, request, femur_mesh, stages);
+  if (request.trim_rim_deg) pelvis_after = trim_rim(r, request, stages);
+  geometry::TriMesh femur_after_neutral;
+  r.after = stages.run("measures and clinical motions after resection", [&] {
+    return evaluate(r, pelvis_after, femur_after, r.acetabulum, request.threads, &femur_after_neutral);
+  });
+  r.pelvis_after = std::move(pelvis_after);
+  r.femur_after_neutral = std::move(femur_after_neutral);
+}
+
+}  // namespace
+
 AssessmentResult assess_hip(const AssessmentRequest& request) {
   if (request.femur == nullptr || request.pelvis == nullptr) throw_error("assess: a femur and a pelvis are required");
   geometry::validate_mesh(*request.femur, request.femur_name);
@@ -190,84 +355,20 @@ AssessmentResult assess_hip(const AssessmentRequest& request) {
   const Vec3 hjc_input = given && given->hjc_mm ? *given->hjc_mm : femur.head_centre_mm;
   const Vec3 towards_head =
       femur.mechanical_axis ? *femur.mechanical_axis : Vec3(femur.shaft_axis.normalized());
+  InputPelvis pelvis = pelvis_in_input(request, given, hjc_input, towards_head, stages, r);
 
-  AnatomicalFrame pelvis_frame;
-  std::optional<anatomy::PelvisLandmarks> pelvis_landmarks;
-  if (given && given->pelvis) {
-    pelvis_frame = *given->pelvis;
-    pelvis_frame.origin_mm = hjc_input;
-    r.pelvis_frame_source = "given (--frame, " + given->source_kind + ")";
-  } else {
-    anatomy::PelvisLandmarksRequest pelvis_request;
-    pelvis_request.pelvis = request.pelvis;
-    pelvis_request.hjc_mm = hjc_input;
-    pelvis_request.superior_hint = towards_head;
-    pelvis_request.what = request.pelvis_name;
-    pelvis_landmarks = stages.run("pelvis landmarks", [&] { return anatomy::find_pelvis_landmarks(pelvis_request); });
-    pelvis_frame = pelvis_landmarks->frame;
-    r.pelvis_frame_source = "found on the bone: anterior pelvic plane (Lewinnek et al. 1978; Kai et al. 2014)";
-  }
-
-  // 2. Side.
-  const double towards_right = pelvis_frame.right.dot(hjc_input - pelvis_frame.origin_mm);
-  std::optional<Side> from_bones;
-  if (pelvis_landmarks) from_bones = pelvis_landmarks->side;
-  std::optional<Side> from_frame = given ? given->side : std::nullopt;
-  r.side = request.side.value_or(from_frame.value_or(from_bones.value_or(femur.side.value_or(Side::kRight))));
-  r.side_source = request.side ? "--side" : from_frame ? "--frame" : from_bones ? "the half of the pelvis holding the femoral head"
-                  : femur.side ? "the femur (" + femur.side_method + ")" : "assumed right (nothing tells)";
-  if (from_bones && *from_bones != r.side) {
-    throw_error("assess: the hip is given as ", anatomy::side_name(r.side), " but the femoral head lies in the ",
-                anatomy::side_name(*from_bones), " half of the pelvis");
-  }
-  (void)towards_right;
-
-  // Working coordinates: a left hip mirrored into a right one through the pelvis' midsagittal plane.
+  // 2. Side; working coordinates.
+  choose_side(r, request, given, pelvis, femur);
   geometry::TriMesh femur_mesh = *request.femur;
   r.pelvis = *request.pelvis;
-  if (r.side == Side::kLeft) {
-    const Vec3 midline = pelvis_landmarks ? Vec3(0.5 * (pelvis_landmarks->asis_right_mm + pelvis_landmarks->asis_left_mm))
-                                          : hjc_input;
-    r.to_input = anatomy::reflection(midline, pelvis_frame.right);
-    femur_mesh = anatomy::reflected(femur_mesh, r.to_input);
-    r.pelvis = anatomy::reflected(r.pelvis, r.to_input);
-    pelvis_frame = mirror_frame(pelvis_frame, r.to_input);
-    if (pelvis_landmarks) {
-      anatomy::PelvisLandmarks m = *pelvis_landmarks;
-      m.asis_right_mm = r.to_input * pelvis_landmarks->asis_left_mm;
-      m.asis_left_mm = r.to_input * pelvis_landmarks->asis_right_mm;
-      m.pubic_tubercle_right_mm = r.to_input * pelvis_landmarks->pubic_tubercle_left_mm;
-      m.pubic_tubercle_left_mm = r.to_input * pelvis_landmarks->pubic_tubercle_right_mm;
-      m.frame = pelvis_frame;
-      m.side = Side::kRight;
-      pelvis_landmarks = m;
-    }
-    femur_request.femur = &femur_mesh;
-    if (femur_request.head_centre_hint_mm) femur_request.head_centre_hint_mm = r.to_input * *femur_request.head_centre_hint_mm;
-    femur_request.anterior_hint = pelvis_frame.anterior;
-    femur = stages.run("femur landmarks (mirrored)", [&] { return anatomy::find_femur_landmarks(femur_request); });
-  }
-  r.pelvis_landmarks = pelvis_landmarks;
+  if (r.side == Side::kLeft) mirror_left_hip(r, pelvis, hjc_input, femur_mesh, femur_request, femur, stages);
+  r.pelvis_landmarks = pelvis.landmarks;
   r.hjc_mm = r.to_input * hjc_input;
-  pelvis_frame.origin_mm = r.hjc_mm;
-  r.pelvis_frame = pelvis_frame;
+  pelvis.frame.origin_mm = r.hjc_mm;
+  r.pelvis_frame = pelvis.frame;
 
   // 3. Femur frame.
-  if (given && given->femur) {
-    r.femur_frame = r.side == Side::kLeft ? mirror_frame(*given->femur, r.to_input) : *given->femur;
-    r.femur_frame_source = "given (--frame, " + given->source_kind + ")";
-  } else {
-    r.femur_frame = femur_frame_of(femur, r.pelvis_frame, r.femur_frame_source);
-  }
-  r.femur_frame.origin_mm = r.hjc_mm;
-  r.femur_landmarks = femur;
-  r.neck_axis = femur.neck_axis;
-  r.neck_axis_source = "found on the bone";
-  if (given && given->neck_axis) {
-    r.neck_axis = (r.to_input.linear() * *given->neck_axis).normalized();
-    r.neck_axis_source = "given (--frame)";
-  }
-  r.neutral_rotation = r.pelvis_frame.axes() * r.femur_frame.axes().transpose();
+  set_femur_frame(r, given, femur);
 
   // 4. Acetabulum.
   anatomy::AcetabulumRequest acetabulum_request;
@@ -282,67 +383,12 @@ AssessmentResult assess_hip(const AssessmentRequest& request) {
   r.before = stages.run("measures and clinical motions",
                         [&] { return evaluate(r, r.pelvis, femur_mesh, r.acetabulum, request.threads, &r.femur_neutral); });
   if (request.motion) {
-    anatomy::MotionDepthsRequest depths;
-    depths.pelvis = &r.pelvis;
-    depths.femur = &r.femur_neutral;
-    depths.hjc_mm = r.hjc_mm;
-    depths.hip_axes = r.pelvis_frame.axes();
-    depths.acetabulum = acetabular_clock_face(r.acetabulum);
-    AnatomicalFrame femur_at_neutral = r.femur_frame;
-    femur_at_neutral.anterior = r.neutral_rotation * r.femur_frame.anterior;
-    femur_at_neutral.superior = r.neutral_rotation * r.femur_frame.superior;
-    depths.femoral_head = femoral_clock_face(r.hjc_mm + r.neutral_rotation * (femur.head_centre_mm - r.hjc_mm),
-                                             r.neutral_rotation * r.neck_axis, femur_at_neutral);
-    for (const auto& step : request.motion->steps) depths.poses.push_back(step.pose);
-    depths.num_threads = request.threads;
-    depths.radial_reach_mm = kRadialReachHeadRadii * femur.head_radius_mm;
     r.motion_name = request.motion->name;
-    r.motion_depths = stages.run("motion depths", [&] { return anatomy::bone_depths_over_motion(depths); });
+    r.motion_depths = stages.run("motion depths", [&] { return motion_depths(r, request, femur); });
   }
 
   // 6. Resections.
-  if (request.resect_alpha_deg || request.trim_rim_deg) {
-    geometry::TriMesh femur_after = femur_mesh;
-    geometry::TriMesh pelvis_after = r.pelvis;
-    if (request.resect_alpha_deg) {
-      const anatomy::SelfIntersectionRepair solid =
-          stages.run("femur solid check", [&] { return anatomy::repair_self_intersections(femur_mesh, request.femur_name); });
-      anatomy::CamResectionRequest cam;
-      cam.femur = &solid.mesh;
-      cam.head_centre_mm = r.before.measures.alpha.head_centre_mm;
-      cam.head_radius_mm = r.before.measures.alpha.head_radius_mm;
-      cam.neck_axis = r.neck_axis;
-      cam.anterior = r.femur_frame.anterior;
-      cam.superior = r.femur_frame.superior;
-      cam.target_alpha_deg = *request.resect_alpha_deg;
-      cam.tolerance_mm = r.before.measures.alpha.tolerance_mm;
-      const anatomy::CamResection done = stages.run("cam resection", [&] { return anatomy::resect_cam(cam); });
-      femur_after = done.resected;
-      r.resections.push_back(summary("cam", cam.target_alpha_deg, solid, done, femur_after));
-    }
-    if (request.trim_rim_deg) {
-      const anatomy::SelfIntersectionRepair solid =
-          stages.run("pelvis solid check", [&] { return anatomy::repair_self_intersections(r.pelvis, request.pelvis_name); });
-      anatomy::RimTrimRequest rim;
-      rim.pelvis = &solid.mesh;
-      rim.acetabular_centre_mm = r.acetabulum.centre_mm;
-      rim.acetabular_radius_mm = r.acetabulum.radius_mm;
-      rim.opening_axis = r.acetabulum.axis;
-      rim.anterior = r.acetabulum.clock_anterior;
-      rim.superior = r.acetabulum.clock_superior;
-      for (const auto& p : r.acetabulum.rim) rim.rim.push_back({p.clock_deg, p.polar_deg});
-      rim.trim_deg = *request.trim_rim_deg;
-      const anatomy::RimTrim done = stages.run("rim trimming", [&] { return anatomy::trim_rim(rim); });
-      pelvis_after = done.trimmed;
-      r.resections.push_back(summary("rim", rim.trim_deg, solid, done, pelvis_after));
-    }
-    geometry::TriMesh femur_after_neutral;
-    r.after = stages.run("measures and clinical motions after resection", [&] {
-      return evaluate(r, pelvis_after, femur_after, r.acetabulum, request.threads, &femur_after_neutral);
-    });
-    r.pelvis_after = std::move(pelvis_after);
-    r.femur_after_neutral = std::move(femur_after_neutral);
-  }
+  if (request.resect_alpha_deg || request.trim_rim_deg) resect(r, request, femur_mesh, stages);
   r.total_seconds = seconds_since(start);
   return r;
 }

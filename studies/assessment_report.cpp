@@ -244,8 +244,9 @@ std::string assessment_json(const AssessmentResult& r, const AssessmentInputs& i
   return j.dump(indent);
 }
 
-std::string assessment_markdown(const AssessmentResult& r, const AssessmentInputs& inputs) {
-  std::ostringstream md;
+namespace {
+
+void write_introduction(std::ostream& md, const AssessmentResult& r, const AssessmentInputs& inputs) {
   const auto& m = r.before.measures;
   md << "# Hip assessment: " << anatomy::side_name(r.side) << " hip\n\n"
      << "Femur `" << inputs.femur_path << "`, pelvis `" << inputs.pelvis_path << "`"
@@ -254,6 +255,9 @@ std::string assessment_markdown(const AssessmentResult& r, const AssessmentInput
      << ". Neck axis: " << r.neck_axis_source << ".\n\n"
      << "**Classification: " << anatomy::morphology_name(m.morphology) << "**";
   for (const auto& finding : m.findings) md << "\n- " << finding;
+}
+
+void write_measures(std::ostream& md, const anatomy::ClinicalMeasures& m) {
   md << "\n\n## Measures\n\n| measure | value | definition |\n|---|---|---|\n"
      << "| lateral CE | " << fixed(m.lateral_ce.ce_deg) << "° | Wiberg, coronal plane of the APP frame |\n"
      << "| acetabular inclination | " << fixed(m.acetabular_inclination_deg) << "° (anatomic "
@@ -273,6 +277,29 @@ std::string assessment_markdown(const AssessmentResult& r, const AssessmentInput
      << "| femoral version | "
      << (m.femoral_version_deg ? fixed(*m.femoral_version_deg) + "°" : "not measured: " + m.femoral_version_reason)
      << " | |\n\n![lateral CE](coronal_ce.svg) ![alpha](notzli_alpha.svg)\n\n![alpha profile](alpha_profile.svg)\n\n";
+}
+
+// The clinical normal range of each clinical motion, in the order of the motions' table.
+std::vector<std::string> clinical_normals() {
+  namespace lit = literature;
+  auto pair = [](double male, double female) { return fixed(male, 0) + " m / " + fixed(female, 0) + " f (C)"; };
+  return {
+      fixed(lit::kAaosFlexionDeg, 0) + " (A); " + pair(lit::kCzupponFlexionMaleDeg, lit::kCzupponFlexionFemaleDeg),
+      fixed(lit::kAaosExtensionDeg, 0) + " (A)",
+      fixed(lit::kAaosAbductionDeg, 0) + " (A)",
+      fixed(lit::kAaosAdductionDeg, 0) + " (A)",
+      fixed(lit::kAaosInternalRotationDeg, 0) + " (A); " +
+          pair(lit::kCzupponInternalRotationMaleDeg, lit::kCzupponInternalRotationFemaleDeg),
+      fixed(lit::kAaosExternalRotationDeg, 0) + " (A); " +
+          pair(lit::kCzupponExternalRotationMaleDeg, lit::kCzupponExternalRotationFemaleDeg),
+      pair(lit::kCzupponInternalRotation90MaleDeg, lit::kCzupponInternalRotation90FemaleDeg),
+      pair(lit::kCzupponExternalRotation90MaleDeg, lit::kCzupponExternalRotation90FemaleDeg),
+      fixed(lit::kAudenaertImpingementIrHealthyDeg, 0) + " healthy / " + fixed(lit::kAudenaertImpingementIrFaiDeg, 0) +
+          " FAI (Au)",
+      ""};
+}
+
+void write_clinical_motions(std::ostream& md, const AssessmentResult& r) {
   md << "## Clinical motions to bony impingement\n\nExact range finder (thesis §4.2) about the frame found; "
         "FADIR: flexion 90° and adduction " << fixed(r.before.rom.fadir_adduction_deg) << "°, then internal rotation; "
         "FABER: flexion " << fixed(r.before.rom.faber_flexion_deg) << "° and abduction "
@@ -287,22 +314,7 @@ std::string assessment_markdown(const AssessmentResult& r, const AssessmentInput
   static const char* kNames[] = {"flexion", "extension", "abduction", "adduction", "internal rotation",
                                  "external rotation", "internal rotation at 90° flexion",
                                  "external rotation at 90° flexion", "FADIR internal rotation", "FABER"};
-  namespace lit = literature;
-  auto pair = [](double male, double female) { return fixed(male, 0) + " m / " + fixed(female, 0) + " f (C)"; };
-  const std::string normal[] = {
-      fixed(lit::kAaosFlexionDeg, 0) + " (A); " + pair(lit::kCzupponFlexionMaleDeg, lit::kCzupponFlexionFemaleDeg),
-      fixed(lit::kAaosExtensionDeg, 0) + " (A)",
-      fixed(lit::kAaosAbductionDeg, 0) + " (A)",
-      fixed(lit::kAaosAdductionDeg, 0) + " (A)",
-      fixed(lit::kAaosInternalRotationDeg, 0) + " (A); " +
-          pair(lit::kCzupponInternalRotationMaleDeg, lit::kCzupponInternalRotationFemaleDeg),
-      fixed(lit::kAaosExternalRotationDeg, 0) + " (A); " +
-          pair(lit::kCzupponExternalRotationMaleDeg, lit::kCzupponExternalRotationFemaleDeg),
-      pair(lit::kCzupponInternalRotation90MaleDeg, lit::kCzupponInternalRotation90FemaleDeg),
-      pair(lit::kCzupponExternalRotation90MaleDeg, lit::kCzupponExternalRotation90FemaleDeg),
-      fixed(lit::kAudenaertImpingementIrHealthyDeg, 0) + " healthy / " + fixed(lit::kAudenaertImpingementIrFaiDeg, 0) +
-          " FAI (Au)",
-      ""};
+  const std::vector<std::string> normal = clinical_normals();
   for (std::size_t i = 0; i < before.size(); ++i) {
     const auto& o = *before[i];
     md << "| " << kNames[i] << " | ";
@@ -325,30 +337,41 @@ std::string assessment_markdown(const AssessmentResult& r, const AssessmentInput
     md << "\n";
   }
   md << "\n![clock faces](impingement_clock.svg)\n\n![range of motion](rom.svg)\n\n";
+}
+
+void write_resections(std::ostream& md, const AssessmentResult& r) {
+  md << "## Virtual resection\n\n| operation | requested | volume removed (mm³) | closed | manifold |\n|---|---|---|---|---|\n";
+  for (const auto& s : r.resections) {
+    md << "| " << (s.kind == "cam" ? "osteochondroplasty to alpha" : "rim trimming by") << " | " << fixed(s.requested_deg)
+       << "° | " << fixed(s.removed_volume_mm3) << " | " << (s.closed ? "yes" : "NO") << " | " << (s.manifold ? "yes" : "NO")
+       << " |\n";
+  }
+  for (const auto& s : r.resections) {
+    if (s.repaired_pairs == 0) continue;
+    const Vec3 p = r.point_to_input(s.repaired_near_mm);
+    md << "\nThe " << (s.kind == "cam" ? "femur" : "pelvis") << " had " << s.repaired_pairs
+       << " self-intersecting triangle pairs (near " << fixed(p.x()) << ", " << fixed(p.y()) << ", " << fixed(p.z())
+       << " mm), removed and refilled locally (CGAL) before the Boolean.\n";
+  }
+  md << "\nAfter: alpha " << fixed(r.after->measures.alpha.alpha_deg) << "° (largest " << fixed(r.after->measures.alpha.max_alpha_deg)
+     << "°), lateral CE " << fixed(r.after->measures.lateral_ce.ce_deg) << "°, classification "
+     << anatomy::morphology_name(r.after->measures.morphology) << ".\n\n";
+}
+
+}  // namespace
+
+std::string assessment_markdown(const AssessmentResult& r, const AssessmentInputs& inputs) {
+  std::ostringstream md;
+  write_introduction(md, r, inputs);
+  write_measures(md, r.before.measures);
+  write_clinical_motions(md, r);
   if (r.motion_depths) {
     md << "## Motion `" << r.motion_name << "`: bone-to-bone penetration\n\nMaximum curvilinear depth "
        << fixed(r.motion_depths->max_curvilinear_mm(), 2) << " mm, maximum radial depth "
        << fixed(r.motion_depths->max_radial_mm(), 2) << " mm over " << r.motion_depths->steps.size()
        << " steps (thesis ch. 3; per step in assessment.json).\n\n";
   }
-  if (r.after) {
-    md << "## Virtual resection\n\n| operation | requested | volume removed (mm³) | closed | manifold |\n|---|---|---|---|---|\n";
-    for (const auto& s : r.resections) {
-      md << "| " << (s.kind == "cam" ? "osteochondroplasty to alpha" : "rim trimming by") << " | " << fixed(s.requested_deg)
-         << "° | " << fixed(s.removed_volume_mm3) << " | " << (s.closed ? "yes" : "NO") << " | " << (s.manifold ? "yes" : "NO")
-         << " |\n";
-    }
-    for (const auto& s : r.resections) {
-      if (s.repaired_pairs == 0) continue;
-      const Vec3 p = r.point_to_input(s.repaired_near_mm);
-      md << "\nThe " << (s.kind == "cam" ? "femur" : "pelvis") << " had " << s.repaired_pairs
-         << " self-intersecting triangle pairs (near " << fixed(p.x()) << ", " << fixed(p.y()) << ", " << fixed(p.z())
-         << " mm), removed and refilled locally (CGAL) before the Boolean.\n";
-    }
-    md << "\nAfter: alpha " << fixed(r.after->measures.alpha.alpha_deg) << "° (largest " << fixed(r.after->measures.alpha.max_alpha_deg)
-       << "°), lateral CE " << fixed(r.after->measures.lateral_ce.ce_deg) << "°, classification "
-       << anatomy::morphology_name(r.after->measures.morphology) << ".\n\n";
-  }
+  if (r.after) write_resections(md, r);
   md << "## Files\n\n`assessment.json` (every value, input coordinates), `pelvis.vtp`, `femur.vtp` (vertex field "
         "`impingement_motions`)" << (r.after ? ", `femur_resected.vtp`, `pelvis_trimmed.vtp`" : "") << ".\n\n"
      << "Time: " << fixed(r.total_seconds, 2) << " s (";

@@ -79,129 +79,166 @@ void save(const std::filesystem::path& path, const std::string& svg) {
 
 }  // namespace
 
-void write_svg(const LineChart& chart, const std::filesystem::path& path) {
-  const bool has_right = std::any_of(chart.series.begin(), chart.series.end(),
-                                     [](const Series& s) { return s.right_axis; });
-  const bool has_left = std::any_of(chart.series.begin(), chart.series.end(),
-                                    [](const Series& s) { return !s.right_axis; });
-  // A right axis adds a column for its tick labels and label; the plot keeps its size and the legend
-  // moves right with the chart's edge.
-  const double extra = has_right ? 76 : 0;
-  const double width = 720 + extra, height = 440, left = 70, right = 180 + extra, top = 40, bottom = 55;
-  auto tx = [&](double v) { return chart.log_x ? std::log10(v) : v; };
-  auto ty = [&](double v) { return chart.log_y ? std::log10(v) : v; };
-  auto usable = [&](double x, double y) {
+namespace {
+
+// A line chart's layout and axis ranges (transformed where the axis is logarithmic), and its
+// mapping from data to the page.
+struct ChartFrame {
+  const LineChart& chart;
+  bool has_left = false, has_right = false;
+  // A right axis adds a column for its tick labels and label; the plot keeps its size and the
+  // legend moves right with the chart's edge.
+  double extra = 0, width = 0, height = 440, left = 70, right = 0, top = 40, bottom = 55;
+  double x0 = 0, x1 = 0, y0 = 0, y1 = 0, r0 = 0, r1 = 0;  // x, left y and right y ranges
+  double plot_w = 0, plot_h = 0;
+
+  double tx(double v) const { return chart.log_x ? std::log10(v) : v; }
+  double ty(double v) const { return chart.log_y ? std::log10(v) : v; }
+  bool usable(double x, double y) const {
     return std::isfinite(x) && std::isfinite(y) && (!chart.log_x || x > 0) && (!chart.log_y || y > 0);
-  };
+  }
+  double px(double v) const { return left + (tx(v) - x0) / (x1 - x0) * plot_w; }
+  double py(double v, bool on_right) const {
+    const double lo = on_right ? r0 : y0, hi = on_right ? r1 : y1;
+    return top + plot_h - (ty(v) - lo) / (hi - lo) * plot_h;
+  }
+};
+
+double axis_value(double v, bool log) { return log ? std::pow(10.0, v) : v; }
+
+void set_ranges(ChartFrame& f) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
-  double x0 = kInf, x1 = -kInf;
-  double y0 = kInf, y1 = -kInf, r0 = kInf, r1 = -kInf;  // left and right y ranges (transformed)
-  for (const auto& s : chart.series) {
-    double& lo = s.right_axis ? r0 : y0;
-    double& hi = s.right_axis ? r1 : y1;
+  f.x0 = kInf, f.x1 = -kInf;
+  f.y0 = kInf, f.y1 = -kInf, f.r0 = kInf, f.r1 = -kInf;
+  for (const auto& s : f.chart.series) {
+    double& lo = s.right_axis ? f.r0 : f.y0;
+    double& hi = s.right_axis ? f.r1 : f.y1;
     for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); ++i) {
-      if (!usable(s.x[i], s.y[i])) continue;
-      x0 = std::min(x0, tx(s.x[i])), x1 = std::max(x1, tx(s.x[i]));
-      lo = std::min(lo, ty(s.y[i])), hi = std::max(hi, ty(s.y[i]));
+      if (!f.usable(s.x[i], s.y[i])) continue;
+      f.x0 = std::min(f.x0, f.tx(s.x[i])), f.x1 = std::max(f.x1, f.tx(s.x[i]));
+      lo = std::min(lo, f.ty(s.y[i])), hi = std::max(hi, f.ty(s.y[i]));
     }
   }
-  if (!std::isfinite(x0)) x0 = 0, x1 = 1;
+  if (!std::isfinite(f.x0)) f.x0 = 0, f.x1 = 1;
   auto finish_range = [&](double& lo, double& hi) {
     if (!std::isfinite(lo)) lo = 0, hi = 1;
-    if (!chart.log_y) lo = std::min(lo, 0.0);
+    if (!f.chart.log_y) lo = std::min(lo, 0.0);
     if (hi <= lo) hi = lo + 1;
     hi += 0.05 * (hi - lo);
   };
-  if (x1 <= x0) x1 = x0 + 1;
-  finish_range(y0, y1);
-  finish_range(r0, r1);
-  const double plot_w = width - left - right, plot_h = height - top - bottom;
-  auto px = [&](double v) { return left + (tx(v) - x0) / (x1 - x0) * plot_w; };
-  auto py = [&](double v, bool on_right) {
-    const double lo = on_right ? r0 : y0, hi = on_right ? r1 : y1;
-    return top + plot_h - (ty(v) - lo) / (hi - lo) * plot_h;
-  };
-  std::ostringstream svg;
-  svg << "<svg xmlns='http://www.w3.org/2000/svg' width='" << width << "' height='" << height
+  if (f.x1 <= f.x0) f.x1 = f.x0 + 1;
+  finish_range(f.y0, f.y1);
+  finish_range(f.r0, f.r1);
+}
+
+ChartFrame chart_frame(const LineChart& chart) {
+  ChartFrame f{chart};
+  f.has_right = std::any_of(chart.series.begin(), chart.series.end(), [](const Series& s) { return s.right_axis; });
+  f.has_left = std::any_of(chart.series.begin(), chart.series.end(), [](const Series& s) { return !s.right_axis; });
+  f.extra = f.has_right ? 76 : 0;
+  f.width = 720 + f.extra;
+  f.right = 180 + f.extra;
+  set_ranges(f);
+  f.plot_w = f.width - f.left - f.right, f.plot_h = f.height - f.top - f.bottom;
+  return f;
+}
+
+// Title, frame, the grid with the x and left y ticks, and the axis labels.
+void write_axes(std::ostream& svg, const ChartFrame& f) {
+  const LineChart& chart = f.chart;
+  const double left = f.left, top = f.top, plot_w = f.plot_w, plot_h = f.plot_h;
+  svg << "<svg xmlns='http://www.w3.org/2000/svg' width='" << f.width << "' height='" << f.height
       << "' font-family='sans-serif' font-size='12'>\n<rect width='100%' height='100%' fill='white'/>\n";
-  svg << "<text x='" << width / 2 << "' y='22' text-anchor='middle' font-size='15'>" << escape(chart.title)
+  svg << "<text x='" << f.width / 2 << "' y='22' text-anchor='middle' font-size='15'>" << escape(chart.title)
       << "</text>\n";
   svg << "<rect x='" << left << "' y='" << top << "' width='" << plot_w << "' height='" << plot_h
       << "' fill='none' stroke='black'/>\n";
-  auto axis_value = [](double v, bool log) { return log ? std::pow(10.0, v) : v; };
-  for (double t : ticks(x0, x1, 6)) {
-    const double x = left + (t - x0) / (x1 - x0) * plot_w;
+  for (double t : ticks(f.x0, f.x1, 6)) {
+    const double x = left + (t - f.x0) / (f.x1 - f.x0) * plot_w;
     svg << "<line x1='" << x << "' y1='" << top + plot_h << "' x2='" << x << "' y2='" << top
         << "' stroke='#ddd'/><text x='" << x << "' y='" << top + plot_h + 16
         << "' text-anchor='middle'>" << number(axis_value(t, chart.log_x)) << "</text>\n";
   }
-  for (double t : ticks(y0, y1, 6)) {
-    const double y = top + plot_h - (t - y0) / (y1 - y0) * plot_h;
+  for (double t : ticks(f.y0, f.y1, 6)) {
+    const double y = top + plot_h - (t - f.y0) / (f.y1 - f.y0) * plot_h;
     svg << "<line x1='" << left << "' y1='" << y << "' x2='" << left + plot_w << "' y2='" << y
         << "' stroke='#ddd'/><text x='" << left - 6 << "' y='" << y + 4 << "' text-anchor='end'>"
         << number(axis_value(t, chart.log_y)) << "</text>\n";
   }
-  svg << "<text x='" << left + plot_w / 2 << "' y='" << height - 15 << "' text-anchor='middle'>"
+  svg << "<text x='" << left + plot_w / 2 << "' y='" << f.height - 15 << "' text-anchor='middle'>"
       << escape(chart.x_label) << "</text>\n";
   svg << "<text transform='translate(18," << top + plot_h / 2 << ") rotate(-90)' text-anchor='middle'>"
       << escape(chart.y_label) << "</text>\n";
-  // Right axis: short tick marks on the frame (the grid follows the left axis), labels in the colour
-  // of its series when only one series uses it; otherwise black, and the legend marks its series.
+}
+
+// Right axis: short tick marks on the frame (the grid follows the left axis), labels in the colour
+// of its series when only one series uses it; otherwise black, and the legend marks its series.
+void write_right_axis(std::ostream& svg, const ChartFrame& f, const std::string& colour) {
+  const double axis_x = f.left + f.plot_w;
+  for (double t : ticks(f.r0, f.r1, 6)) {
+    const double y = f.top + f.plot_h - (t - f.r0) / (f.r1 - f.r0) * f.plot_h;
+    svg << "<line x1='" << axis_x << "' y1='" << y << "' x2='" << axis_x + 5 << "' y2='" << y
+        << "' stroke='" << colour << "'/><text x='" << axis_x + 8 << "' y='" << y + 4
+        << "' text-anchor='start' fill='" << colour << "'>" << number(axis_value(t, f.chart.log_y))
+        << "</text>\n";
+  }
+  svg << "<text transform='translate(" << axis_x + f.extra - 8 << ',' << f.top + f.plot_h / 2
+      << ") rotate(-90)' text-anchor='middle' fill='" << colour << "'>" << escape(f.chart.y2_label)
+      << "</text>\n";
+}
+
+// Series `s`: its line (unless markers only) and points, and its legend entry.
+void write_series(std::ostream& svg, const ChartFrame& f, std::size_t s, std::size_t right_count) {
+  const auto& series = f.chart.series[s];
+  const double legend_x = f.width - f.right + f.extra;
+  const char* colour = kPalette[s % std::size(kPalette)];
+  const std::size_t n = std::min(series.x.size(), series.y.size());
+  if (!series.markers) {
+    svg << "<polyline fill='none' stroke='" << colour << "' stroke-width='2'"
+        << (series.dashed ? " stroke-dasharray='6,4'" : "") << " points='";
+    for (std::size_t i = 0; i < n; ++i) {
+      if (f.usable(series.x[i], series.y[i])) {
+        svg << f.px(series.x[i]) << ',' << f.py(series.y[i], series.right_axis) << ' ';
+      }
+    }
+    svg << "'/>\n";
+  }
+  const char* radius = series.markers ? "3" : "2.5";
+  for (std::size_t i = 0; i < n; ++i) {
+    if (f.usable(series.x[i], series.y[i])) {
+      svg << "<circle cx='" << f.px(series.x[i]) << "' cy='" << f.py(series.y[i], series.right_axis) << "' r='"
+          << radius << "' fill='" << colour << "'/>\n";
+    }
+  }
+  const double ly = f.top + 14 + 18 * static_cast<double>(s);
+  if (series.markers) {
+    svg << "<circle cx='" << legend_x + 24 << "' cy='" << ly << "' r='3' fill='" << colour << "'/>";
+  } else {
+    svg << "<line x1='" << legend_x + 12 << "' y1='" << ly << "' x2='" << legend_x + 36 << "' y2='" << ly
+        << "' stroke='" << colour << "' stroke-width='2'" << (series.dashed ? " stroke-dasharray='6,4'" : "")
+        << "/>";
+  }
+  svg << "<text x='" << legend_x + 42 << "' y='" << ly + 4 << "'>" << escape(series.name)
+      << (series.right_axis && f.has_left && right_count > 1 ? " (right)" : "") << "</text>\n";
+}
+
+}  // namespace
+
+void write_svg(const LineChart& chart, const std::filesystem::path& path) {
+  const ChartFrame f = chart_frame(chart);
+  std::ostringstream svg;
+  write_axes(svg, f);
   std::size_t right_count = 0;
   std::string right_colour = "black";
   for (std::size_t s = 0; s < chart.series.size(); ++s) {
     if (chart.series[s].right_axis) ++right_count, right_colour = kPalette[s % std::size(kPalette)];
   }
   if (right_count != 1) right_colour = "black";
-  if (has_right) {
-    const std::string& colour = right_colour;
-    const double axis_x = left + plot_w;
-    for (double t : ticks(r0, r1, 6)) {
-      const double y = top + plot_h - (t - r0) / (r1 - r0) * plot_h;
-      svg << "<line x1='" << axis_x << "' y1='" << y << "' x2='" << axis_x + 5 << "' y2='" << y
-          << "' stroke='" << colour << "'/><text x='" << axis_x + 8 << "' y='" << y + 4
-          << "' text-anchor='start' fill='" << colour << "'>" << number(axis_value(t, chart.log_y))
-          << "</text>\n";
-    }
-    svg << "<text transform='translate(" << axis_x + extra - 8 << ',' << top + plot_h / 2
-        << ") rotate(-90)' text-anchor='middle' fill='" << colour << "'>" << escape(chart.y2_label)
-        << "</text>\n";
-  }
-  const double legend_x = width - right + extra;
-  for (std::size_t s = 0; s < chart.series.size(); ++s) {
-    const auto& series = chart.series[s];
-    const char* colour = kPalette[s % std::size(kPalette)];
-    const std::size_t n = std::min(series.x.size(), series.y.size());
-    if (!series.markers) {
-      svg << "<polyline fill='none' stroke='" << colour << "' stroke-width='2'"
-          << (series.dashed ? " stroke-dasharray='6,4'" : "") << " points='";
-      for (std::size_t i = 0; i < n; ++i) {
-        if (usable(series.x[i], series.y[i])) {
-          svg << px(series.x[i]) << ',' << py(series.y[i], series.right_axis) << ' ';
-        }
-      }
-      svg << "'/>\n";
-    }
-    const char* radius = series.markers ? "3" : "2.5";
-    for (std::size_t i = 0; i < n; ++i) {
-      if (usable(series.x[i], series.y[i])) {
-        svg << "<circle cx='" << px(series.x[i]) << "' cy='" << py(series.y[i], series.right_axis) << "' r='"
-            << radius << "' fill='" << colour << "'/>\n";
-      }
-    }
-    const double ly = top + 14 + 18 * static_cast<double>(s);
-    if (series.markers) {
-      svg << "<circle cx='" << legend_x + 24 << "' cy='" << ly << "' r='3' fill='" << colour << "'/>";
-    } else {
-      svg << "<line x1='" << legend_x + 12 << "' y1='" << ly << "' x2='" << legend_x + 36 << "' y2='" << ly
-          << "' stroke='" << colour << "' stroke-width='2'" << (series.dashed ? " stroke-dasharray='6,4'" : "")
-          << "/>";
-    }
-    svg << "<text x='" << legend_x + 42 << "' y='" << ly + 4 << "'>" << escape(series.name)
-        << (series.right_axis && has_left && right_count > 1 ? " (right)" : "") << "</text>\n";
-  }
+  if (f.has_right) write_right_axis(svg, f, right_colour);
+  for (std::size_t s = 0; s < chart.series.size(); ++s) write_series(svg, f, s, right_count);
+  const double legend_x = f.width - f.right + f.extra;
   for (std::size_t k = 0; k < chart.notes.size(); ++k) {
-    const double ny = top + 14 + 18 * static_cast<double>(chart.series.size()) + 8 + 14 * static_cast<double>(k);
+    const double ny = f.top + 14 + 18 * static_cast<double>(chart.series.size()) + 8 + 14 * static_cast<double>(k);
     svg << "<text x='" << legend_x + 12 << "' y='" << ny << "' font-size='11'>" << escape(chart.notes[k])
         << "</text>\n";
   }
