@@ -3,6 +3,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/literature.h"
+#include "studies/estimator_model_file.h"
 #include "studies/estimator_study.h"
 
 #include <cmath>

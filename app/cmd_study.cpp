@@ -4,6 +4,7 @@
 #include "geometry/hip_parameters.h"
 #include "studies/fai_study.h"
 #include "studies/hip_sensitivity.h"
+#include "studies/hip_sensitivity_report.h"
 #include "studies/radial_mapping_name.h"
 #include "studies/validation_report.h"
 #include "studies/validation_study.h"

@@ -12,7 +12,7 @@
 #include "geometry/mesh_io_ply.h"
 #include "geometry/mesh_io_stl.h"
 #include "geometry/mesh_io_vtp.h"
-#include "studies/estimator_study.h"
+#include "studies/estimator_model_file.h"
 #include "studies/motion.h"
 #include "studies/results_file.h"
 

@@ -1,7 +1,7 @@
-// hipfai — the HDF5 file of a trained estimator model (write_estimator_model and
-// read_estimator_model of studies/estimator_study.h; docs/estimator.md has the layout).
+// hipfai — the HDF5 file of a trained estimator model (see estimator_model_file.h).
+#include "studies/estimator_model_file.h"
+
 #include "core/error.h"
-#include "studies/estimator_study.h"
 #include "studies/results_file.h"
 
 #include <iomanip>
@@ -109,6 +109,132 @@ std::vector<std::string> split(const std::string& text, char separator) {
   return out;
 }
 
+// A dataset of the model as a rows x cols matrix; an expected size of -1 takes what the file has.
+Eigen::MatrixXd read_matrix(ResultsReader& file, const std::filesystem::path& path, const std::string& name,
+                            Eigen::Index rows_expected, Eigen::Index cols_expected) {
+  std::size_t rows = 0, cols = 0;
+  const std::vector<double> values = file.dataset(name, &rows, &cols);
+  if ((rows_expected >= 0 && static_cast<Eigen::Index>(rows) != rows_expected) ||
+      (cols_expected >= 0 && static_cast<Eigen::Index>(cols) != cols_expected)) {
+    throw_error(path.string(), ": ", name, " is ", rows, " x ", cols, ", inconsistent with the rest of the model");
+  }
+  Eigen::MatrixXd matrix(static_cast<Eigen::Index>(rows), static_cast<Eigen::Index>(cols));
+  for (std::size_t r = 0; r < rows; ++r) {
+    for (std::size_t c = 0; c < cols; ++c) {
+      matrix(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c)) = values[r * cols + c];
+    }
+  }
+  return matrix;
+}
+
+// Refuses a file that is not a model of this format.
+void check_format(ResultsReader& file, const std::filesystem::path& path) {
+  std::string format;
+  try {
+    format = file.string_attribute("/", "format");
+  } catch (const Error&) {
+    throw_error(path.string(), ": not a hipfai estimator model (not HDF5, or no format attribute)");
+  }
+  if (format != kModelFormat) throw_error(path.string(), ": not a hipfai estimator model (format '", format, "')");
+}
+
+void read_settings(ResultsReader& file, EstimatorModel& model) {
+  model.code_version = file.string_attribute("/", "code_version");
+  model.measure = file.string_attribute("/", "fe_measure");
+  model.grid = parse_feature_grid(file.string_attribute("/", "feature_grid"));
+  const auto settings = parse_settings(file.string_attribute("/", "settings"));
+  stats::EstimatorSettings& s = model.estimator.settings;
+  s.pca.components = std::stoi(settings.at("components"));
+  s.pca.scale_floor = std::stod(settings.at("scale_floor"));
+  s.nearest = std::stoi(settings.at("nearest"));
+  s.knn_k = std::stoi(settings.at("knn_k"));
+  s.bordering_min_variance_share = std::stod(settings.at("bordering_min_variance_share"));
+}
+
+// The training hips' penetration depths (m hips x p steps), when the model has them: models
+// written before depth_nn have no penetration_depths attribute.
+void read_depths(ResultsReader& file, const std::filesystem::path& path, Eigen::Index m, Eigen::Index p,
+                 stats::TrainedEstimator& e) {
+  std::string depth_datasets = "none";
+  try {
+    depth_datasets = file.string_attribute("/", "penetration_depths");
+  } catch (const Error&) {
+  }
+  if (depth_datasets == kDepthDatasets) {
+    e.depths = {read_matrix(file, path, "/training/curvilinear_mm", m, p),
+                read_matrix(file, path, "/training/radial_mm", m, p)};
+    if (!e.depths.curvilinear_mm.allFinite() || !e.depths.radial_mm.allFinite() ||
+        (e.depths.curvilinear_mm.array() < 0.0).any() || (e.depths.radial_mm.array() < 0.0).any()) {
+      throw_error(path.string(), ": penetration depths not finite and >= 0");
+    }
+  } else if (depth_datasets != "none") {
+    throw_error(path.string(), ": penetration_depths is '", depth_datasets, "'");
+  }
+}
+
+// One TrainingHip per row of the training tables, with its name, hash and angles.
+void add_training_hips(EstimatorModel& model, const Eigen::MatrixXd& ce, const Eigen::MatrixXd& alpha,
+                       const Eigen::MatrixXd& edge, const std::vector<std::string>& names,
+                       const std::vector<std::string>& hashes) {
+  const stats::TrainedEstimator& e = model.estimator;
+  const Eigen::Index m = e.features.rows();
+  const auto p = static_cast<Eigen::Index>(model.angle_deg.size());
+  for (Eigen::Index i = 0; i < m; ++i) {
+    TrainingHip hip;
+    hip.name = names[static_cast<std::size_t>(i)];
+    hip.hash = hashes[static_cast<std::size_t>(i)];
+    hip.ce_deg = ce(i, 0);
+    hip.alpha_deg = alpha(i, 0);
+    hip.edge_mm = edge(i, 0);
+    hip.features = e.features.row(i).transpose();
+    hip.values.assign(static_cast<std::size_t>(p), kNaN);
+    for (Eigen::Index j = 0; j < p; ++j) hip.values[static_cast<std::size_t>(j)] = e.values(i, j);
+    if (e.depths.known()) {
+      for (Eigen::Index j = 0; j < p; ++j) {
+        hip.curvilinear_mm.push_back(e.depths.curvilinear_mm(i, j));
+        hip.radial_mm.push_back(e.depths.radial_mm(i, j));
+      }
+    }
+    model.hips.push_back(std::move(hip));
+  }
+}
+
+// The settings, motion, normalisation, PCA, training tables and hips; throws hipfai::Error on
+// anything missing or inconsistent.
+void read_model(ResultsReader& file, const std::filesystem::path& path, EstimatorModel& model) {
+  if (file.string_attribute("/", "format_version") != std::to_string(kModelVersion)) {
+    throw_error("format_version is not ", kModelVersion, " (written by another hipfai version?)");
+  }
+  read_settings(file, model);
+  const Eigen::Index f = model.grid.num_features();
+  const Eigen::MatrixXd angles = read_matrix(file, path, "/motion/angle_deg", -1, 1);
+  model.angle_deg.assign(angles.data(), angles.data() + angles.size());
+  const auto p = static_cast<Eigen::Index>(model.angle_deg.size());
+  stats::TrainedEstimator& e = model.estimator;
+  e.pca.mean = read_matrix(file, path, "/normalisation/mean", f, 1).col(0);
+  e.pca.scale = read_matrix(file, path, "/normalisation/scale", f, 1).col(0);
+  e.pca.basis = read_matrix(file, path, "/pca/basis", f, -1);
+  e.pca.variances = read_matrix(file, path, "/pca/variances", e.pca.basis.cols(), 1).col(0);
+  e.pca.total_variance = read_matrix(file, path, "/pca/total_variance", 1, 1)(0, 0);
+  e.features = read_matrix(file, path, "/training/features", -1, f);
+  const Eigen::Index m = e.features.rows();
+  e.values = read_matrix(file, path, "/training/values", m, p);
+  const Eigen::MatrixXd ce = read_matrix(file, path, "/training/ce_deg", m, 1);
+  const Eigen::MatrixXd alpha = read_matrix(file, path, "/training/alpha_deg", m, 1);
+  const Eigen::MatrixXd edge = read_matrix(file, path, "/training/edge_mm", m, 1);
+  read_depths(file, path, m, p, e);
+  const auto names = split(file.string_attribute("/", "training_hips"), ';');
+  const auto hashes = split(file.string_attribute("/", "training_hip_hashes"), ';');
+  if (static_cast<Eigen::Index>(names.size()) != m || static_cast<Eigen::Index>(hashes.size()) != m) {
+    throw_error(path.string(), ": ", names.size(), " hip names and ", hashes.size(), " hashes for ", m, " hips");
+  }
+  if (!e.pca.mean.allFinite() || !e.pca.scale.allFinite() || !e.pca.basis.allFinite() || !e.features.allFinite()) {
+    throw_error(path.string(), ": non-finite numbers in the PCA or features");
+  }
+  add_training_hips(model, ce, alpha, edge, names, hashes);
+  stats::derive_estimator(e);
+}
+
 }  // namespace
 
 EstimatorModel read_estimator_model(const std::filesystem::path& path) {
@@ -123,100 +249,9 @@ EstimatorModel read_estimator_model(const std::filesystem::path& path) {
                 {{"/", "format"}, {"/", "format_version"}, {"/", "code_version"}, {"/", "fe_measure"},
                  {"/", "feature_grid"}, {"/", "settings"}, {"/", "training_hips"}, {"/", "training_hip_hashes"},
                  {"/", "penetration_depths"}});
-  std::string format;
+  check_format(file, path);
   try {
-    format = file.string_attribute("/", "format");
-  } catch (const Error&) {
-    throw_error(path.string(), ": not a hipfai estimator model (not HDF5, or no format attribute)");
-  }
-  if (format != kModelFormat) throw_error(path.string(), ": not a hipfai estimator model (format '", format, "')");
-  try {
-    if (file.string_attribute("/", "format_version") != std::to_string(kModelVersion)) {
-      throw_error("format_version is not ", kModelVersion, " (written by another hipfai version?)");
-    }
-    const auto read_matrix = [&](const std::string& name, Eigen::Index rows_expected, Eigen::Index cols_expected) {
-      std::size_t rows = 0, cols = 0;
-      const std::vector<double> values = file.dataset(name, &rows, &cols);
-      if ((rows_expected >= 0 && static_cast<Eigen::Index>(rows) != rows_expected) ||
-          (cols_expected >= 0 && static_cast<Eigen::Index>(cols) != cols_expected)) {
-        throw_error(path.string(), ": ", name, " is ", rows, " x ", cols, ", inconsistent with the rest of the model");
-      }
-      Eigen::MatrixXd matrix(static_cast<Eigen::Index>(rows), static_cast<Eigen::Index>(cols));
-      for (std::size_t r = 0; r < rows; ++r) {
-        for (std::size_t c = 0; c < cols; ++c) {
-          matrix(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c)) = values[r * cols + c];
-        }
-      }
-      return matrix;
-    };
-    model.code_version = file.string_attribute("/", "code_version");
-    model.measure = file.string_attribute("/", "fe_measure");
-    model.grid = parse_feature_grid(file.string_attribute("/", "feature_grid"));
-    const auto settings = parse_settings(file.string_attribute("/", "settings"));
-    stats::EstimatorSettings& s = model.estimator.settings;
-    s.pca.components = std::stoi(settings.at("components"));
-    s.pca.scale_floor = std::stod(settings.at("scale_floor"));
-    s.nearest = std::stoi(settings.at("nearest"));
-    s.knn_k = std::stoi(settings.at("knn_k"));
-    s.bordering_min_variance_share = std::stod(settings.at("bordering_min_variance_share"));
-    const Eigen::Index f = model.grid.num_features();
-    const Eigen::MatrixXd angles = read_matrix("/motion/angle_deg", -1, 1);
-    model.angle_deg.assign(angles.data(), angles.data() + angles.size());
-    const auto p = static_cast<Eigen::Index>(model.angle_deg.size());
-    stats::TrainedEstimator& e = model.estimator;
-    e.pca.mean = read_matrix("/normalisation/mean", f, 1).col(0);
-    e.pca.scale = read_matrix("/normalisation/scale", f, 1).col(0);
-    e.pca.basis = read_matrix("/pca/basis", f, -1);
-    e.pca.variances = read_matrix("/pca/variances", e.pca.basis.cols(), 1).col(0);
-    e.pca.total_variance = read_matrix("/pca/total_variance", 1, 1)(0, 0);
-    e.features = read_matrix("/training/features", -1, f);
-    const Eigen::Index m = e.features.rows();
-    e.values = read_matrix("/training/values", m, p);
-    const Eigen::MatrixXd ce = read_matrix("/training/ce_deg", m, 1);
-    const Eigen::MatrixXd alpha = read_matrix("/training/alpha_deg", m, 1);
-    const Eigen::MatrixXd edge = read_matrix("/training/edge_mm", m, 1);
-    // Models written before depth_nn have no penetration_depths attribute: no depths.
-    std::string depth_datasets = "none";
-    try {
-      depth_datasets = file.string_attribute("/", "penetration_depths");
-    } catch (const Error&) {
-    }
-    if (depth_datasets == kDepthDatasets) {
-      e.depths = {read_matrix("/training/curvilinear_mm", m, p), read_matrix("/training/radial_mm", m, p)};
-      if (!e.depths.curvilinear_mm.allFinite() || !e.depths.radial_mm.allFinite() ||
-          (e.depths.curvilinear_mm.array() < 0.0).any() || (e.depths.radial_mm.array() < 0.0).any()) {
-        throw_error(path.string(), ": penetration depths not finite and >= 0");
-      }
-    } else if (depth_datasets != "none") {
-      throw_error(path.string(), ": penetration_depths is '", depth_datasets, "'");
-    }
-    const auto names = split(file.string_attribute("/", "training_hips"), ';');
-    const auto hashes = split(file.string_attribute("/", "training_hip_hashes"), ';');
-    if (static_cast<Eigen::Index>(names.size()) != m || static_cast<Eigen::Index>(hashes.size()) != m) {
-      throw_error(path.string(), ": ", names.size(), " hip names and ", hashes.size(), " hashes for ", m, " hips");
-    }
-    if (!e.pca.mean.allFinite() || !e.pca.scale.allFinite() || !e.pca.basis.allFinite() || !e.features.allFinite()) {
-      throw_error(path.string(), ": non-finite numbers in the PCA or features");
-    }
-    for (Eigen::Index i = 0; i < m; ++i) {
-      TrainingHip hip;
-      hip.name = names[static_cast<std::size_t>(i)];
-      hip.hash = hashes[static_cast<std::size_t>(i)];
-      hip.ce_deg = ce(i, 0);
-      hip.alpha_deg = alpha(i, 0);
-      hip.edge_mm = edge(i, 0);
-      hip.features = e.features.row(i).transpose();
-      hip.values.assign(static_cast<std::size_t>(p), kNaN);
-      for (Eigen::Index j = 0; j < p; ++j) hip.values[static_cast<std::size_t>(j)] = e.values(i, j);
-      if (e.depths.known()) {
-        for (Eigen::Index j = 0; j < p; ++j) {
-          hip.curvilinear_mm.push_back(e.depths.curvilinear_mm(i, j));
-          hip.radial_mm.push_back(e.depths.radial_mm(i, j));
-        }
-      }
-      model.hips.push_back(std::move(hip));
-    }
-    stats::derive_estimator(e);
+    read_model(file, path, model);
   } catch (const Error& error) {
     std::string message = error.what();
     if (message.rfind(path.string() + ": ", 0) == 0) message = message.substr(path.string().size() + 2);

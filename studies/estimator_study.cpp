@@ -5,6 +5,7 @@
 #include "core/progress.h"
 #include "core/version.h"
 #include "geometry/hip_model.h"
+#include "studies/estimator_model_file.h"
 #include "studies/hip_source.h"
 #include "studies/motion.h"
 #include "studies/penetration_run.h"
@@ -343,25 +344,118 @@ stats::PenetrationDepths training_depths(const std::vector<TrainingHip>& hips, E
   return depths;
 }
 
+namespace {
+
+// Retraining: the base model's grid, motion and hips, after checking that they are the ones asked for.
+void start_from_base(EstimatorModel& model, const EstimatorTrainOptions& options) {
+  EstimatorModel base = read_estimator_model(options.base_model);
+  if (options.grid_given && base.grid.describe() != options.grid.describe()) {
+    throw_error(options.base_model.string(), ": trained on feature grid '", base.grid.describe(),
+                "', not the requested '", options.grid.describe(), "'; features on different grids cannot be mixed");
+  }
+  if (base.measure != options.measure) {
+    throw_error(options.base_model.string(), ": trained on ", base.measure, ", not ", options.measure);
+  }
+  model.grid = base.grid;
+  model.angle_deg = base.angle_deg;
+  model.hips = std::move(base.hips);
+}
+
+// The hip folder of one FE hip (same CE/alpha, and edge when the FE results give it) and its
+// content hash; copies of one hip (a cache holding the same generated hip under two keys) are one hip.
+const HipFolder& matching_folder(const std::vector<HipFolder>& folders, const FeSweepHip& fe_hip,
+                                 const EstimatorTrainOptions& options, const FeatureGrid& grid, std::string& hash) {
+  std::vector<const HipFolder*> matches;
+  for (const HipFolder& folder : folders) {
+    const auto& p = folder.model.parameters;
+    if (same(p.ce_deg, fe_hip.ce_deg) && same(p.alpha_deg, fe_hip.alpha_deg) &&
+        (std::isnan(fe_hip.edge_mm) || same(p.edge_mm, fe_hip.edge_mm))) {
+      matches.push_back(&folder);
+    }
+  }
+  if (matches.empty()) {
+    throw_error(options.hips.string(), ": no hip folder with CE ", fe_hip.ce_deg, ", alpha ", fe_hip.alpha_deg,
+                std::isnan(fe_hip.edge_mm) ? std::string() : ", edge " + exact(fe_hip.edge_mm) + " mm",
+                " (the FE results have it)");
+  }
+  hash = hip_content_hash(matches.front()->model, grid);
+  bool copies = true;
+  for (std::size_t k = 1; k < matches.size() && copies; ++k) {
+    copies = hip_content_hash(matches[k]->model, grid) == hash;
+  }
+  if (!copies) {
+    throw_error(options.hips.string(), ": ", matches.size(), " hip folders match ",
+                hip_name(fe_hip.ce_deg, fe_hip.alpha_deg), " (", matches[0]->dir.filename().string(), ", ",
+                matches[1]->dir.filename().string(),
+                ") with different meshes; give a folder with one hip per CE/alpha, or the FE folder's "
+                "timings.csv with edge_mm");
+  }
+  return *matches.front();
+}
+
+TrainingHip training_hip(const HipFolder& folder, const FeSweepHip& fe_hip, const std::string& hash,
+                         const FeatureGrid& grid) {
+  TrainingHip hip;
+  hip.name = hip_name(fe_hip.ce_deg, fe_hip.alpha_deg);
+  hip.ce_deg = fe_hip.ce_deg;
+  hip.alpha_deg = fe_hip.alpha_deg;
+  hip.edge_mm = folder.model.parameters.edge_mm;
+  hip.dir = folder.dir;
+  hip.load_ms = folder.load_ms;
+  hip.hash = hash;
+  const HipFeatures features = extract_hip_features(folder.model, grid);
+  hip.features = features.values;
+  hip.feature_ms = features.extraction_ms;
+  hip.misses = features.misses;
+  hip.values = fe_hip.values;
+  hip.curvilinear_mm = fe_hip.curvilinear_mm;
+  hip.radial_mm = fe_hip.radial_mm;
+  return hip;
+}
+
+// The same hip again (another FE level, a re-run): the newer FE values replace the older.
+// Same = same sampled meshes AND same CE/alpha: a grid of bones only (femur_bone) samples the same
+// meshes for hips that differ in their sockets, which stay separate hips.
+void add_or_replace(EstimatorModel& model, TrainingHip hip, const std::string& measure,
+                    std::vector<std::string>* notes) {
+  const auto existing = std::find_if(model.hips.begin(), model.hips.end(), [&](const TrainingHip& h) {
+    return h.hash == hip.hash && same(h.ce_deg, hip.ce_deg) && same(h.alpha_deg, hip.alpha_deg);
+  });
+  if (existing != model.hips.end()) {
+    if (notes) notes->push_back(hip.name + ": FE values replaced by those of " + measure + " in the new results");
+    *existing = std::move(hip);
+  } else {
+    model.hips.push_back(std::move(hip));
+  }
+}
+
+// Every hip of the FE sweeps, matched to its folder under --hips and its features extracted.
+void add_sweep_hips(EstimatorModel& model, const std::vector<FeSweep>& sweeps, const EstimatorTrainOptions& options,
+                    std::vector<std::string>* notes) {
+  if (options.hips.empty()) throw_error("train: --hips (the hip folders of the FE results) is required");
+  const std::vector<HipFolder> folders = load_hip_folders(options.hips, model.grid, options.progress);
+  std::size_t total = 0;
+  for (const auto& sweep : sweeps) total += sweep.hips.size();
+  ProgressBar bar("hip features", total, options.progress);
+  for (const auto& sweep : sweeps) {
+    for (const FeSweepHip& fe_hip : sweep.hips) {
+      std::string hash;
+      const HipFolder& folder = matching_folder(folders, fe_hip, options, model.grid, hash);
+      add_or_replace(model, training_hip(folder, fe_hip, hash, model.grid), sweep.measure, notes);
+      bar.advance();
+    }
+  }
+}
+
+}  // namespace
+
 EstimatorModel train_estimator_model(const EstimatorTrainOptions& options, std::vector<std::string>* notes) {
   if (options.fe.empty() && options.base_model.empty()) throw_error("train: no FE results (--fe) given");
   EstimatorModel model;
   model.grid = options.grid;
   model.measure = options.measure;
   stats::EstimatorSettings settings = options.settings;
-  if (!options.base_model.empty()) {
-    EstimatorModel base = read_estimator_model(options.base_model);
-    if (options.grid_given && base.grid.describe() != options.grid.describe()) {
-      throw_error(options.base_model.string(), ": trained on feature grid '", base.grid.describe(),
-                  "', not the requested '", options.grid.describe(), "'; features on different grids cannot be mixed");
-    }
-    if (base.measure != options.measure) {
-      throw_error(options.base_model.string(), ": trained on ", base.measure, ", not ", options.measure);
-    }
-    model.grid = base.grid;
-    model.angle_deg = base.angle_deg;
-    model.hips = std::move(base.hips);
-  }
+  if (!options.base_model.empty()) start_from_base(model, options);
   std::vector<FeSweep> sweeps;
   for (const auto& fe : options.fe) {
     sweeps.push_back(read_fe_sweep(fe, options.measure));
@@ -369,72 +463,7 @@ EstimatorModel train_estimator_model(const EstimatorTrainOptions& options, std::
     check_same_motion(model.angle_deg, sweeps.back().angle_deg,
                       fe.string() + (options.base_model.empty() ? "" : " vs " + options.base_model.string()));
   }
-  if (!sweeps.empty()) {
-    if (options.hips.empty()) throw_error("train: --hips (the hip folders of the FE results) is required");
-    const std::vector<HipFolder> folders = load_hip_folders(options.hips, model.grid, options.progress);
-    std::size_t total = 0;
-    for (const auto& sweep : sweeps) total += sweep.hips.size();
-    ProgressBar bar("hip features", total, options.progress);
-    for (const auto& sweep : sweeps) {
-      for (const FeSweepHip& fe_hip : sweep.hips) {
-        std::vector<const HipFolder*> matches;
-        for (const HipFolder& folder : folders) {
-          const auto& p = folder.model.parameters;
-          if (same(p.ce_deg, fe_hip.ce_deg) && same(p.alpha_deg, fe_hip.alpha_deg) &&
-              (std::isnan(fe_hip.edge_mm) || same(p.edge_mm, fe_hip.edge_mm))) {
-            matches.push_back(&folder);
-          }
-        }
-        const std::string name = hip_name(fe_hip.ce_deg, fe_hip.alpha_deg);
-        if (matches.empty()) {
-          throw_error(options.hips.string(), ": no hip folder with CE ", fe_hip.ce_deg, ", alpha ", fe_hip.alpha_deg,
-                      std::isnan(fe_hip.edge_mm) ? std::string() : ", edge " + exact(fe_hip.edge_mm) + " mm",
-                      " (the FE results have it)");
-        }
-        // Copies of one hip (a cache holding the same generated hip under two keys) are one hip.
-        const std::string first_hash = hip_content_hash(matches.front()->model, model.grid);
-        bool copies = true;
-        for (std::size_t k = 1; k < matches.size() && copies; ++k) {
-          copies = hip_content_hash(matches[k]->model, model.grid) == first_hash;
-        }
-        if (!copies) {
-          throw_error(options.hips.string(), ": ", matches.size(), " hip folders match ", name, " (",
-                      matches[0]->dir.filename().string(), ", ", matches[1]->dir.filename().string(),
-                      ") with different meshes; give a folder with one hip per CE/alpha, or the FE folder's "
-                      "timings.csv with edge_mm");
-        }
-        const HipFolder& folder = *matches.front();
-        TrainingHip hip;
-        hip.name = name;
-        hip.ce_deg = fe_hip.ce_deg;
-        hip.alpha_deg = fe_hip.alpha_deg;
-        hip.edge_mm = folder.model.parameters.edge_mm;
-        hip.dir = folder.dir;
-        hip.load_ms = folder.load_ms;
-        hip.hash = first_hash;
-        const HipFeatures features = extract_hip_features(folder.model, model.grid);
-        hip.features = features.values;
-        hip.feature_ms = features.extraction_ms;
-        hip.misses = features.misses;
-        hip.values = fe_hip.values;
-        hip.curvilinear_mm = fe_hip.curvilinear_mm;
-        hip.radial_mm = fe_hip.radial_mm;
-        // The same hip again (another FE level, a re-run): the newer FE values replace the older.
-        // Same = same sampled meshes AND same CE/alpha: a grid of bones only (femur_bone) samples
-        // the same meshes for hips that differ in their sockets, which stay separate hips.
-        const auto existing = std::find_if(model.hips.begin(), model.hips.end(), [&](const TrainingHip& h) {
-          return h.hash == hip.hash && same(h.ce_deg, hip.ce_deg) && same(h.alpha_deg, hip.alpha_deg);
-        });
-        if (existing != model.hips.end()) {
-          if (notes) notes->push_back(name + ": FE values replaced by those of " + sweep.measure + " in the new results");
-          *existing = std::move(hip);
-        } else {
-          model.hips.push_back(std::move(hip));
-        }
-        bar.advance();
-      }
-    }
-  }
+  if (!sweeps.empty()) add_sweep_hips(model, sweeps, options, notes);
   for (const auto& [dir, table_file] : options.fe_hips) add_fe_hip(model, dir, table_file, options.measure, notes);
   const auto rows = static_cast<Eigen::Index>(model.hips.size());
   if (rows < 3) throw_error("train: ", rows, " hips with FE results; the estimator needs at least 3");
@@ -449,7 +478,6 @@ EstimatorModel train_estimator_model(const EstimatorTrainOptions& options, std::
   model.code_version = std::string(kVersion) + " " + kGitSha;
   return model;
 }
-
 
 namespace {
 

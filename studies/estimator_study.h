@@ -96,10 +96,8 @@ struct EstimatorModel {
 // Matches, extracts features and trains. Throws hipfai::Error (one line) on any mismatch.
 EstimatorModel train_estimator_model(const EstimatorTrainOptions& options, std::vector<std::string>* notes = nullptr);
 
-// HDF5 model file (docs/estimator.md has the layout), written atomically.
-void write_estimator_model(const EstimatorModel& model, const std::filesystem::path& path);
-// Throws a one-line hipfai::Error for a missing, corrupt or foreign file, or a newer format.
-EstimatorModel read_estimator_model(const std::filesystem::path& path);
+// The model's HDF5 file: write_estimator_model and read_estimator_model in
+// studies/estimator_model_file.h.
 
 struct HipPrediction {
   stats::EstimateResult result;

@@ -5,6 +5,7 @@
 #include "core/literature.h"
 #include "core/version.h"
 #include "stats/pearson.h"
+#include "studies/estimator_model_file.h"
 #include "studies/svg_plot.h"
 
 #include <algorithm>

@@ -1,8 +1,9 @@
-// hipfai — the feature grid's text form (FeatureGrid::describe and parse_feature_grid of
-// studies/pressure_features.h), kept apart from the feature extraction: model files store it.
+// hipfai — the feature grid's text form (see feature_grid.h), kept apart from the feature
+// extraction: model files store it.
+#include "studies/feature_grid.h"
+
 #include "core/csv.h"
 #include "core/error.h"
-#include "studies/pressure_features.h"
 
 #include <limits>
 #include <sstream>

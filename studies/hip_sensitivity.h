@@ -82,7 +82,4 @@ double first_striking_contact_deg(const geometry::TriMesh& femur, const geometry
                                   const geometry::Vec3& centre, const Eigen::Vector3d& axis, double min_radius_mm,
                                   int threads, bool exact_border = false);
 
-// Writes <dir>/sensitivity.csv and <dir>/sensitivity.md (atomically, each).
-void write_sensitivity_report(const SensitivityResult& result, const std::string& dir);
-
 }  // namespace hipfai::studies

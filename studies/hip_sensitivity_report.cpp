@@ -1,7 +1,8 @@
-// Tables of the hip sensitivity study (hip_sensitivity.h): CSV for tools, Markdown for people.
+// hipfai — the tables of the hip sensitivity study (see hip_sensitivity_report.h).
+#include "studies/hip_sensitivity_report.h"
+
 #include "core/atomic_file.h"
 #include "core/error.h"
-#include "studies/hip_sensitivity.h"
 
 #include <cmath>
 #include <cstdio>

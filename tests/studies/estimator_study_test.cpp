@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "geometry/hip_model.h"
 #include "geometry/primitive_meshes.h"
+#include "studies/estimator_model_file.h"
 #include "studies/motion.h"
 #include "studies/results_file.h"
 

@@ -3,7 +3,7 @@
 // pipe, a child that dies is a one-line refusal while this process goes on, and the files found by
 // fuzzing to crash HDF5 (tests/data/hdf5-crashes/) never take this process down.
 #include "core/error.h"
-#include "studies/estimator_study.h"
+#include "studies/estimator_model_file.h"
 #include "studies/hdf5_child.h"
 #include "studies/results_file.h"
 

@@ -6,7 +6,7 @@
 #include "fuzz_hip_folder.h"
 #include "fuzz_results_reads.h"
 #include "geometry/hip_model.h"
-#include "studies/estimator_study.h"
+#include "studies/estimator_model_file.h"
 #include "studies/motion.h"
 #include "studies/scene.h"
 #include "studies/segmented_hip.h"
