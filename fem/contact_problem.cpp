@@ -91,9 +91,9 @@ class ContactProblem::Impl {
   LinearSolver solver_kind = LinearSolver::kCgAmg;
   // The contact surfaces' faces, made once and turned with their bodies on later runs.
   ContactSurfaces surfaces;
-  // The next run's model, when the caller expects one, and the search of its contact, run
-  // beside this run's solve.
-  std::optional<ContactModel> next_model;
+  // The models of the runs the caller expects next, and the searches of their contact, run
+  // beside the runs' solves.
+  std::vector<ContactModel> upcoming;
   ContactSearchAhead search_ahead;
   bool searched_ahead = false;  // this run's nodes came from it
   std::vector<SlaveNode> nodes;
@@ -143,13 +143,11 @@ void ContactProblem::Impl::find_contact_nodes() {
   nodes = found ? std::move(*found)
                 : collect_slave_nodes(system, model, surfaces, constraints.fixed_dofs(),
                                       options.tangent_plane_cull);
-  if (next_model) {
-    // One thread: the run's own stages keep the worker pool (a search that entered it would
-    // hold its slots while the solve waits for them).
-    search_ahead.start(system, surfaces, *next_model, constraints.fixed_dofs(),
-                       options.tangent_plane_cull, 1);
-    next_model.reset();
+  if (!upcoming.empty()) {
+    search_ahead.plan(system, surfaces, upcoming, constraints.fixed_dofs(), options.tangent_plane_cull);
+    upcoming.clear();
   }
+  search_ahead.resume();
 }
 
 std::vector<Linearization> ContactProblem::Impl::solve_active_set(
@@ -321,11 +319,11 @@ void ContactProblem::Impl::postprocess(ContactResult& result) {
 ContactResult ContactProblem::Impl::run() {
   const dealii::Timer wall_clock;
   timer.reset();
-  // The search ahead reads the mesh: it ends before the run does, also when the run throws.
-  struct WaitForSearchAhead {
+  // The searches ahead read the mesh: they pause before the run ends, also when it throws.
+  struct PauseSearchAhead {
     ContactSearchAhead& search;
-    ~WaitForSearchAhead() { search.wait(); }
-  } wait_for_search_ahead{search_ahead};
+    ~PauseSearchAhead() { search.pause(); }
+  } pause_search_ahead{search_ahead};
   check_references(model);
   setup_system();
   find_contact_nodes();
@@ -360,7 +358,7 @@ ContactResult ContactProblem::Impl::run() {
   }
   {
     dealii::TimerOutput::Scope scope(timer, "contact search ahead (waiting)");
-    search_ahead.wait();
+    search_ahead.pause();
   }
   result.statistics.wall_time_s = wall_clock.wall_time();
   const SolveStatistics& counts = result.statistics;
@@ -411,6 +409,8 @@ const ContactModel& ContactProblem::model() const { return impl_->model; }
 
 void ContactProblem::write_vtu(const std::string& file) const { impl_->output_results(file); }
 
-void ContactProblem::expect_next(ContactModel next) { impl_->next_model = std::move(next); }
+void ContactProblem::expect_next(std::vector<ContactModel> upcoming) {
+  impl_->upcoming = std::move(upcoming);
+}
 
 }  // namespace hipfai::fem

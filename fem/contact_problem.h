@@ -104,11 +104,11 @@ class ContactProblem {
   // Throws hipfai::Error for an inconsistent model (unknown material id, empty contact surface,
   // a reference to a rigid body that does not exist) or a peak radius that is not finite and > 0.
   ContactResult run();
-  // A hint for the next run(): it will most likely be for `next` (a motion's next pose). The
-  // next run() then searches that pose's contact while it solves its own
-  // (fem/contact_search_ahead.h); the run after uses that search only if its model and mesh are
-  // exactly those searched, and searches anew otherwise, so the hint changes no answer.
-  void expect_next(ContactModel next);
+  // A hint for the next run(): the models of the runs that will most likely follow it, in order
+  // (a motion's next poses). From the next run() on, their contact is searched while the runs
+  // solve their own (fem/contact_search_ahead.h); a run uses such a search only if its model and
+  // mesh are exactly those searched, and searches anew otherwise, so the hint changes no answer.
+  void expect_next(std::vector<ContactModel> upcoming);
 
   // Displacement at a point of the reference configuration (after run()), for checks.
   dealii::Tensor<1, 3> displacement_at(const dealii::Point<3>& point_mm) const;

@@ -37,50 +37,103 @@ bool same_search_geometry(const ContactModel& a, const ContactModel& b) {
 }  // namespace
 
 struct ContactSearchAhead::Search {
+  enum class State { kQueued, kRunning, kDone };
   ContactModel model;
   ContactSurfaces surfaces;  // turned to the model's placement
   ContactSearchSettings settings;
   std::vector<bool> fixed_dof;
   dealii::types::global_dof_index n_dofs = 0;
-  std::future<std::optional<std::vector<SlaveNode>>> nodes;  // empty: the search failed
-  std::optional<std::vector<SlaveNode>> result;
-  bool finished = false;
+  State state = State::kQueued;
+  std::optional<std::vector<SlaveNode>> nodes;  // when done; empty: the search failed
 };
 
 ContactSearchAhead::ContactSearchAhead() = default;
-ContactSearchAhead::~ContactSearchAhead() { wait(); }
 
-void ContactSearchAhead::start(const ElasticSystem& system, const ContactSurfaces& surfaces,
-                               const ContactModel& next, const std::vector<bool>& fixed_dof,
-                               bool tangent_plane_cull, std::size_t n_threads) {
-  wait();
-  search_ = std::make_unique<Search>();
-  Search& search = *search_;
-  search.model = next;
-  search.surfaces = surfaces.predicted(next);
-  search.settings = {contact_search_radius(system.diameter_if_placed(next)), n_threads,
-                     tangent_plane_cull};
-  search.fixed_dof = fixed_dof;
-  search.n_dofs = system.dof_handler().n_dofs();
-  // A thread of its own, so the search overlaps the caller's solve from the start; its mortar
-  // integration shares the process's worker pool (core/parallel.h) with the solve.
-  search.nodes = std::async(std::launch::async, [&system, &search]() {
-    try {
-      return std::optional<std::vector<SlaveNode>>(collect_slave_nodes(
-          system, search.model, search.surfaces, search.fixed_dof, search.settings));
-    } catch (...) {
-      // The run that needs this placement searches it again and reports the error itself.
-      return std::optional<std::vector<SlaveNode>>();
-    }
-  });
+ContactSearchAhead::~ContactSearchAhead() {
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    stop_ = true;
+  }
+  changed_.notify_all();
+  if (thread_.joinable()) thread_.join();
 }
 
-double ContactSearchAhead::wait() {
-  if (!search_ || search_->finished) return 0.0;
+void ContactSearchAhead::plan(const ElasticSystem& system, const ContactSurfaces& surfaces,
+                              const std::vector<ContactModel>& upcoming,
+                              const std::vector<bool>& fixed_dof, bool tangent_plane_cull) {
+  pause();
+  const std::lock_guard<std::mutex> lock(mutex_);
+  std::list<Search> queue;
+  for (const ContactModel& model : upcoming) {
+    auto kept = queue_.begin();
+    while (kept != queue_.end() && !same_search_geometry(kept->model, model)) ++kept;
+    if (kept != queue_.end()) {
+      queue.splice(queue.end(), queue_, kept);
+      continue;
+    }
+    Search& search = queue.emplace_back();
+    search.model = model;
+    search.surfaces = surfaces.predicted(model);
+    // One thread: the run's own stages keep the worker pool (a search that entered it would
+    // hold its slots while the solve waits for them).
+    search.settings = {contact_search_radius(system.diameter_if_placed(model)), 1, tangent_plane_cull};
+    search.fixed_dof = fixed_dof;
+    search.n_dofs = system.dof_handler().n_dofs();
+  }
+  queue_ = std::move(queue);
+  system_ = &system;
+  if (!thread_.joinable()) thread_ = std::thread([this] { work(); });
+}
+
+void ContactSearchAhead::resume() {
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    paused_ = false;
+  }
+  changed_.notify_all();
+}
+
+double ContactSearchAhead::pause() {
   const dealii::Timer timer;
-  search_->result = search_->nodes.get();
-  search_->finished = true;
+  std::unique_lock<std::mutex> lock(mutex_);
+  paused_ = true;
+  changed_.wait(lock, [this] {
+    for (const Search& search : queue_)
+      if (search.state == Search::State::kRunning) return false;
+    return true;
+  });
   return timer.wall_time();
+}
+
+void ContactSearchAhead::work() {
+  std::unique_lock<std::mutex> lock(mutex_);
+  while (true) {
+    Search* next = nullptr;
+    changed_.wait(lock, [&] {
+      if (stop_) return true;
+      if (paused_) return false;
+      for (Search& search : queue_) {
+        if (search.state != Search::State::kQueued) continue;
+        next = &search;
+        return true;
+      }
+      return false;
+    });
+    if (stop_) return;
+    next->state = Search::State::kRunning;
+    lock.unlock();
+    std::optional<std::vector<SlaveNode>> nodes;
+    try {
+      nodes = collect_slave_nodes(*system_, next->model, next->surfaces, next->fixed_dof,
+                                  next->settings);
+    } catch (...) {
+      // The run that needs this placement searches it again and reports the error itself.
+    }
+    lock.lock();
+    next->nodes = std::move(nodes);
+    next->state = Search::State::kDone;
+    changed_.notify_all();
+  }
 }
 
 std::optional<std::vector<SlaveNode>> ContactSearchAhead::take(const ElasticSystem& system,
@@ -88,25 +141,26 @@ std::optional<std::vector<SlaveNode>> ContactSearchAhead::take(const ElasticSyst
                                                                const ContactModel& model,
                                                                const std::vector<bool>& fixed_dof,
                                                                bool tangent_plane_cull) {
-  if (!search_) return std::nullopt;
-  wait();
-  std::unique_ptr<Search> search = std::move(search_);
-  bool same = search->result.has_value() && same_search_geometry(search->model, model) &&
-              search->surfaces.same_faces(surfaces) &&
-              search->settings.search_radius_mm == contact_search_radius(system.diameter()) &&
-              search->settings.tangent_plane_cull == tangent_plane_cull &&
-              search->n_dofs == system.dof_handler().n_dofs() && search->fixed_dof == fixed_dof;
-  // The slave nodes were read from the mesh in its previous placement: they must not have moved.
-  for (std::size_t n = 0; same && n < search->result->size(); ++n) {
-    const SlaveNode& node = (*search->result)[n];
+  pause();
+  const std::lock_guard<std::mutex> lock(mutex_);
+  auto it = queue_.begin();
+  while (it != queue_.end() && !same_search_geometry(it->model, model)) ++it;
+  if (it == queue_.end()) return std::nullopt;  // a pose nobody expected (a cutback's half step)
+  queue_.erase(queue_.begin(), it);             // the poses before it have passed
+  Search search = std::move(queue_.front());
+  queue_.pop_front();
+  bool same = search.state == Search::State::kDone && search.nodes.has_value() &&
+              search.surfaces.same_faces(surfaces) &&
+              search.settings.search_radius_mm == contact_search_radius(system.diameter()) &&
+              search.settings.tangent_plane_cull == tangent_plane_cull &&
+              search.n_dofs == system.dof_handler().n_dofs() && search.fixed_dof == fixed_dof;
+  // The slave nodes were read from the mesh in another placement: they must not have moved.
+  for (std::size_t n = 0; same && n < search.nodes->size(); ++n) {
+    const SlaveNode& node = (*search.nodes)[n];
     same = node.position == system.support_points()[node.dofs[0]];
   }
-  if (!same) {
-    ++discarded_;
-    return std::nullopt;
-  }
-  ++used_;
-  return std::move(search->result);
+  if (!same) return std::nullopt;
+  return std::move(search.nodes);
 }
 
 }  // namespace hipfai::fem

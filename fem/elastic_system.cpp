@@ -51,13 +51,13 @@ namespace {
 // pairwise scan and arithmetic, so the same number), of any placement of the vertices.
 double boundary_diameter(const std::vector<dealii::Point<3>>& vertices,
                          const std::vector<bool>& on_boundary) {
+  std::vector<dealii::Point<3>> boundary;
+  for (std::size_t i = 0; i < vertices.size(); ++i)
+    if (on_boundary[i]) boundary.push_back(vertices[i]);
   double max_distance_sqr = 0.0;
-  for (std::size_t i = 0; i < vertices.size(); ++i) {
-    if (!on_boundary[i]) continue;
-    for (std::size_t j = i + 1; j < vertices.size(); ++j) {
-      if (on_boundary[j] && (vertices[i] - vertices[j]).norm_square() > max_distance_sqr)
-        max_distance_sqr = (vertices[i] - vertices[j]).norm_square();
-    }
+  for (std::size_t i = 0; i < boundary.size(); ++i) {
+    for (std::size_t j = i + 1; j < boundary.size(); ++j)
+      max_distance_sqr = std::max(max_distance_sqr, (boundary[i] - boundary[j]).norm_square());
   }
   return std::sqrt(max_distance_sqr);
 }

@@ -6,6 +6,7 @@
 #include <deal.II/base/data_out_base.h>
 #include <deal.II/base/mpi.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <filesystem>
@@ -63,6 +64,9 @@ void add_effort(ContactResult& total, const ContactResult& attempt) {
   total.statistics.wall_time_s += attempt.statistics.wall_time_s;
 }
 
+// Steps whose contact is searched ahead (each holds its contact nodes, ~5 MB at default).
+constexpr std::size_t kStepsSearchedAhead = 8;
+
 struct State {
   dealii::Tensor<2, 3> rotation;
   dealii::Tensor<1, 3> force_n;
@@ -76,8 +80,8 @@ class CutbackSolver {
 
   // Solves `target` starting from the converged `from`; on success `from` becomes the target's
   // converged state. Returns the last attempt with the effort of all attempts summed. `next`:
-  // the rotation of the step after (null: none), whose contact search runs beside the solve.
-  ContactResult solve(State& from, const MotionStep& target, const dealii::Tensor<2, 3>* next) {
+  // the rotations of the steps after, whose contact searches run beside the solves.
+  ContactResult solve(State& from, const MotionStep& target, const std::vector<dealii::Tensor<2, 3>>& next) {
     ContactResult effort;  // only its counters are used
     effort.statistics.sub_steps = 0;
     ContactResult last = attempt(from, target, 0, effort, next);
@@ -93,17 +97,17 @@ class CutbackSolver {
   }
 
  private:
-  // `after`: the rotation of the run that follows if this one converges (null: none).
+  // `after`: the rotations of the runs that follow if this one converges.
   ContactResult attempt(State& from, const MotionStep& target, unsigned int depth, ContactResult& effort,
-                        const dealii::Tensor<2, 3>* after) {
+                        const std::vector<dealii::Tensor<2, 3>>& after) {
     RigidBody& body = problem_.model().rigid_bodies[body_];
     body.rotation = target.rotation;
     body.force_n = target.force_n;
     body.translation_mm = from.translation_mm;
-    if (after && search_ahead_) {
-      ContactModel next = problem_.model();
-      next.rigid_bodies[body_].rotation = *after;
-      problem_.expect_next(std::move(next));
+    if (search_ahead_) {
+      std::vector<ContactModel> upcoming(after.size(), problem_.model());
+      for (std::size_t k = 0; k < after.size(); ++k) upcoming[k].rigid_bodies[body_].rotation = after[k];
+      problem_.expect_next(std::move(upcoming));
     }
     ContactResult result = problem_.run();
     add_effort(effort, result);
@@ -120,7 +124,9 @@ class CutbackSolver {
     ++effort.statistics.cutbacks;
     const MotionStep middle{interpolate_rotation(from.rotation, target.rotation, 0.5),
                             0.5 * (from.force_n + target.force_n)};
-    ContactResult half = attempt(from, middle, depth + 1, effort, &target.rotation);
+    std::vector<dealii::Tensor<2, 3>> after_half = {target.rotation};
+    after_half.insert(after_half.end(), after.begin(), after.end());
+    ContactResult half = attempt(from, middle, depth + 1, effort, after_half);
     if (half.status != ContactStatus::kConverged) return half;
     return attempt(from, target, depth + 1, effort, after);
   }
@@ -176,7 +182,12 @@ std::vector<ContactResult> run_motion(
   std::vector<std::pair<double, std::string>> vtu_files;
   std::vector<ContactResult> results;
   for (std::size_t k = 0; k < steps.size(); ++k) {
-    results.push_back(solver.solve(converged, steps[k], k + 1 < steps.size() ? &steps[k + 1].rotation : nullptr));
+    // The searches of the next steps run beside this one's solve: the first step's compliance
+    // columns leave time for many; a few steps ahead keep their memory small.
+    std::vector<dealii::Tensor<2, 3>> next;
+    for (std::size_t j = k + 1; j < std::min(steps.size(), k + 1 + kStepsSearchedAhead); ++j)
+      next.push_back(steps[j].rotation);
+    results.push_back(solver.solve(converged, steps[k], next));
     const bool last = k + 1 == steps.size();
     if (options.vtu_every > 0 && ((k + 1) % options.vtu_every == 0 || last)) {
       const std::string file = options.vtu_prefix + "_" + std::to_string(k + 1) + ".vtu";
