@@ -143,11 +143,12 @@ void ContactProblem::Impl::find_contact_nodes() {
   nodes = found ? std::move(*found)
                 : collect_slave_nodes(system, model, surfaces, constraints.fixed_dofs(),
                                       options.tangent_plane_cull);
-  if (!upcoming.empty()) {
+  // The searches ahead take a thread of their own: only when the run may use two.
+  if (!upcoming.empty() && threads_per_rank(system.communicator()) >= 2) {
     search_ahead.plan(system, surfaces, upcoming, constraints.fixed_dofs(), options.tangent_plane_cull);
-    upcoming.clear();
+    search_ahead.resume();
   }
-  search_ahead.resume();
+  upcoming.clear();
 }
 
 std::vector<Linearization> ContactProblem::Impl::solve_active_set(

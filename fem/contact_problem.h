@@ -108,6 +108,7 @@ class ContactProblem {
   // (a motion's next poses). From the next run() on, their contact is searched while the runs
   // solve their own (fem/contact_search_ahead.h); a run uses such a search only if its model and
   // mesh are exactly those searched, and searches anew otherwise, so the hint changes no answer.
+  // The searches take a thread of their own: ignored when the process has one thread per rank.
   void expect_next(std::vector<ContactModel> upcoming);
 
   // Displacement at a point of the reference configuration (after run()), for checks.

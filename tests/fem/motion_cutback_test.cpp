@@ -8,6 +8,8 @@
 
 #include <deal.II/grid/grid_generator.h>
 
+#include <deal.II/base/multithread_info.h>
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -212,6 +214,8 @@ TEST(FemMotionCutback, SearchAheadChangesNoAnswerAcrossACutback) {
       if (k == 0) problem.options().max_active_set_iterations = 2;  // step 1 is cut back
     }));
   }
+  // The searches ahead need a second thread (a one-core machine searches every step itself).
+  const bool two_threads = dealii::MultithreadInfo::n_threads() >= 2;
   const std::vector<ContactResult>& stepwise = runs[0];
   const std::vector<ContactResult>& ahead = runs[1];
   ASSERT_EQ(ahead.size(), steps.size());
@@ -220,7 +224,7 @@ TEST(FemMotionCutback, SearchAheadChangesNoAnswerAcrossACutback) {
     EXPECT_FALSE(stepwise[k].statistics.searched_ahead);
     // Step 0 has nothing before it; the last attempt of step 1 (at its pose, after a converged
     // half step that expected it) and step 2 use the search run beside the run before.
-    EXPECT_EQ(ahead[k].statistics.searched_ahead, k > 0) << "step " << k;
+    EXPECT_EQ(ahead[k].statistics.searched_ahead, k > 0 && two_threads) << "step " << k;
     ASSERT_EQ(ahead[k].status, stepwise[k].status) << "step " << k;
     EXPECT_EQ(ahead[k].statistics.sub_steps, stepwise[k].statistics.sub_steps);
     EXPECT_EQ(ahead[k].statistics.active_set_iterations, stepwise[k].statistics.active_set_iterations);

@@ -7,6 +7,8 @@
 #include "fem/verification_cases.h"
 
 
+#include <deal.II/base/multithread_info.h>
+
 #include <gtest/gtest.h>
 #include <hdf5.h>
 
@@ -236,6 +238,8 @@ TEST(FemMotion, SearchAheadGivesTheStepsOfTheMotionSearchedStepByStep) {
   ContactOptions contact_options;
   contact_options.mapping_degree = 2;
   contact_options.linear_solver = LinearSolver::kSubstructured;
+  // The searches ahead need a second thread (a one-core machine searches every step itself).
+  const bool two_threads = dealii::MultithreadInfo::n_threads() >= 2;
   for (const bool femoral_slave : {false, true}) {
     std::vector<std::vector<ContactResult>> runs;
     for (const bool ahead : {false, true}) {
@@ -254,7 +258,7 @@ TEST(FemMotion, SearchAheadGivesTheStepsOfTheMotionSearchedStepByStep) {
       const ContactResult& ahead = runs[1][k];
       ASSERT_EQ(stepwise.status, ContactStatus::kConverged) << "step " << k;
       ASSERT_EQ(ahead.status, ContactStatus::kConverged) << "step " << k;
-      EXPECT_EQ(ahead.statistics.searched_ahead, !femoral_slave && k > 0) << "step " << k;
+      EXPECT_EQ(ahead.statistics.searched_ahead, !femoral_slave && k > 0 && two_threads) << "step " << k;
       EXPECT_EQ(ahead.statistics.active_set_iterations, stepwise.statistics.active_set_iterations);
       EXPECT_EQ(ahead.rigid_translation_mm[0], stepwise.rigid_translation_mm[0]) << "step " << k;
       EXPECT_EQ(ahead.peaks.max_pressure_mpa, stepwise.peaks.max_pressure_mpa) << "step " << k;
