@@ -192,6 +192,103 @@ struct Neck {
 };
 
 // Centre line of the narrowest neck sections (header), from the head sphere (c, R).
+// Cross-sections of the bone near the head perpendicular to `axis`, at t = 0.5 R .. 2.5 R from c
+// in 0.05 R steps: each one's area (-1: none, or mostly on the head's sphere) and centroid, and
+// the last step with a section.
+constexpr int kNeckSteps = 40;
+
+struct NeckSections {
+  std::vector<double> area = std::vector<double>(kNeckSteps + 1, -1.0);
+  std::vector<Vec3> centroid = std::vector<Vec3>(kNeckSteps + 1, Vec3::Zero());
+  int last = -1;
+};
+
+NeckSections neck_sections(const TriMesh& near, const Vec3& c, double r, const Vec3& axis, double head_band) {
+  NeckSections sections;
+  for (int i = 0; i <= kNeckSteps; ++i) {
+    const double t = (0.5 + 2.0 * i / kNeckSteps) * r;
+    const auto loops = section_loops(near, c + t * axis, axis);
+    if (const SectionLoop* loop = loop_around(loops)) {
+      // A section mostly on the head's sphere is the head, not the neck.
+      std::size_t on_head = 0;
+      for (const Vec3& q : loop->points)
+        on_head += std::abs((q - c).norm() - r) <= head_band ? 1 : 0;
+      if (2 * on_head > loop->points.size()) continue;
+      sections.area[static_cast<std::size_t>(i)] = loop->area_mm2;
+      sections.centroid[static_cast<std::size_t>(i)] = loop->centroid_mm;
+      sections.last = i;
+    }
+  }
+  return sections;
+}
+
+// The narrow neck: the steps of the contiguous run of sections within 10 % of the smallest area.
+// Throws when there is no section, or the bone does not widen again beyond the narrowest.
+std::vector<int> narrow_neck(const NeckSections& sections, double r, const std::string& what) {
+  const std::vector<double>& area = sections.area;
+  int narrowest = -1;
+  for (int i = 0; i <= kNeckSteps; ++i) {
+    if (area[static_cast<std::size_t>(i)] > 0.0 &&
+        (narrowest < 0 ||
+         area[static_cast<std::size_t>(i)] < area[static_cast<std::size_t>(narrowest)]))
+      narrowest = i;
+  }
+  if (narrowest < 0)
+    throw_error(
+        what,
+        ": no femoral neck found: no bone section around the neck direction beyond the head");
+  const double a_min = area[static_cast<std::size_t>(narrowest)];
+  // A neck is narrower than the head and the bone widens again beyond it (trochanters, shaft);
+  // a sphere alone narrows to its pole and ends.
+  if (std::sqrt(a_min / std::numbers::pi) >= r || sections.last == narrowest ||
+      area[static_cast<std::size_t>(sections.last)] < 1.1 * a_min) {
+    throw_error(what,
+                ": no femoral neck found: the bone does not widen again beyond its narrowest "
+                "section past the head");
+  }
+  int lo = narrowest, hi = narrowest;
+  while (lo > 0 && area[static_cast<std::size_t>(lo - 1)] > 0.0 &&
+         area[static_cast<std::size_t>(lo - 1)] <= 1.1 * a_min)
+    --lo;
+  while (hi < kNeckSteps && area[static_cast<std::size_t>(hi + 1)] > 0.0 &&
+         area[static_cast<std::size_t>(hi + 1)] <= 1.1 * a_min)
+    ++hi;
+  std::vector<int> used;
+  for (int i = lo; i <= hi; ++i) used.push_back(i);
+  return used;
+}
+
+// Line through c fitted to the centroids of the `used` sections, then again without the outliers
+// (centroids farther from it than 3 times the median distance: a section reaching into the flare
+// of the neck's base, where a trochanter or the calcar pulls the centroid off the neck's line),
+// which are dropped from `used`; oriented as `previous`.
+Vec3 neck_line(const std::vector<Vec3>& centroid, const Vec3& c, double r, const Vec3& previous,
+               std::vector<int>& used) {
+  Vec3 axis = previous;
+  for (int pass = 0; pass < 2; ++pass) {
+    Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+    for (const int i : used) {
+      const Vec3 q = centroid[static_cast<std::size_t>(i)] - c;
+      scatter += q * q.transpose();
+    }
+    axis = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(scatter).eigenvectors().col(2);
+    if (axis.dot(previous) < 0.0) axis = -axis;
+    if (pass == 1) break;
+    std::vector<double> residual;
+    for (const int i : used)
+      residual.push_back((centroid[static_cast<std::size_t>(i)] - c).cross(axis).norm());
+    std::vector<double> sorted = residual;
+    std::nth_element(sorted.begin(), sorted.begin() + static_cast<long>(sorted.size() / 2),
+                     sorted.end());
+    const double limit = std::max(3.0 * sorted[sorted.size() / 2], 1e-6 * r);
+    std::vector<int> kept;
+    for (std::size_t k = 0; k < used.size(); ++k)
+      if (residual[k] <= limit) kept.push_back(used[k]);
+    used.swap(kept);
+  }
+  return axis;
+}
+
 Neck find_neck(const TriMesh& femur, const Vec3& c, double r, double head_band,
                const std::string& what) {
   // The bone near the head: sections up to 2.5 R out stay within 3.5 R of c where it matters.
@@ -208,89 +305,19 @@ Neck find_neck(const TriMesh& femur, const Vec3& c, double r, double head_band,
   }
   Neck neck;
   neck.axis = (mean_of(shell) - c).normalized();
-  constexpr int kSteps = 40;  // t = 0.5 R .. 2.5 R in 0.05 R steps
   constexpr int kMaxIterations = 30;
   for (int iteration = 1; iteration <= kMaxIterations; ++iteration) {
-    std::vector<double> area(kSteps + 1, -1.0);
-    std::vector<Vec3> centroid(kSteps + 1, Vec3::Zero());
-    int last = -1;
-    for (int i = 0; i <= kSteps; ++i) {
-      const double t = (0.5 + 2.0 * i / kSteps) * r;
-      const auto loops = section_loops(near, c + t * neck.axis, neck.axis);
-      if (const SectionLoop* loop = loop_around(loops)) {
-        // A section mostly on the head's sphere is the head, not the neck.
-        std::size_t on_head = 0;
-        for (const Vec3& q : loop->points)
-          on_head += std::abs((q - c).norm() - r) <= head_band ? 1 : 0;
-        if (2 * on_head > loop->points.size()) continue;
-        area[static_cast<std::size_t>(i)] = loop->area_mm2;
-        centroid[static_cast<std::size_t>(i)] = loop->centroid_mm;
-        last = i;
-      }
-    }
-    int narrowest = -1;
-    for (int i = 0; i <= kSteps; ++i) {
-      if (area[static_cast<std::size_t>(i)] > 0.0 &&
-          (narrowest < 0 ||
-           area[static_cast<std::size_t>(i)] < area[static_cast<std::size_t>(narrowest)]))
-        narrowest = i;
-    }
-    if (narrowest < 0)
-      throw_error(
-          what,
-          ": no femoral neck found: no bone section around the neck direction beyond the head");
-    const double a_min = area[static_cast<std::size_t>(narrowest)];
-    // A neck is narrower than the head and the bone widens again beyond it (trochanters, shaft);
-    // a sphere alone narrows to its pole and ends.
-    if (std::sqrt(a_min / std::numbers::pi) >= r || last == narrowest ||
-        area[static_cast<std::size_t>(last)] < 1.1 * a_min) {
-      throw_error(what,
-                  ": no femoral neck found: the bone does not widen again beyond its narrowest "
-                  "section past the head");
-    }
-    // The narrow neck: the contiguous run of sections within 10 % of the smallest area.
-    int lo = narrowest, hi = narrowest;
-    while (lo > 0 && area[static_cast<std::size_t>(lo - 1)] > 0.0 &&
-           area[static_cast<std::size_t>(lo - 1)] <= 1.1 * a_min)
-      --lo;
-    while (hi < kSteps && area[static_cast<std::size_t>(hi + 1)] > 0.0 &&
-           area[static_cast<std::size_t>(hi + 1)] <= 1.1 * a_min)
-      ++hi;
-    // Line through c fitted to the centroids, then again without the outliers (centroids farther
-    // from it than 3 times the median distance: a section reaching into the flare of the neck's
-    // base, where a trochanter or the calcar pulls the centroid off the neck's line).
-    std::vector<int> used;
-    for (int i = lo; i <= hi; ++i) used.push_back(i);
-    Vec3 axis = neck.axis;
-    for (int pass = 0; pass < 2; ++pass) {
-      Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
-      for (const int i : used) {
-        const Vec3 q = centroid[static_cast<std::size_t>(i)] - c;
-        scatter += q * q.transpose();
-      }
-      axis = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(scatter).eigenvectors().col(2);
-      if (axis.dot(neck.axis) < 0.0) axis = -axis;
-      if (pass == 1) break;
-      std::vector<double> residual;
-      for (const int i : used)
-        residual.push_back((centroid[static_cast<std::size_t>(i)] - c).cross(axis).norm());
-      std::vector<double> sorted = residual;
-      std::nth_element(sorted.begin(), sorted.begin() + static_cast<long>(sorted.size() / 2),
-                       sorted.end());
-      const double limit = std::max(3.0 * sorted[sorted.size() / 2], 1e-6 * r);
-      std::vector<int> kept;
-      for (std::size_t k = 0; k < used.size(); ++k)
-        if (residual[k] <= limit) kept.push_back(used[k]);
-      used.swap(kept);
-    }
+    const NeckSections sections = neck_sections(near, c, r, neck.axis, head_band);
+    std::vector<int> used = narrow_neck(sections, r, what);
+    const Vec3 axis = neck_line(sections.centroid, c, r, neck.axis, used);
     int narrow_kept = used.front();
     for (const int i : used)
-      if (area[static_cast<std::size_t>(i)] < area[static_cast<std::size_t>(narrow_kept)])
+      if (sections.area[static_cast<std::size_t>(i)] < sections.area[static_cast<std::size_t>(narrow_kept)])
         narrow_kept = i;
     const double change = angle_deg(axis, neck.axis);
     neck.axis = axis;
-    neck.point = centroid[static_cast<std::size_t>(narrow_kept)];
-    neck.area = area[static_cast<std::size_t>(narrow_kept)];
+    neck.point = sections.centroid[static_cast<std::size_t>(narrow_kept)];
+    neck.area = sections.area[static_cast<std::size_t>(narrow_kept)];
     neck.sections = static_cast<int>(used.size());
     neck.iterations = iteration;
     if (change < 1e-9) break;
