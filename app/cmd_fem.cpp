@@ -273,6 +273,9 @@ void add_run_command(CLI::App* fem_command) {
                   "Threads of the FE stages (0: every hardware thread); the results do not depend on it")
       ->capture_default_str()
       ->check(CLI::Range(0, 256));
+  run->add_flag_callback("--no-search-ahead", [run_options] { run_options->search_ahead = false; },
+                "Search each step's contact when it starts, not while the steps before are solved "
+                "(the same results, more wall time)");
   run->add_flag("--verbose", run_options->verbose, "Print active-set iterations");
   run->callback([run_options] { run_fem_hip(*run_options); });
 }

@@ -129,6 +129,7 @@ HipFeRunSummary run_hip_fe(const HipFeRunOptions& options, bool throw_on_failure
   motion_options.moving_body = fem::kFemurBody;
   motion_options.vtu_every = options.vtu_every;
   motion_options.vtu_prefix = options.vtu_prefix;
+  motion_options.search_ahead = options.search_ahead;
   ProgressBar progress(options.label, steps.size(), rank == 0 && options.progress && !options.verbose);
   summary.results = fem::run_motion(problem, steps, motion_options,
                                     [&](std::size_t k, const fem::ContactResult& result) {

@@ -56,6 +56,9 @@ struct HipFeRunOptions {
   // Threads of this process's FE stages (0: every hardware thread, shared among MPI ranks); the
   // results do not depend on it (fem::limit_threads), so it is not part of the cache key.
   unsigned int threads = 0;
+  // Search each step's contact while the steps before are solved (fem::MotionOptions); the
+  // results do not depend on it either.
+  bool search_ahead = true;
   bool verbose = false;   // active-set iterations on stdout
   bool progress = true;   // progress bar on stderr (rank 0)
   std::string label = "fem run";  // prefix of the progress and summary lines
