@@ -126,93 +126,98 @@ CylindricalTable CylindricalTable::build(const geometry::TriMesh& fixed, const V
   table.message_.clear();
   table.neighbour_cells_ = std::max(options.neighbour_cells, 0);
   table.refresh_geometry(fixed);
-  const std::size_t num_triangles = fixed.triangles.size();
-  table.local_normals_.resize(num_triangles);
-  table.planes_.resize(num_triangles);
-  table.ranges_.resize(num_triangles);
+  RingExtent extent = table.measure_fixed();
+  if (restrict_to_mobile != nullptr && !table.restrict_to(*restrict_to_mobile, extent)) {
+    table.status_ = QueryStatus::kNoOverlap;
+    table.num_r_ = table.num_z_ = 0;
+    return table;
+  }
+  table.make_cells(extent, fixed, options);
+  if (options.angular_index) {
+    table.build_angular_index();
+    if (restrict_to_mobile != nullptr) table.mobile_clusters_ = VertexClusters::build(*restrict_to_mobile);
+  }
+  return table;
+}
 
-  // Fixed ranges: exact cylindrical bounds (App. A) and distances to the centre.
-  double r_lo = std::numeric_limits<double>::infinity(), r_hi = -r_lo;
-  double z_lo = r_lo, z_hi = -r_lo;
-  double l_min = r_lo, l_max = 0.0;
-  double scale = 0.0;
+CylindricalTable::RingExtent CylindricalTable::measure_fixed() {
+  const std::size_t num_triangles = triangles_.size();
+  local_normals_.resize(num_triangles);
+  planes_.resize(num_triangles);
+  ranges_.resize(num_triangles);
+  RingExtent extent{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
+                    std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+  double l_min = std::numeric_limits<double>::infinity(), l_max = 0.0;
   for (std::size_t t = 0; t < num_triangles; ++t) {
-    table.refresh_triangle_normal(static_cast<std::int32_t>(t));
-    const auto& tri = table.triangles_[t];
-    const Vec3& a = table.local_vertex(tri[0]);
-    const Vec3& b = table.local_vertex(tri[1]);
-    const Vec3& c = table.local_vertex(tri[2]);
+    refresh_triangle_normal(static_cast<std::int32_t>(t));
+    const auto& tri = triangles_[t];
+    const Vec3& a = local_vertex(tri[0]);
+    const Vec3& b = local_vertex(tri[1]);
+    const Vec3& c = local_vertex(tri[2]);
     const CylindricalBounds bounds = triangle_cylindrical_bounds(a, b, c);
-    r_lo = std::min(r_lo, bounds.r_min);
-    r_hi = std::max(r_hi, bounds.r_max);
-    z_lo = std::min(z_lo, bounds.z_min);
-    z_hi = std::max(z_hi, bounds.z_max);
+    extent.r_lo = std::min(extent.r_lo, bounds.r_min);
+    extent.r_hi = std::max(extent.r_hi, bounds.r_max);
+    extent.z_lo = std::min(extent.z_lo, bounds.z_min);
+    extent.z_hi = std::max(extent.z_hi, bounds.z_max);
     l_min = std::min(l_min, point_triangle_distance(Vec3::Zero(), a, b, c));
     l_max = std::max({l_max, a.norm(), b.norm(), c.norm()});
   }
-  scale = std::max({1.0, r_hi, std::abs(z_lo), std::abs(z_hi)});
-  table.pad_ = kRelativePad * scale;
-  table.l_min_ = l_min - table.pad_;
-  table.l_max_ = l_max + table.pad_;
+  const double scale = std::max({1.0, extent.r_hi, std::abs(extent.z_lo), std::abs(extent.z_hi)});
+  pad_ = kRelativePad * scale;
+  l_min_ = l_min - pad_;
+  l_max_ = l_max + pad_;
+  return extent;
+}
 
-  if (restrict_to_mobile != nullptr) {
-    // Eq. 2-3: intersect with the mobile ranges (rotation-invariant r, z, |x - c|).
-    double mr_lo = std::numeric_limits<double>::infinity(), mr_hi = -mr_lo;
-    double mz_lo = mr_lo, mz_hi = -mr_lo, ml_lo = mr_lo, ml_hi = 0.0;
-    for (const Vec3& p : restrict_to_mobile->vertices) {
-      const Vec3 local = table.frame_.to_local(p);
-      const double r = std::hypot(local.x(), local.y());
-      mr_lo = std::min(mr_lo, r);
-      mr_hi = std::max(mr_hi, r);
-      mz_lo = std::min(mz_lo, local.z());
-      mz_hi = std::max(mz_hi, local.z());
-      ml_lo = std::min(ml_lo, local.norm());
-      ml_hi = std::max(ml_hi, local.norm());
-    }
-    r_lo = std::max(r_lo, mr_lo);
-    r_hi = std::min(r_hi, mr_hi);
-    z_lo = std::max(z_lo, mz_lo);
-    z_hi = std::min(z_hi, mz_hi);
-    if (r_lo > r_hi + 2.0 * table.pad_ || z_lo > z_hi + 2.0 * table.pad_ ||
-        ml_lo > table.l_max_ || ml_hi < table.l_min_) {
-      table.status_ = QueryStatus::kNoOverlap;
-      table.num_r_ = table.num_z_ = 0;
-      return table;
-    }
+bool CylindricalTable::restrict_to(const geometry::TriMesh& mobile, RingExtent& extent) const {
+  // Eq. 2-3: intersect with the mobile ranges (rotation-invariant r, z, |x - c|).
+  double mr_lo = std::numeric_limits<double>::infinity(), mr_hi = -mr_lo;
+  double mz_lo = mr_lo, mz_hi = -mr_lo, ml_lo = mr_lo, ml_hi = 0.0;
+  for (const Vec3& p : mobile.vertices) {
+    const Vec3 local = frame_.to_local(p);
+    const double r = std::hypot(local.x(), local.y());
+    mr_lo = std::min(mr_lo, r);
+    mr_hi = std::max(mr_hi, r);
+    mz_lo = std::min(mz_lo, local.z());
+    mz_hi = std::max(mz_hi, local.z());
+    ml_lo = std::min(ml_lo, local.norm());
+    ml_hi = std::max(ml_hi, local.norm());
   }
-  table.r_lo_ = r_lo - table.pad_;
-  table.r_hi_ = r_hi + table.pad_;
-  table.z_lo_ = z_lo - table.pad_;
-  table.z_hi_ = z_hi + table.pad_;
+  extent.r_lo = std::max(extent.r_lo, mr_lo);
+  extent.r_hi = std::min(extent.r_hi, mr_hi);
+  extent.z_lo = std::max(extent.z_lo, mz_lo);
+  extent.z_hi = std::min(extent.z_hi, mz_hi);
+  return !(extent.r_lo > extent.r_hi + 2.0 * pad_ || extent.z_lo > extent.z_hi + 2.0 * pad_ || ml_lo > l_max_ ||
+           ml_hi < l_min_);
+}
 
+void CylindricalTable::make_cells(const RingExtent& extent, const geometry::TriMesh& fixed,
+                                  const CylindricalTableOptions& options) {
+  r_lo_ = extent.r_lo - pad_;
+  r_hi_ = extent.r_hi + pad_;
+  z_lo_ = extent.z_lo - pad_;
+  z_hi_ = extent.z_hi + pad_;
   const double edge = geometry::mean_edge_length(fixed);
   double res_r = options.resolution_r_mm > 0.0 ? options.resolution_r_mm : edge;
   double res_z = options.resolution_z_mm > 0.0 ? options.resolution_z_mm : edge;
   if (!(res_r > 0.0)) res_r = 1.0;
   if (!(res_z > 0.0)) res_z = 1.0;
-  const auto count = [](double extent, double res) {
-    return static_cast<long long>(std::floor(extent / res)) + 1;
+  const auto count = [](double extent_mm, double res) {
+    return static_cast<long long>(std::floor(extent_mm / res)) + 1;
   };
-  const double r_extent = table.r_hi_ - table.r_lo_, z_extent = table.z_hi_ - table.z_lo_;
+  const double r_extent = r_hi_ - r_lo_, z_extent = z_hi_ - z_lo_;
   const double max_cells = static_cast<double>(std::max<std::size_t>(options.max_cells, 1));
   while (static_cast<double>(count(r_extent, res_r)) * static_cast<double>(count(z_extent, res_z)) >
          max_cells) {
     res_r *= 2.0;
     res_z *= 2.0;
   }
-  table.res_r_ = res_r;
-  table.res_z_ = res_z;
-  table.num_r_ = count(r_extent, res_r);
-  table.num_z_ = count(z_extent, res_z);
-  table.cells_.assign(static_cast<std::size_t>(table.num_r_ * table.num_z_), {});
-  for (std::size_t t = 0; t < num_triangles; ++t) {
-    table.bin_triangle(static_cast<std::int32_t>(t), /*allow_overflow=*/false);
-  }
-  if (options.angular_index) {
-    table.build_angular_index();
-    if (restrict_to_mobile != nullptr) table.mobile_clusters_ = VertexClusters::build(*restrict_to_mobile);
-  }
-  return table;
+  res_r_ = res_r;
+  res_z_ = res_z;
+  num_r_ = count(r_extent, res_r);
+  num_z_ = count(z_extent, res_z);
+  cells_.assign(static_cast<std::size_t>(num_r_ * num_z_), {});
+  for (std::size_t t = 0; t < triangles_.size(); ++t) bin_triangle(static_cast<std::int32_t>(t), /*allow_overflow=*/false);
 }
 
 void CylindricalTable::build_angular_index() {

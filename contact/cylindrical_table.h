@@ -210,6 +210,16 @@ class CylindricalTable {
     if (cell > 1e15) return static_cast<long long>(1e15);
     return static_cast<long long>(cell);
   }
+  // The (r, z) ranges a table covers, in its axis frame (mm).
+  struct RingExtent {
+    double r_lo, r_hi, z_lo, z_hi;
+  };
+  // build()'s steps: the fixed triangles' normals, exact cylindrical bounds (App. A) and distances
+  // to the centre (sets pad_, l_min_, l_max_); the intersection with a mobile mesh's ranges
+  // (Eq. 2-3; false: they do not overlap); the cells over the extent, padded.
+  RingExtent measure_fixed();
+  bool restrict_to(const geometry::TriMesh& mobile, RingExtent& extent) const;
+  void make_cells(const RingExtent& extent, const geometry::TriMesh& fixed, const CylindricalTableOptions& options);
   void refresh_geometry(const geometry::TriMesh& fixed);
   void refresh_triangle_normal(std::int32_t t);  // also its plane
   void refresh_triangle_plane(std::int32_t t);
