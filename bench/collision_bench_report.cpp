@@ -3,7 +3,7 @@
 #include "bench/bench_format.h"
 #include "core/atomic_file.h"
 #include "core/version.h"
-#include "studies/svg_plot.h"
+#include "studies/reports/svg_plot.h"
 
 #include <cmath>
 #include <functional>

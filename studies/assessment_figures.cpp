@@ -5,7 +5,7 @@
 #include "core/literature.h"
 #include "geometry/hip_frame.h"
 #include "geometry/hip_measure.h"
-#include "studies/svg_plot.h"
+#include "studies/reports/svg_plot.h"
 
 #include <algorithm>
 #include <cmath>

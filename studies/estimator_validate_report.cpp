@@ -6,7 +6,7 @@
 #include "core/version.h"
 #include "stats/pearson.h"
 #include "studies/estimator_model_file.h"
-#include "studies/svg_plot.h"
+#include "studies/reports/svg_plot.h"
 
 #include <algorithm>
 #include <cmath>

@@ -6,7 +6,7 @@
 #include "geometry/mesh_io.h"
 #include "studies/fai_reference.h"
 #include "studies/results_file.h"
-#include "studies/svg_plot.h"
+#include "studies/reports/svg_plot.h"
 
 #include <algorithm>
 #include <cmath>

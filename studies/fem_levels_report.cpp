@@ -4,7 +4,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
-#include "studies/svg_plot.h"
+#include "studies/reports/svg_plot.h"
 
 #include <cstdio>
 #include <sstream>

@@ -5,7 +5,7 @@
 #include "core/literature.h"
 #include "core/version.h"
 #include "studies/results_file.h"
-#include "studies/svg_plot.h"
+#include "studies/reports/svg_plot.h"
 
 #include <algorithm>
 #include <cmath>

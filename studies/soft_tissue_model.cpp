@@ -2,7 +2,7 @@
 // soft_tissue_model.h).
 #include "studies/soft_tissue_model.h"
 
-#include "studies/svg_plot.h"
+#include "studies/reports/svg_plot.h"
 
 #include "core/atomic_file.h"
 #include "core/error.h"

@@ -7,7 +7,7 @@
 #include "studies/fai_study.h"
 #include "studies/fe_step_record.h"
 #include "studies/hip_source.h"
-#include "studies/svg_plot.h"
+#include "studies/reports/svg_plot.h"
 
 #include <algorithm>
 #include <array>

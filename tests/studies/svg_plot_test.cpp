@@ -1,4 +1,4 @@
-#include "studies/svg_plot.h"
+#include "studies/reports/svg_plot.h"
 
 #include "geometry/primitive_meshes.h"
 

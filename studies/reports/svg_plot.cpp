@@ -1,4 +1,4 @@
-#include "studies/svg_plot.h"
+#include "studies/reports/svg_plot.h"
 
 #include "core/atomic_file.h"
 #include "core/error.h"
