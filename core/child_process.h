@@ -2,7 +2,7 @@
 // and other programs run as worker processes (run_program).
 //
 // Some libraries hipfai calls can take the process down on inputs nothing can check beforehand:
-// Debian's HDF5 on damaged metadata (studies/hdf5_child.h) and gmsh's surface mesher on some
+// Debian's HDF5 on damaged metadata (studies/results/hdf5_child.h) and gmsh's surface mesher on some
 // OpenCASCADE seams (geometry/hip_generator.h). Such calls run in a child made by fork(): the child
 // does the work and writes its answer to a pipe; the parent reads it. A child that dies (a signal,
 // a sanitizer's abort, an error status, the time limit) is reported as a ChildOutcome, and the

@@ -3,10 +3,10 @@
 // folder and read back.
 #include "fuzz_outcome.h"
 #include "fuzz_scratch.h"
-#include "studies/hdf5_child.h"
+#include "studies/results/hdf5_child.h"
 #include "studies/estimator_model_file.h"
 
-// HDF5 runs in a child process with a time limit (studies/hdf5_child.h): under libFuzzer's own
+// HDF5 runs in a child process with a time limit (studies/results/hdf5_child.h): under libFuzzer's own
 // 10 s per input, so that a file HDF5 loops on is the reader's refusal, not a timeout here.
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
   hipfai::studies::set_hdf5_child_seconds(5);

@@ -1,7 +1,7 @@
 #include "fuzz_results_reads.h"
 
 #include "core/error.h"
-#include "studies/results_file.h"
+#include "studies/results/results_file.h"
 
 #include <exception>
 #include <functional>
@@ -10,7 +10,7 @@
 namespace hipfai::fuzz {
 
 void read_results_file(const std::filesystem::path& path) {
-  // Every read made in one child process (studies/hdf5_child.h), the answers kept for the calls below.
+  // Every read made in one child process (studies/results/hdf5_child.h), the answers kept for the calls below.
   studies::ResultsReader file(path);
   file.prefetch({"/steps/rotation", "/steps/angle_deg", "/steps/index", "/steps/names", "/total"},
                 {{"/", "code_version"}, {"/steps/rotation", "units"}, {"/", "body_weight_n"}});

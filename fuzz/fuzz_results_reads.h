@@ -1,5 +1,5 @@
 // What the results_h5 harness reads from a fuzzed results file: every dataset and attribute its
-// seed holds (make_fuzz_seeds), through one studies/results_file.h ResultsReader. Shared with the
+// seed holds (make_fuzz_seeds), through one studies/results/results_file.h ResultsReader. Shared with the
 // regression test, so a kept input is replayed exactly as it was fuzzed.
 #pragma once
 

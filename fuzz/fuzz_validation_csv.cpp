@@ -4,7 +4,7 @@
 // rest (when there is a \f) timings.csv; both are written to a scratch folder and read.
 #include "fuzz_outcome.h"
 #include "fuzz_scratch.h"
-#include "studies/validation_results_file.h"
+#include "studies/results/validation_results_file.h"
 
 #include <filesystem>
 #include <string_view>

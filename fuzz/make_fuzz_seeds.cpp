@@ -14,7 +14,7 @@
 #include "geometry/mesh_io_vtp.h"
 #include "studies/estimator_model_file.h"
 #include "studies/motion.h"
-#include "studies/results_file.h"
+#include "studies/results/results_file.h"
 
 #include <filesystem>
 #include <fstream>
@@ -228,7 +228,7 @@ int main(int argc, char** argv) {
     }
     copy_into(source / "meshes" / "real-hips" / "LHDL_CT" / "hip.json", out / "hip_json");
     // Files on which HDF5 itself reads past its buffers: under the sanitizers they crash HDF5, and
-    // the readers must refuse them (studies/hdf5_child.h) rather than go down with it.
+    // the readers must refuse them (studies/results/hdf5_child.h) rather than go down with it.
     for (const auto& entry : fs::directory_iterator(source / "tests" / "data" / "hdf5-crashes")) {
       copy_into(entry.path(), out / "results_h5");
       copy_into(entry.path(), out / "estimator_model");

@@ -2,7 +2,7 @@
 #include "studies/estimator_model_file.h"
 
 #include "core/error.h"
-#include "studies/results_file.h"
+#include "studies/results/results_file.h"
 
 #include <iomanip>
 #include <limits>
@@ -240,7 +240,7 @@ void read_model(ResultsReader& file, const std::filesystem::path& path, Estimato
 EstimatorModel read_estimator_model(const std::filesystem::path& path) {
   if (!std::filesystem::is_regular_file(path)) throw_error(path.string(), ": no such model file");
   EstimatorModel model;
-  // Every value of the model read in one child process (a damaged file is refused: studies/hdf5_child.h).
+  // Every value of the model read in one child process (a damaged file is refused: studies/results/hdf5_child.h).
   ResultsReader file(path);
   file.prefetch({"/motion/angle_deg", "/normalisation/mean", "/normalisation/scale", "/pca/basis",
                  "/pca/variances", "/pca/total_variance", "/training/features", "/training/values",

@@ -9,9 +9,9 @@
 #include "studies/hip_source.h"
 #include "studies/motion.h"
 #include "studies/penetration_run.h"
-#include "studies/results_file.h"
+#include "studies/results/results_file.h"
 #include "studies/segmented_hip.h"
-#include "studies/table_number.h"
+#include "studies/results/table_number.h"
 #include "studies/validation_study.h"
 
 #include <algorithm>

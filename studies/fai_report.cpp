@@ -5,7 +5,7 @@
 #include "core/version.h"
 #include "geometry/mesh_io.h"
 #include "studies/fai_reference.h"
-#include "studies/results_file.h"
+#include "studies/results/results_file.h"
 #include "studies/reports/svg_plot.h"
 
 #include <algorithm>

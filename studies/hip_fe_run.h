@@ -23,7 +23,7 @@
 #include "core/atomic_file.h"
 #include "core/fe_choices.h"
 #include "fem/hip_fe_model.h"
-#include "studies/hip_fe_table.h"
+#include "studies/results/hip_fe_table.h"
 #include "studies/motion.h"
 
 #include <filesystem>

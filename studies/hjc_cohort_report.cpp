@@ -4,7 +4,7 @@
 #include "core/atomic_file.h"
 #include "core/version.h"
 #include "geometry/hjc.h"
-#include "studies/results_file.h"
+#include "studies/results/results_file.h"
 
 #include <algorithm>
 #include <cmath>

@@ -4,7 +4,7 @@
 #include "core/atomic_file.h"
 #include "core/literature.h"
 #include "core/version.h"
-#include "studies/results_file.h"
+#include "studies/results/results_file.h"
 #include "studies/reports/svg_plot.h"
 
 #include <algorithm>

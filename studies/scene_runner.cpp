@@ -9,7 +9,7 @@
 #include "core/error.h"
 #include "core/version.h"
 #include "geometry/mesh_io.h"
-#include "studies/results_file.h"
+#include "studies/results/results_file.h"
 
 #ifdef HIPFAI_WITH_FEM
 #include "fem/contact_problem.h"

@@ -17,7 +17,7 @@
 
 #include "core/fe_choices.h"
 
-#include "studies/fe_step_record.h"
+#include "studies/results/fe_step_record.h"
 #include "studies/hip_source.h"
 #include "studies/motion.h"
 #include "studies/penetration_run.h"

@@ -15,7 +15,7 @@
 
 #ifdef HIPFAI_WITH_FEM
 #include "studies/fe_batch.h"
-#include "studies/hip_fe_table.h"
+#include "studies/results/hip_fe_table.h"
 #endif
 
 #include <algorithm>

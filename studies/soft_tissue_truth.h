@@ -11,7 +11,7 @@
 #pragma once
 
 #include "core/fe_choices.h"
-#include "studies/fe_step_record.h"
+#include "studies/results/fe_step_record.h"
 
 #include <array>
 #include <filesystem>

@@ -5,7 +5,7 @@
 #include "core/error.h"
 #include "studies/fai_reference.h"
 #include "studies/fai_study.h"
-#include "studies/fe_step_record.h"
+#include "studies/results/fe_step_record.h"
 #include "studies/hip_source.h"
 #include "studies/reports/svg_plot.h"
 

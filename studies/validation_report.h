@@ -17,7 +17,7 @@
 #pragma once
 
 #include "stats/correlation.h"
-#include "studies/validation_results_file.h"
+#include "studies/results/validation_results_file.h"
 
 #include <filesystem>
 #include <string>

@@ -20,7 +20,7 @@
 #pragma once
 
 #include "core/fe_choices.h"
-#include "studies/fe_step_record.h"
+#include "studies/results/fe_step_record.h"
 
 #ifdef HIPFAI_WITH_FEM
 #include "studies/hip_fe_run.h"

@@ -5,7 +5,7 @@
 #include "geometry/primitive_meshes.h"
 #include "studies/estimator_model_file.h"
 #include "studies/motion.h"
-#include "studies/results_file.h"
+#include "studies/results/results_file.h"
 
 #include <gtest/gtest.h>
 
@@ -407,7 +407,7 @@ namespace {
 void write_sweep_model(const fs::path& dir, const std::string& model, const std::vector<double>& angles_deg,
                        double pressure_scale, const Eigen::Vector3d& axis) {
   std::ofstream csv(dir / (model + ".csv"));
-  // The columns the table's reader needs (studies/hip_fe_table.h), no tissue's von Mises.
+  // The columns the table's reader needs (studies/results/hip_fe_table.h), no tissue's von Mises.
   csv << "step,status,dofs,max_pressure_mpa,ball_peak_pressure_mpa,mean_pressure_mpa,wall_time_s\n";
   std::vector<double> rotation;
   for (std::size_t k = 0; k < angles_deg.size(); ++k) {

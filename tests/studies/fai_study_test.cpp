@@ -1,7 +1,7 @@
 // `hipfai study fai --quick` settings: the output layout and the two anchor cases.
 #include "studies/fai_study.h"
 
-#include "studies/results_file.h"
+#include "studies/results/results_file.h"
 
 #include <gtest/gtest.h>
 

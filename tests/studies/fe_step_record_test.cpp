@@ -1,11 +1,11 @@
-// The typed record of an FE step (studies/fe_step_record.h) and fe.csv read into it
-// (studies/hip_fe_table.h): every measure comes from the column its names give, a missing column is
+// The typed record of an FE step (studies/results/fe_step_record.h) and fe.csv read into it
+// (studies/results/hip_fe_table.h): every measure comes from the column its names give, a missing column is
 // a one-line error naming it, the names are one-to-one, and the validation study's columns keep
 // their names.
-#include "studies/fe_step_record.h"
+#include "studies/results/fe_step_record.h"
 
 #include "core/error.h"
-#include "studies/hip_fe_table.h"
+#include "studies/results/hip_fe_table.h"
 #include "studies/validation_study.h"
 
 #include <gtest/gtest.h>

@@ -1,11 +1,11 @@
-// HDF5 decoding in a child process (studies/hdf5_child.h) and the reader built on it
-// (studies/results_file.h): sound files are read, values and errors alike come back through the
+// HDF5 decoding in a child process (studies/results/hdf5_child.h) and the reader built on it
+// (studies/results/results_file.h): sound files are read, values and errors alike come back through the
 // pipe, a child that dies is a one-line refusal while this process goes on, and the files found by
 // fuzzing to crash HDF5 (tests/data/hdf5-crashes/) never take this process down.
 #include "core/error.h"
 #include "studies/estimator_model_file.h"
-#include "studies/hdf5_child.h"
-#include "studies/results_file.h"
+#include "studies/results/hdf5_child.h"
+#include "studies/results/results_file.h"
 
 #include <gtest/gtest.h>
 #include <signal.h>

@@ -1,4 +1,4 @@
-#include "studies/results_file.h"
+#include "studies/results/results_file.h"
 
 #include "core/error.h"
 

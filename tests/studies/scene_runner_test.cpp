@@ -1,7 +1,7 @@
 // The scene runner end to end on a generated hip: demand-driven stages and the cache.
 #include "studies/scene_runner.h"
 
-#include "studies/results_file.h"
+#include "studies/results/results_file.h"
 
 #include <gtest/gtest.h>
 
