@@ -145,39 +145,31 @@ Header parse_header(const std::vector<std::string_view>& lines, const std::strin
   throw_error(file, ": no 'endheader' line (not an OpenSim motion or storage file)");
 }
 
-}  // namespace
-
-JointAngleSeries read_opensim_motion(const std::filesystem::path& path, std::optional<Side> side) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw_error(path.string(), ": cannot open");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_opensim_motion(text.str(), path.string(), side);
+// Whether the angles are in degrees: the header's inDegrees, else degrees for a SIMM motion file.
+bool motion_in_degrees(const Header& header, const std::string& file) {
+  if (header.in_degrees) return *header.in_degrees;
+  if (header.version.value_or(0) < 1 && ends_with(lowercase(file), ".mot")) {
+    return true;  // a SIMM motion file: degrees, as OpenSim reads it
+  }
+  throw_error(file, ": no inDegrees=yes|no line: cannot tell degrees from radians");
 }
 
-JointAngleSeries parse_opensim_motion(const std::string& text, const std::string& name_for_messages,
-                                      std::optional<Side> side) {
-  const std::string& file = name_for_messages;
-  const std::vector<std::string_view> lines = split_lines(text);
-  const Header header = parse_header(lines, file);
+struct ColumnLabels {
+  std::size_t line = 0;  // index into the file's lines
+  std::vector<std::string_view> labels;
+};
 
-  // Units.
-  bool in_degrees = false;
-  if (header.in_degrees) {
-    in_degrees = *header.in_degrees;
-  } else if (header.version.value_or(0) < 1 && ends_with(lowercase(file), ".mot")) {
-    in_degrees = true;  // a SIMM motion file: degrees, as OpenSim reads it
-  } else {
-    throw_error(file, ": no inDegrees=yes|no line: cannot tell degrees from radians");
-  }
-
-  // Column labels: the first non-blank line after endheader.
+// Column labels: the first non-blank line after endheader; tab-separated labels may hold spaces.
+ColumnLabels read_column_labels(const std::vector<std::string_view>& lines, const Header& header,
+                                const std::string& file) {
   std::size_t k = header.end_line + 1;
   while (k < lines.size() && trim(lines[k]).empty()) ++k;
   if (k >= lines.size()) throw_error(file, ":", header.end_line + 1, ": no column labels after endheader");
+  ColumnLabels result;
+  result.line = k;
   const std::size_t label_line = k;
   const std::string_view label_text = trim(lines[k]);
-  std::vector<std::string_view> labels;
+  std::vector<std::string_view>& labels = result.labels;
   if (label_text.find('\t') != std::string_view::npos) {
     std::size_t start = 0;
     while (true) {
@@ -199,57 +191,64 @@ JointAngleSeries parse_opensim_motion(const std::string& text, const std::string
     throw_error(file, ":", label_line + 1, ": ", labels.size(), " column labels, but the header says nColumns=",
                 *header.columns);
   }
+  return result;
+}
 
-  // The hip columns of each side (-1: absent).
-  const std::array<const char*, 3> coordinates{"hip_flexion", "hip_adduction", "hip_rotation"};
-  const auto find_columns = [&](Side s) {
-    std::array<long long, 3> columns{-1, -1, -1};
+constexpr std::array<const char*, 3> kHipCoordinates{"hip_flexion", "hip_adduction", "hip_rotation"};
+
+// The hip columns of one side (-1: absent); two columns holding one coordinate are an error.
+std::array<long long, 3> find_hip_columns(const ColumnLabels& labels, Side s, const std::string& file) {
+  std::array<long long, 3> columns{-1, -1, -1};
+  for (std::size_t a = 0; a < 3; ++a) {
+    const std::string coordinate = std::string(kHipCoordinates[a]) + (s == Side::kRight ? "_r" : "_l");
+    for (std::size_t c = 1; c < labels.labels.size(); ++c) {
+      if (!names_coordinate(labels.labels[c], coordinate)) continue;
+      if (columns[a] >= 0) {
+        throw_error(file, ":", labels.line + 1, ": columns ", columns[a] + 1, " and ", c + 1, " both hold ",
+                    coordinate);
+      }
+      columns[a] = static_cast<long long>(c);
+    }
+  }
+  return columns;
+}
+
+// The side read: the one asked for (all three columns required), else the only side complete.
+Side choose_side(const ColumnLabels& labels, std::optional<Side> side, const std::string& file) {
+  const std::size_t label_line = labels.line;
+  if (side) {
+    const auto columns = find_hip_columns(labels, *side, file);
     for (std::size_t a = 0; a < 3; ++a) {
-      const std::string coordinate = std::string(coordinates[a]) + (s == Side::kRight ? "_r" : "_l");
-      for (std::size_t c = 1; c < labels.size(); ++c) {
-        if (!names_coordinate(labels[c], coordinate)) continue;
-        if (columns[a] >= 0) {
-          throw_error(file, ":", label_line + 1, ": columns ", columns[a] + 1, " and ", c + 1, " both hold ",
-                      coordinate);
-        }
-        columns[a] = static_cast<long long>(c);
+      if (columns[a] < 0) {
+        throw_error(file, ":", label_line + 1, ": no column ", kHipCoordinates[a], *side == Side::kRight ? "_r" : "_l",
+                    " (the ", side_name(*side), " hip's angles)");
       }
     }
-    return columns;
-  };
+    return *side;
+  }
   const auto complete = [](const std::array<long long, 3>& columns) {
     return std::all_of(columns.begin(), columns.end(), [](long long c) { return c >= 0; });
   };
-  Side chosen = Side::kRight;
-  if (side) {
-    chosen = *side;
-    const auto columns = find_columns(chosen);
-    for (std::size_t a = 0; a < 3; ++a) {
-      if (columns[a] < 0) {
-        throw_error(file, ":", label_line + 1, ": no column ", coordinates[a], chosen == Side::kRight ? "_r" : "_l",
-                    " (the ", side_name(chosen), " hip's angles)");
-      }
-    }
-  } else {
-    const bool right = complete(find_columns(Side::kRight));
-    const bool left = complete(find_columns(Side::kLeft));
-    if (right && left) {
-      throw_error(file, ":", label_line + 1, ": both hips' angles are present: say which side to read");
-    }
-    if (!right && !left) {
-      throw_error(file, ":", label_line + 1,
-                  ": no hip_flexion, hip_adduction and hip_rotation columns of either side (_r or _l)");
-    }
-    chosen = right ? Side::kRight : Side::kLeft;
+  const bool right = complete(find_hip_columns(labels, Side::kRight, file));
+  const bool left = complete(find_hip_columns(labels, Side::kLeft, file));
+  if (right && left) {
+    throw_error(file, ":", label_line + 1, ": both hips' angles are present: say which side to read");
   }
-  const std::array<long long, 3> columns = find_columns(chosen);
+  if (!right && !left) {
+    throw_error(file, ":", label_line + 1,
+                ": no hip_flexion, hip_adduction and hip_rotation columns of either side (_r or _l)");
+  }
+  return right ? Side::kRight : Side::kLeft;
+}
 
-  JointAngleSeries series;
-  series.name = header.name;
-  series.side = chosen;
+// The data rows after the labels: time increasing, the hip's three angles in degrees.
+void read_motion_rows(const std::vector<std::string_view>& lines, const ColumnLabels& column_labels,
+                      const std::array<long long, 3>& columns, bool in_degrees, const std::string& file,
+                      JointAngleSeries& series) {
+  const std::vector<std::string_view>& labels = column_labels.labels;
   const double to_degrees = in_degrees ? 1.0 : geometry::kRadToDeg;
   std::vector<double> values(labels.size());
-  for (k = label_line + 1; k < lines.size(); ++k) {
+  for (std::size_t k = column_labels.line + 1; k < lines.size(); ++k) {
     if (trim(lines[k]).empty()) continue;
     const std::size_t line_number = k + 1;
     const std::vector<std::string_view> fields = split_whitespace(lines[k]);
@@ -282,7 +281,32 @@ JointAngleSeries parse_opensim_motion(const std::string& text, const std::string
     series.time_s.push_back(time);
     series.poses.push_back({angles[0], angles[1], angles[2]});
   }
-  if (series.poses.empty()) throw_error(file, ":", label_line + 1, ": no data rows after the column labels");
+}
+
+}  // namespace
+
+JointAngleSeries read_opensim_motion(const std::filesystem::path& path, std::optional<Side> side) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw_error(path.string(), ": cannot open");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parse_opensim_motion(text.str(), path.string(), side);
+}
+
+JointAngleSeries parse_opensim_motion(const std::string& text, const std::string& name_for_messages,
+                                      std::optional<Side> side) {
+  const std::string& file = name_for_messages;
+  const std::vector<std::string_view> lines = split_lines(text);
+  const Header header = parse_header(lines, file);
+  const bool in_degrees = motion_in_degrees(header, file);
+  const ColumnLabels labels = read_column_labels(lines, header, file);
+  const Side chosen = choose_side(labels, side, file);
+
+  JointAngleSeries series;
+  series.name = header.name;
+  series.side = chosen;
+  read_motion_rows(lines, labels, find_hip_columns(labels, chosen, file), in_degrees, file, series);
+  if (series.poses.empty()) throw_error(file, ":", labels.line + 1, ": no data rows after the column labels");
   if (header.rows && *header.rows != static_cast<long long>(series.poses.size())) {
     throw_error(file, ": ", series.poses.size(), " data rows, but the header says nRows=", *header.rows);
   }

@@ -245,6 +245,142 @@ SurfaceSpatialHash::SurfaceSpatialHash(const geometry::TriMesh& fixed, const Spa
   grid_ = SpatialHashGrid(boxes_, cell > 0.0 ? cell : 1.0, size);
 }
 
+namespace {
+
+// Clips the walk [s0, s1] along origin + s u to the box [lo_box, hi_box] (slab test); false
+// when nothing is left of it.
+bool clip_to_box(const Vector3d& origin, const Vector3d& u, const Vector3d& lo_box, const Vector3d& hi_box,
+                 double& s0, double& s1) {
+  for (int k = 0; k < 3 && s0 <= s1; ++k) {
+    if (u[k] == 0.0) {
+      if (origin[k] < lo_box[k] || origin[k] > hi_box[k]) s1 = -1.0;
+      continue;
+    }
+    double a = (lo_box[k] - origin[k]) / u[k], b = (hi_box[k] - origin[k]) / u[k];
+    if (a > b) std::swap(a, b);
+    s0 = std::max(s0, a);
+    s1 = std::min(s1, b);
+  }
+  return !(s0 > s1);
+}
+
+// 3D DDA through the grid's cells along u, from `start` (at s0 along the walk).
+struct CellWalk {
+  std::array<long long, 3> cell_index;
+  std::array<long long, 3> step{};
+  std::array<double, 3> s_next{}, s_delta{};
+
+  CellWalk(const SpatialHashGrid& grid, const Vector3d& start, const Vector3d& u, double s0)
+      : cell_index(grid.cell_of(start)) {
+    const double cell = grid.cell_size_mm();
+    for (int k = 0; k < 3; ++k) {
+      const auto K = static_cast<std::size_t>(k);
+      if (u[k] > 0.0) {
+        step[K] = 1;
+        s_next[K] = s0 + ((static_cast<double>(cell_index[K]) + 1.0) * cell - start[k]) / u[k];
+        s_delta[K] = cell / u[k];
+      } else if (u[k] < 0.0) {
+        step[K] = -1;
+        s_next[K] = s0 + (static_cast<double>(cell_index[K]) * cell - start[k]) / u[k];
+        s_delta[K] = -cell / u[k];
+      } else {
+        s_next[K] = std::numeric_limits<double>::infinity();
+        s_delta[K] = std::numeric_limits<double>::infinity();
+      }
+    }
+  }
+  // Where the walk leaves the current cell.
+  double exit() const { return std::min({s_next[0], s_next[1], s_next[2]}); }
+  void advance() {
+    const int axis = s_next[0] <= s_next[1] ? (s_next[0] <= s_next[2] ? 0 : 2) : (s_next[1] <= s_next[2] ? 1 : 2);
+    cell_index[static_cast<std::size_t>(axis)] += step[static_cast<std::size_t>(axis)];
+    s_next[static_cast<std::size_t>(axis)] += s_delta[static_cast<std::size_t>(axis)];
+  }
+};
+
+// The crossing of the ray centre + t d chosen for a vertex (t = 1 at the vertex).
+struct RadialHit {
+  bool found = false;
+  double t = 0.0;
+  std::int32_t triangle = -1;
+  int facing = 0;
+};
+
+// One thread's radial queries: per mobile vertex, the fixed triangle its ray from the centre
+// crosses nearest to it on the penetrating side, found by walking the hash grid along the ray.
+struct RadialRayWalker {
+  const SpatialHashGrid& grid;
+  const geometry::TriMesh& fixed;
+  const Vector3d& centre;
+  bool mobile_inside;
+  Vector3d lo_box, hi_box;
+  std::vector<std::uint32_t> seen = std::vector<std::uint32_t>(fixed.triangles.size(), 0);
+  std::uint32_t stamp = 0;
+
+  bool penetration(std::size_t v, const Vector3d& origin, contact::PenetrationPair& pair) {
+    const Vector3d d = origin - centre;
+    const double r = d.norm();
+    if (!(r > 0.0)) return false;
+    const Vector3d u = mobile_inside ? Vector3d(-d / r) : Vector3d(d / r);
+    // Clip the walk [0, s_end] to the fixed mesh's box.
+    double s0 = 0.0, s1 = mobile_inside ? r : std::numeric_limits<double>::infinity();
+    if (!clip_to_box(origin, u, lo_box, hi_box, s0, s1)) return false;
+    if (++stamp == 0) {
+      std::fill(seen.begin(), seen.end(), 0);
+      stamp = 1;
+    }
+    const RadialHit hit = walk(d, r, u, origin, s0, s1);
+    if (!hit.found) return false;
+    const bool penetrates = mobile_inside ? (hit.t < 1.0 && hit.facing == -1) : (hit.t > 1.0 && hit.facing == +1);
+    if (!penetrates) return false;
+    pair.mobile_vertex = static_cast<std::int32_t>(v);
+    pair.fixed_triangle = hit.triangle;
+    pair.depth_mm = std::abs(mobile_inside ? 1.0 - hit.t : hit.t - 1.0) * r;
+    return true;
+  }
+
+  // Cells from the entry point until the best crossing so far lies within the cells walked.
+  RadialHit walk(const Vector3d& d, double r, const Vector3d& u, const Vector3d& origin, double s0, double s1) {
+    CellWalk cells(grid, origin + s0 * u, u, s0);
+    RadialHit hit;
+    while (true) {
+      test_bucket(grid.bucket(cells.cell_index[0], cells.cell_index[1], cells.cell_index[2]), d, hit);
+      const double s_exit = cells.exit();
+      if (hit.found && std::abs(1.0 - hit.t) * r <= s_exit) break;
+      if (s_exit > s1) break;
+      cells.advance();
+    }
+    return hit;
+  }
+
+  // The bucket's triangles not tested yet for this vertex; ties go to the lower triangle id.
+  void test_bucket(std::size_t b, const Vector3d& d, RadialHit& hit) {
+    for (const std::int32_t* it = grid.begin(b); it != grid.end(b); ++it) {
+      const auto t = static_cast<std::size_t>(*it);
+      if (seen[t] == stamp) continue;
+      seen[t] = stamp;
+      const auto& tri = fixed.triangles[t];
+      const auto crossing = contact::ray_triangle_crossing(
+          d, fixed.vertices[static_cast<std::size_t>(tri[0])] - centre,
+          fixed.vertices[static_cast<std::size_t>(tri[1])] - centre,
+          fixed.vertices[static_cast<std::size_t>(tri[2])] - centre);
+      if (!crossing.hit) continue;
+      const bool side_ok = mobile_inside ? crossing.t <= 1.0 : crossing.t >= 1.0;
+      if (!side_ok) continue;
+      const bool better = !hit.found || (mobile_inside ? crossing.t > hit.t : crossing.t < hit.t) ||
+                          (crossing.t == hit.t && *it < hit.triangle);
+      if (better) {
+        hit.found = true;
+        hit.t = crossing.t;
+        hit.triangle = *it;
+        hit.facing = crossing.facing;
+      }
+    }
+  }
+};
+
+}  // namespace
+
 contact::PenetrationResult SurfaceSpatialHash::radial_query(const geometry::TriMesh& posed_mobile,
                                                             const Vector3d& centre,
                                                             contact::RadialConfiguration configuration,
@@ -259,93 +395,10 @@ contact::PenetrationResult SurfaceSpatialHash::radial_query(const geometry::TriM
   parallel_chunks(
       posed_mobile.vertices.size(), threads, [&](std::size_t begin, std::size_t end, int chunk) {
         auto& pairs = per_chunk[static_cast<std::size_t>(chunk)];
-        std::vector<std::uint32_t> seen(fixed_.triangles.size(), 0);
-        std::uint32_t stamp = 0;
+        RadialRayWalker walker{grid_, fixed_, centre, mobile_inside, lo_box, hi_box};
         for (std::size_t v = begin; v < end; ++v) {
-          const Vector3d d = posed_mobile.vertices[v] - centre;
-          const double r = d.norm();
-          if (!(r > 0.0)) continue;
-          const Vector3d u = mobile_inside ? Vector3d(-d / r) : Vector3d(d / r);
-          const Vector3d& origin = posed_mobile.vertices[v];
-          // Clip the walk [0, s_end] to the fixed mesh's box (slab test).
-          double s0 = 0.0, s1 = mobile_inside ? r : std::numeric_limits<double>::infinity();
-          for (int k = 0; k < 3 && s0 <= s1; ++k) {
-            if (u[k] == 0.0) {
-              if (origin[k] < lo_box[k] || origin[k] > hi_box[k]) s1 = -1.0;
-              continue;
-            }
-            double a = (lo_box[k] - origin[k]) / u[k], b = (hi_box[k] - origin[k]) / u[k];
-            if (a > b) std::swap(a, b);
-            s0 = std::max(s0, a);
-            s1 = std::min(s1, b);
-          }
-          if (s0 > s1) continue;
-          if (++stamp == 0) {
-            std::fill(seen.begin(), seen.end(), 0);
-            stamp = 1;
-          }
-          // 3D DDA from the entry point.
-          const Vector3d start = origin + s0 * u;
-          auto cell_index = grid_.cell_of(start);
-          std::array<long long, 3> step{};
-          std::array<double, 3> s_next{}, s_delta{};
-          for (int k = 0; k < 3; ++k) {
-            if (u[k] > 0.0) {
-              step[static_cast<std::size_t>(k)] = 1;
-              s_next[static_cast<std::size_t>(k)] = s0 + ((static_cast<double>(cell_index[static_cast<std::size_t>(k)]) + 1.0) * cell - start[k]) / u[k];
-              s_delta[static_cast<std::size_t>(k)] = cell / u[k];
-            } else if (u[k] < 0.0) {
-              step[static_cast<std::size_t>(k)] = -1;
-              s_next[static_cast<std::size_t>(k)] = s0 + (static_cast<double>(cell_index[static_cast<std::size_t>(k)]) * cell - start[k]) / u[k];
-              s_delta[static_cast<std::size_t>(k)] = -cell / u[k];
-            } else {
-              s_next[static_cast<std::size_t>(k)] = std::numeric_limits<double>::infinity();
-              s_delta[static_cast<std::size_t>(k)] = std::numeric_limits<double>::infinity();
-            }
-          }
-          bool found = false;
-          double best_t = 0.0;
-          std::int32_t best_triangle = -1;
-          int best_facing = 0;
-          while (true) {
-            const std::size_t b = grid_.bucket(cell_index[0], cell_index[1], cell_index[2]);
-            for (const std::int32_t* it = grid_.begin(b); it != grid_.end(b); ++it) {
-              const auto t = static_cast<std::size_t>(*it);
-              if (seen[t] == stamp) continue;
-              seen[t] = stamp;
-              const auto& tri = fixed_.triangles[t];
-              const auto crossing = contact::ray_triangle_crossing(
-                  d, fixed_.vertices[static_cast<std::size_t>(tri[0])] - centre,
-                  fixed_.vertices[static_cast<std::size_t>(tri[1])] - centre,
-                  fixed_.vertices[static_cast<std::size_t>(tri[2])] - centre);
-              if (!crossing.hit) continue;
-              const bool side_ok = mobile_inside ? crossing.t <= 1.0 : crossing.t >= 1.0;
-              if (!side_ok) continue;
-              const bool better = !found || (mobile_inside ? crossing.t > best_t : crossing.t < best_t) ||
-                                  (crossing.t == best_t && *it < best_triangle);
-              if (better) {
-                found = true;
-                best_t = crossing.t;
-                best_triangle = *it;
-                best_facing = crossing.facing;
-              }
-            }
-            const double s_exit = std::min({s_next[0], s_next[1], s_next[2]});
-            if (found && std::abs(1.0 - best_t) * r <= s_exit) break;
-            if (s_exit > s1) break;
-            const int axis = s_next[0] <= s_next[1] ? (s_next[0] <= s_next[2] ? 0 : 2) : (s_next[1] <= s_next[2] ? 1 : 2);
-            cell_index[static_cast<std::size_t>(axis)] += step[static_cast<std::size_t>(axis)];
-            s_next[static_cast<std::size_t>(axis)] += s_delta[static_cast<std::size_t>(axis)];
-          }
-          if (!found) continue;
-          const bool penetrates = mobile_inside ? (best_t < 1.0 && best_facing == -1)
-                                                : (best_t > 1.0 && best_facing == +1);
-          if (!penetrates) continue;
           contact::PenetrationPair pair;
-          pair.mobile_vertex = static_cast<std::int32_t>(v);
-          pair.fixed_triangle = best_triangle;
-          pair.depth_mm = std::abs(mobile_inside ? 1.0 - best_t : best_t - 1.0) * r;
-          pairs.push_back(pair);
+          if (walker.penetration(v, posed_mobile.vertices[v], pair)) pairs.push_back(pair);
         }
       });
   for (auto& pairs : per_chunk) result.pairs.insert(result.pairs.end(), pairs.begin(), pairs.end());

@@ -254,8 +254,26 @@ class CylindricalCacheAccess {
 
   static std::optional<CylindricalTable> read_table(Reader& in) {
     CylindricalTable table;
+    if (!read_grid(in, table)) return std::nullopt;
+    const std::size_t num_vertices = in.count(3 * 8);
+    table.local_vertices_.resize(num_vertices);
+    for (Vec3& p : table.local_vertices_) {
+      p = in.vec3();
+      if (!finite(p)) return std::nullopt;
+    }
+    if (!read_triangles(in, num_vertices, table)) return std::nullopt;
+    if (!read_cells(in, table)) return std::nullopt;
+    if (!read_overflow(in, table)) return std::nullopt;
+    if (!in.ok()) return std::nullopt;
+    for (std::size_t t = 0; t < table.triangles_.size(); ++t) table.refresh_triangle_plane(static_cast<std::int32_t>(t));
+    table.build_angular_index();
+    return table;
+  }
+
+  // Status, frame and grid; false when any is unreadable or meaningless.
+  static bool read_grid(Reader& in, CylindricalTable& table) {
     const std::optional<QueryStatus> status = decode_status(in.u8());
-    if (!status) return std::nullopt;
+    if (!status) return false;
     table.status_ = *status;
     table.message_ = in.string();
     table.frame_.centre = in.vec3();
@@ -265,28 +283,22 @@ class CylindricalCacheAccess {
     for (double* value : {&table.r_lo_, &table.r_hi_, &table.z_lo_, &table.z_hi_, &table.res_r_,
                           &table.res_z_, &table.pad_, &table.l_min_, &table.l_max_}) {
       *value = in.f64();
-      if (!std::isfinite(*value)) return std::nullopt;
+      if (!std::isfinite(*value)) return false;
     }
     table.num_r_ = in.i64();
     table.num_z_ = in.i64();
     table.neighbour_cells_ = in.i32();
-    if (!in.ok() || !finite(table.frame_.centre) || !finite(table.frame_.axis) ||
-        !finite(table.frame_.e1) || !finite(table.frame_.e2) || !(table.res_r_ > 0.0) ||
-        !(table.res_z_ > 0.0) || table.neighbour_cells_ < 0 || table.num_r_ < 0 ||
-        table.num_z_ < 0 || table.num_r_ > std::numeric_limits<std::int32_t>::max() ||
-        table.num_z_ > std::numeric_limits<std::int32_t>::max()) {
-      return std::nullopt;
-    }
+    return in.ok() && finite(table.frame_.centre) && finite(table.frame_.axis) && finite(table.frame_.e1) &&
+           finite(table.frame_.e2) && table.res_r_ > 0.0 && table.res_z_ > 0.0 && table.neighbour_cells_ >= 0 &&
+           table.num_r_ >= 0 && table.num_z_ >= 0 && table.num_r_ <= std::numeric_limits<std::int32_t>::max() &&
+           table.num_z_ <= std::numeric_limits<std::int32_t>::max();
+  }
 
-    const std::size_t num_vertices = in.count(3 * 8);
-    table.local_vertices_.resize(num_vertices);
-    for (Vec3& p : table.local_vertices_) {
-      p = in.vec3();
-      if (!finite(p)) return std::nullopt;
-    }
+  // Triangles: vertex indices, normal and cell range each.
+  static bool read_triangles(Reader& in, std::size_t num_vertices, CylindricalTable& table) {
     const std::size_t num_triangles = in.count(3 * 4 + 3 * 8 + 4 * 4 + 1);
     if (!in.ok() || num_triangles > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max())) {
-      return std::nullopt;
+      return false;
     }
     table.triangles_.resize(num_triangles);
     table.local_normals_.resize(num_triangles);
@@ -295,7 +307,7 @@ class CylindricalCacheAccess {
     for (std::size_t t = 0; t < num_triangles; ++t) {
       for (std::int32_t& v : table.triangles_[t]) {
         v = in.i32();
-        if (v < 0 || static_cast<std::size_t>(v) >= num_vertices) return std::nullopt;
+        if (v < 0 || static_cast<std::size_t>(v) >= num_vertices) return false;
       }
       table.local_normals_[t] = in.vec3();
       CylindricalTable::CellRange& range = table.ranges_[t];
@@ -304,29 +316,32 @@ class CylindricalCacheAccess {
       range.z0 = in.i32();
       range.z1 = in.i32();
       const std::uint8_t overflow = in.u8();
-      if (!in.ok() || overflow > 1 || !finite(table.local_normals_[t])) return std::nullopt;
+      if (!in.ok() || overflow > 1 || !finite(table.local_normals_[t])) return false;
       range.overflow = overflow == 1;
       // Either the empty range of a triangle outside the grid, or a range inside the grid.
       const bool empty = range.r0 == 0 && range.r1 == -1 && range.z0 == 0 && range.z1 == -1;
       const bool inside = range.r0 >= 0 && range.r0 <= range.r1 && range.r1 < table.num_r_ &&
                           range.z0 >= 0 && range.z0 <= range.z1 && range.z1 < table.num_z_;
-      if (!empty && !inside) return std::nullopt;
+      if (!empty && !inside) return false;
     }
+    return true;
+  }
 
+  // The cells' triangle lists. Each triangle must sit exactly in the cells of its range, once per
+  // cell: then a query (and a later update_triangles, which unbins by range) sees the same table
+  // as the saved one.
+  static bool read_cells(Reader& in, CylindricalTable& table) {
+    const std::size_t num_triangles = table.triangles_.size();
     // num_r and num_z fit in 31 bits each, so the product cannot overflow.
     const std::size_t num_cells = in.count(4);
-    if (!in.ok() || num_cells != static_cast<std::size_t>(table.num_r_ * table.num_z_)) {
-      return std::nullopt;
-    }
+    if (!in.ok() || num_cells != static_cast<std::size_t>(table.num_r_ * table.num_z_)) return false;
     std::vector<std::uint32_t> sizes(num_cells);
     std::uint64_t total = 0;
     for (std::uint32_t& size : sizes) {
       size = in.u32();
       total += size;
     }
-    if (!in.can_hold(total, 4)) return std::nullopt;
-    // Each triangle must sit exactly in the cells of its range, once per cell: then a query (and
-    // a later update_triangles, which unbins by range) sees the same table as the saved one.
+    if (!in.can_hold(total, 4)) return false;
     std::vector<std::uint64_t> seen(num_triangles, 0);
     std::vector<std::size_t> last_cell(num_triangles, std::numeric_limits<std::size_t>::max());
     table.cells_.resize(num_cells);
@@ -337,11 +352,11 @@ class CylindricalCacheAccess {
       cell.resize(sizes[c]);
       for (std::int32_t& t : cell) {
         t = in.i32();
-        if (t < 0 || static_cast<std::size_t>(t) >= num_triangles) return std::nullopt;
+        if (t < 0 || static_cast<std::size_t>(t) >= num_triangles) return false;
         const auto ti = static_cast<std::size_t>(t);
         const CylindricalTable::CellRange& range = table.ranges_[ti];
-        if (ir < range.r0 || ir > range.r1 || iz < range.z0 || iz > range.z1) return std::nullopt;
-        if (last_cell[ti] == c) return std::nullopt;
+        if (ir < range.r0 || ir > range.r1 || iz < range.z0 || iz > range.z1) return false;
+        if (last_cell[ti] == c) return false;
         last_cell[ti] = c;
         ++seen[ti];
       }
@@ -351,26 +366,28 @@ class CylindricalCacheAccess {
       const auto area = range.r1 < range.r0 ? 0ull
                                             : static_cast<std::uint64_t>((range.r1 - range.r0 + 1) *
                                                                          (range.z1 - range.z0 + 1));
-      if (seen[t] != area) return std::nullopt;
+      if (seen[t] != area) return false;
     }
+    return true;
+  }
 
+  // The overflow list: exactly the triangles whose range says they overflow, each once.
+  static bool read_overflow(Reader& in, CylindricalTable& table) {
+    const std::size_t num_triangles = table.triangles_.size();
     const std::size_t num_overflow = in.count(4);
     table.overflow_.resize(num_overflow);
     std::vector<bool> listed(num_triangles, false);
     for (std::int32_t& t : table.overflow_) {
       t = in.i32();
-      if (t < 0 || static_cast<std::size_t>(t) >= num_triangles) return std::nullopt;
+      if (t < 0 || static_cast<std::size_t>(t) >= num_triangles) return false;
       const auto ti = static_cast<std::size_t>(t);
-      if (listed[ti] || !table.ranges_[ti].overflow) return std::nullopt;
+      if (listed[ti] || !table.ranges_[ti].overflow) return false;
       listed[ti] = true;
     }
     for (std::size_t t = 0; t < num_triangles; ++t) {
-      if (table.ranges_[t].overflow != listed[t]) return std::nullopt;
+      if (table.ranges_[t].overflow != listed[t]) return false;
     }
-    if (!in.ok()) return std::nullopt;
-    for (std::size_t t = 0; t < num_triangles; ++t) table.refresh_triangle_plane(static_cast<std::int32_t>(t));
-    table.build_angular_index();
-    return table;
+    return true;
   }
 
   static void write_pose_cache(const CylindricalPoseCache& cache, Writer& out) {

@@ -304,7 +304,6 @@ struct VertexQuery {
 
   // The triangle tests for a vertex the culls kept.
   [[gnu::noinline]] bool decide(const Kept& kept, Scratch& scratch, PenetrationPair& out) const {
-    const std::int32_t index = kept.index;
     const Vec3& direction = kept.direction;
     const double r = kept.r;
     const int id = kept.id;
@@ -395,6 +394,14 @@ struct VertexQuery {
       visit(table.cell(cell_of_direction(table.grid, direction)));
     }
     visit(table.always_candidates);
+    return penetration_of(kept, scratch, adjacent, out);
+  }
+
+  // The pair the crossings offered give the vertex, by the configuration's rule; false when it
+  // does not penetrate.
+  bool penetration_of(const Kept& kept, Scratch& scratch, const Adjacent& adjacent, PenetrationPair& out) const {
+    const std::int32_t index = kept.index;
+    const Vec3& direction = kept.direction;
     if (union_rule) {
       double t_union = 0.0;
       std::int32_t triangle = -1;

@@ -159,15 +159,11 @@ double alpha_in_plane(const std::vector<const TriMesh*>& femur, const Vec3& cent
   return std::numeric_limits<double>::quiet_NaN();
 }
 
-AlphaMeasurement measure_alpha_angle(const std::vector<const TriMesh*>& femur, const Vec3& hjc_mm,
-                                     const Vec3& neck_axis_in, const Vec3& superior_in,
-                                     const Vec3& anterior_in, const AlphaOptions& options) {
-  AlphaMeasurement result;
-  const Vec3 n = neck_axis_in.normalized();
-  const Vec3 superior = (superior_in - superior_in.dot(n) * n).normalized();
-  Vec3 anterior = (anterior_in - anterior_in.dot(n) * n - anterior_in.dot(superior) * superior).normalized();
+namespace {
 
-  // 1. Head sphere from the outermost vertices near the pole.
+// The outermost vertices near the head's pole (within 60 deg of -n from the HJC, and within 1 mm
+// of the farthest: the articular surface, not the bone under the cartilage).
+std::vector<Vec3> head_shell(const std::vector<const TriMesh*>& femur, const Vec3& hjc_mm, const Vec3& n) {
   std::vector<Vec3> candidates;
   double farthest = 0.0;
   for (const TriMesh* mesh : femur) {
@@ -181,25 +177,13 @@ AlphaMeasurement measure_alpha_angle(const std::vector<const TriMesh*>& femur, c
   }
   std::vector<Vec3> shell;
   for (const Vec3& p : candidates) {
-    // Within 1 mm of the farthest: the articular surface, not the bone under the cartilage.
     if ((p - hjc_mm).norm() >= farthest - 1.0) shell.push_back(p);
   }
-  if (shell.size() < 10) return result;
-  // |p|^2 = 2 c . p + (r^2 - |c|^2): linear in (c, k).
-  Eigen::MatrixXd a(static_cast<Eigen::Index>(shell.size()), 4);
-  Eigen::VectorXd b(static_cast<Eigen::Index>(shell.size()));
-  for (std::size_t i = 0; i < shell.size(); ++i) {
-    const Vec3 p = shell[i] - hjc_mm;
-    a.row(static_cast<Eigen::Index>(i)) << 2.0 * p.x(), 2.0 * p.y(), 2.0 * p.z(), 1.0;
-    b(static_cast<Eigen::Index>(i)) = p.squaredNorm();
-  }
-  const Eigen::Vector4d x = a.colPivHouseholderQr().solve(b);
-  const bool given = options.head_radius_mm > 0.0;
-  const Vec3 centre = given ? options.head_centre_mm : Vec3(hjc_mm + x.head<3>());
-  const double radius = given ? options.head_radius_mm : std::sqrt(x(3) + x.head<3>().squaredNorm());
-  result.head_centre_mm = centre;
-  result.head_radius_mm = radius;
-  // Longest chord of the tessellated sphere: an edge with both ends on the fitted sphere.
+  return shell;
+}
+
+// Longest chord of the tessellated sphere: an edge with both ends on the fitted sphere.
+double longest_chord_on_sphere(const std::vector<const TriMesh*>& femur, const Vec3& centre, double radius) {
   double longest = 0.0;
   for (const TriMesh* mesh : femur) {
     auto on_sphere = [&](std::int32_t v) {
@@ -216,6 +200,37 @@ AlphaMeasurement measure_alpha_angle(const std::vector<const TriMesh*>& femur, c
       }
     }
   }
+  return longest;
+}
+
+}  // namespace
+
+AlphaMeasurement measure_alpha_angle(const std::vector<const TriMesh*>& femur, const Vec3& hjc_mm,
+                                     const Vec3& neck_axis_in, const Vec3& superior_in,
+                                     const Vec3& anterior_in, const AlphaOptions& options) {
+  AlphaMeasurement result;
+  const Vec3 n = neck_axis_in.normalized();
+  const Vec3 superior = (superior_in - superior_in.dot(n) * n).normalized();
+  Vec3 anterior = (anterior_in - anterior_in.dot(n) * n - anterior_in.dot(superior) * superior).normalized();
+
+  // 1. Head sphere from the outermost vertices near the pole.
+  const std::vector<Vec3> shell = head_shell(femur, hjc_mm, n);
+  if (shell.size() < 10) return result;
+  // |p|^2 = 2 c . p + (r^2 - |c|^2): linear in (c, k).
+  Eigen::MatrixXd a(static_cast<Eigen::Index>(shell.size()), 4);
+  Eigen::VectorXd b(static_cast<Eigen::Index>(shell.size()));
+  for (std::size_t i = 0; i < shell.size(); ++i) {
+    const Vec3 p = shell[i] - hjc_mm;
+    a.row(static_cast<Eigen::Index>(i)) << 2.0 * p.x(), 2.0 * p.y(), 2.0 * p.z(), 1.0;
+    b(static_cast<Eigen::Index>(i)) = p.squaredNorm();
+  }
+  const Eigen::Vector4d x = a.colPivHouseholderQr().solve(b);
+  const bool given = options.head_radius_mm > 0.0;
+  const Vec3 centre = given ? options.head_centre_mm : Vec3(hjc_mm + x.head<3>());
+  const double radius = given ? options.head_radius_mm : std::sqrt(x(3) + x.head<3>().squaredNorm());
+  result.head_centre_mm = centre;
+  result.head_radius_mm = radius;
+  const double longest = longest_chord_on_sphere(femur, centre, radius);
   result.tolerance_mm = options.tolerance_mm > 0.0
                             ? options.tolerance_mm
                             : std::max(0.1, 1.2 * longest * longest / (6.0 * radius));

@@ -698,59 +698,52 @@ PlanarQuadMesh quad_mesh_shadow(const std::vector<std::vector<Vec3>>& loops_3d, 
 
 // --- one tissue ------------------------------------------------------------------------------
 
-// rim_axis, rim_cos: the acetabular rim cone through the HJC, {d : d . rim_axis = |d| rim_cos}
-// (a plane when rim_cos = 0); the labrum's base lies on it.
-void mesh_tissue(const TissueRecipe& recipe, const TriMesh& tissue, const Vec3& hjc, const Vec3& rim_axis,
-                 double rim_cos, SoftTissueSource source, const HipVolumeOptions& options, HexMesh& out) {
-  // Synthesised layers follow a segmented bone's triangles, so their outlines zigzag at the bone's
-  // edge length: the outline is smoothed for the quad mesh and a boundary node is snapped onto it
-  // only when its own ray misses the tissue (snapping every node onto a zigzag folds the quads
-  // beside it). A synthesised labrum is a sweep with a smooth outline and sharp corners (its end
-  // caps): meshed as a generated one, only its bonded side found otherwise (below).
-  const bool synthesised = source == SoftTissueSource::kSynthesised;
-  const bool zigzag_outline = synthesised && recipe.volume != VolumeTag::kLabrum;
-  const std::string name = recipe.name;
-  validate_mesh(tissue, name);
-
-  // Faces through which the rays leave the tissue on its articular side.
-  std::vector<std::size_t> articular_side;
-  // Faces on the rim cone are radial (the cone's apex is the HJC), but their flat triangles
-  // only approximate the cone, so their facing is not exactly zero and rays along the rim graze
-  // them: they are recognised by their vertices, belong to neither side, and rays ignore them
-  // (as they ignore a plane rim through the HJC, which contains the rays).
+// The tissue's faces on the rim cone. They are radial (the cone's apex is the HJC), but their
+// flat triangles only approximate the cone, so their facing is not exactly zero and rays along
+// the rim graze them: they are recognised by their vertices, belong to neither side, and rays
+// ignore them (as they ignore a plane rim through the HJC, which contains the rays).
+std::vector<bool> rim_cone_faces(const TriMesh& tissue, const Vec3& hjc, const RimCone& rim) {
   const double rim_tolerance = 1e-6 * kRimToleranceScaleMm;
   std::vector<bool> rim_face(tissue.triangles.size(), false);
   for (std::size_t t = 0; t < tissue.triangles.size(); ++t) {
     bool on_cone = true;
     for (std::int32_t i : tissue.triangles[t]) {
       const Vec3 d = vertex(tissue, i) - hjc;
-      on_cone = on_cone && std::abs(d.dot(rim_axis) - d.norm() * rim_cos) <= rim_tolerance;
+      on_cone = on_cone && std::abs(d.dot(rim.axis) - d.norm() * rim.cos_angle) <= rim_tolerance;
     }
     rim_face[t] = on_cone;
   }
-  const RayCaster caster(tissue, hjc, rim_face);
-  const RimCone rim_cone{rim_axis, rim_cos};
-  // The rim face developed into the plane: per rim triangle, its vertices' distances from the
-  // HJC and azimuths about the axis.
-  const Vec3 azimuth_x = (std::abs(rim_axis.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY()).cross(rim_axis).normalized();
-  const Vec3 azimuth_y = rim_axis.cross(azimuth_x);
-  auto azimuth = [&](const Vec3& d) { return std::atan2(d.dot(azimuth_y), d.dot(azimuth_x)); };
-  std::vector<std::array<std::pair<double, double>, 3>> developed;  // (distance, azimuth)
-  for (std::size_t t = 0; t < tissue.triangles.size(); ++t) {
-    if (!rim_face[t]) continue;
-    std::array<std::pair<double, double>, 3> corners;
-    for (std::size_t c = 0; c < 3; ++c) {
-      const Vec3 d = vertex(tissue, tissue.triangles[t][c]) - hjc;
-      corners[c] = {d.norm(), azimuth(d)};
+  return rim_face;
+}
+
+// The rim face developed into the plane: per rim triangle, its vertices' distances from the
+// HJC and azimuths about the rim axis.
+struct DevelopedRim {
+  Vec3 azimuth_x, azimuth_y;
+  std::vector<std::array<std::pair<double, double>, 3>> triangles;  // (distance, azimuth)
+
+  DevelopedRim(const TriMesh& tissue, const std::vector<bool>& rim_face, const Vec3& hjc, const Vec3& rim_axis)
+      : azimuth_x((std::abs(rim_axis.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY()).cross(rim_axis).normalized()),
+        azimuth_y(rim_axis.cross(azimuth_x)) {
+    for (std::size_t t = 0; t < tissue.triangles.size(); ++t) {
+      if (!rim_face[t]) continue;
+      std::array<std::pair<double, double>, 3> corners;
+      for (std::size_t c = 0; c < 3; ++c) {
+        const Vec3 d = vertex(tissue, tissue.triangles[t][c]) - hjc;
+        corners[c] = {d.norm(), azimuth(d)};
+      }
+      triangles.push_back(corners);
     }
-    developed.push_back(corners);
   }
-  // Distances at which the generator of the rim cone along `direction` enters and leaves the rim
-  // face (none when it misses every rim triangle).
-  auto rim_extent = [&](const Vec3& direction) -> std::optional<std::pair<double, double>> {
+
+  double azimuth(const Vec3& d) const { return std::atan2(d.dot(azimuth_y), d.dot(azimuth_x)); }
+
+  // Distances at which the generator of the rim cone along `direction` enters and leaves the
+  // rim face (none when it misses every rim triangle).
+  std::optional<std::pair<double, double>> extent(const Vec3& direction) const {
     const double at = azimuth(direction);
     double lowest = std::numeric_limits<double>::infinity(), highest = -lowest;
-    for (const auto& corners : developed) {
+    for (const auto& corners : triangles) {
       for (std::size_t c = 0; c < 3; ++c) {
         const auto& [r0, phi0] = corners[c];
         const auto& [r1, phi1] = corners[(c + 1) % 3];
@@ -767,8 +760,14 @@ void mesh_tissue(const TissueRecipe& recipe, const TriMesh& tissue, const Vec3& 
     }
     if (!(highest > lowest)) return std::nullopt;
     return std::make_pair(lowest, highest);
-  };
+  }
+};
 
+// Faces through which the rays leave the tissue on its articular side.
+std::vector<std::size_t> articular_side_faces(const TissueRecipe& recipe, const TriMesh& tissue, const RayCaster& caster,
+                                              const std::vector<bool>& rim_face, const Vec3& hjc,
+                                              const std::string& name) {
+  std::vector<std::size_t> articular_side;
   for (std::size_t t = 0; t < tissue.triangles.size(); ++t) {
     const auto& tri = tissue.triangles[t];
     if (rim_face[t]) continue;
@@ -777,8 +776,12 @@ void mesh_tissue(const TissueRecipe& recipe, const TriMesh& tissue, const Vec3& 
     if (recipe.articular_outer ? facing > kGrazingCosine : facing < -kGrazingCosine) articular_side.push_back(t);
   }
   if (articular_side.empty()) throw_error("hip volume mesh: ", name, ": no face of the tissue faces the joint");
-  const auto loops = boundary_loops(tissue, articular_side, name);
+  return articular_side;
+}
 
+// The projection of the articular side's shadow, at the mean distance of its vertices.
+Stereographic shadow_projection(const TriMesh& tissue, const std::vector<std::size_t>& articular_side,
+                                const Vec3& hjc, const std::string& name) {
   std::vector<Vec3> shadow;
   double radius_sum = 0.0;
   for (std::size_t t : articular_side) {
@@ -787,31 +790,44 @@ void mesh_tissue(const TissueRecipe& recipe, const TriMesh& tissue, const Vec3& 
       radius_sum += (vertex(tissue, i) - hjc).norm();
     }
   }
-  const Stereographic projection = choose_projection(shadow, radius_sum / static_cast<double>(shadow.size()), name);
+  return choose_projection(shadow, radius_sum / static_cast<double>(shadow.size()), name);
+}
 
-  // Boundary loops in 3D, relative to the HJC.
+// Boundary loops in 3D, relative to the HJC.
+std::vector<std::vector<Vec3>> loops_from_hjc(const TriMesh& tissue, const std::vector<std::vector<std::int32_t>>& loops,
+                                              const Vec3& hjc) {
   std::vector<std::vector<Vec3>> loops_3d;
   for (const auto& loop : loops) {
     std::vector<Vec3> points;
     for (std::int32_t i : loop) points.push_back(vertex(tissue, i) - hjc);
     loops_3d.push_back(std::move(points));
   }
-  std::vector<std::vector<Vec3>> domain_loops = loops_3d;
-  if (zigzag_outline) {
-    for (auto& loop : domain_loops) loop = smooth_loop(loop, options.edge_mm);
-  }
-  const PlanarQuadMesh plane = quad_mesh_shadow(domain_loops, projection, options.edge_mm, name);
+  return loops_3d;
+}
 
-  // Columns: one per plane node, layers + 1 vertices from the inner to the outer face.
-  const std::size_t layers = static_cast<std::size_t>(options.layers);
-  const auto first_vertex = static_cast<std::int32_t>(out.vertices.size());
-  std::vector<bool> articular_column(plane.nodes.size(), false);
-  auto column_vertex = [&](std::size_t node, std::size_t layer) {
-    return first_vertex + static_cast<std::int32_t>(node * (layers + 1) + layer);
-  };
-  for (std::size_t node = 0; node < plane.nodes.size(); ++node) {
-    Vec3 direction = projection.unproject(plane.nodes[node]).normalized();
-    if (plane.on_boundary[node] && !zigzag_outline) direction = snap_to_boundary(loops_3d, direction, &rim_cone).normalized();
+// One column: its ray from the HJC and the extent of the tissue along it.
+struct Column {
+  Vec3 direction;
+  double inner = 0.0;
+  double outer = 0.0;
+  bool articular = false;  // the ray hits the articular surface (not a side wall)
+};
+
+// What the columns of one tissue are cast against.
+struct ColumnCaster {
+  const TissueRecipe& recipe;
+  const RayCaster& caster;
+  const RimCone& rim_cone;
+  const DevelopedRim& rim;
+  const std::vector<std::vector<Vec3>>& loops_3d;  // relative to the HJC
+  bool zigzag_outline;
+  double min_thickness_mm;
+  const std::string& name;
+
+  // The ray of a plane node: boundary nodes snapped onto the outline (unless it zigzags), and
+  // nodes whose ray misses the tissue moved onto the outline.
+  RayCaster::Interval ray(Vec3& direction, bool on_boundary) const {
+    if (on_boundary && !zigzag_outline) direction = snap_to_boundary(loops_3d, direction, &rim_cone).normalized();
     auto interval = caster.cast(direction);
     if (!interval.hit) {
       // Just outside a concave stretch of the boundary: move onto it.
@@ -823,6 +839,13 @@ void mesh_tissue(const TissueRecipe& recipe, const TriMesh& tissue, const Vec3& 
       throw_error("hip volume mesh: ", name, ": the ray from the HJC along (", direction.x(), ", ",
                   direction.y(), ", ", direction.z(), ") misses the tissue");
     }
+    return interval;
+  }
+
+  Column column(const Vec3& node_direction, bool on_boundary) const {
+    Column result{node_direction};
+    auto interval = ray(result.direction, on_boundary);
+    const Vec3& direction = result.direction;
     // A ray along the rim cone (a boundary column of the rim face) runs IN the rim face, whose
     // flat triangles only approximate the cone: cast letting it hit the faces that look at the
     // HJC a little beyond their edges (their distance is interpolated on the sphere, so the node
@@ -835,32 +858,51 @@ void mesh_tissue(const TissueRecipe& recipe, const TriMesh& tissue, const Vec3& 
       if (again.hit) interval = again;
       inner = interval.near_mm;
       outer = interval.far_mm;
-      if (const auto extent = rim_extent(direction)) {
+      if (const auto extent = rim.extent(direction)) {
         inner = extent->first;
         outer = extent->second;
       }
     }
     const double articular_radial = recipe.articular_outer ? interval.far_radial : interval.near_radial;
     const double far_radial = recipe.articular_outer ? interval.near_radial : interval.far_radial;
-    articular_column[node] = articular_radial >= kRadialCosine;
+    result.articular = articular_radial >= kRadialCosine;
     // Tapered edges: keep the articular face where it is and push the far face away — unless the
     // ray meets a side wall on the articular side (the fossa's silhouette) and the bone on the
     // far side: then the bonded face stays on the bone.
-    if (outer - inner < options.min_thickness_mm) {
-      const bool keep_articular = articular_column[node] || far_radial < kRadialCosine;
+    if (outer - inner < min_thickness_mm) {
+      const bool keep_articular = result.articular || far_radial < kRadialCosine;
       if (recipe.articular_outer == keep_articular) {
-        inner = outer - options.min_thickness_mm;
+        inner = outer - min_thickness_mm;
       } else {
-        outer = inner + options.min_thickness_mm;
+        outer = inner + min_thickness_mm;
       }
     }
+    result.inner = inner;
+    result.outer = outer;
+    return result;
+  }
+};
+
+// One column per plane node, layers + 1 vertices from the inner to the outer face appended to
+// out.vertices; per node, whether its column is articular.
+std::vector<bool> add_columns(const ColumnCaster& columns, const PlanarQuadMesh& plane, const Stereographic& projection,
+                              const Vec3& hjc, std::size_t layers, HexMesh& out) {
+  std::vector<bool> articular_column(plane.nodes.size(), false);
+  for (std::size_t node = 0; node < plane.nodes.size(); ++node) {
+    const Column column =
+        columns.column(projection.unproject(plane.nodes[node]).normalized(), plane.on_boundary[node]);
+    articular_column[node] = column.articular;
     for (std::size_t layer = 0; layer <= layers; ++layer) {
-      const double r = inner + (outer - inner) * static_cast<double>(layer) / static_cast<double>(layers);
-      out.vertices.push_back(hjc + r * direction);
+      const double r = column.inner + (column.outer - column.inner) * static_cast<double>(layer) /
+                                          static_cast<double>(layers);
+      out.vertices.push_back(hjc + r * column.direction);
     }
   }
+  return articular_column;
+}
 
-  // Plane edges used by one quad: the domain boundary, where the columns' side faces are.
+// Plane edges used by one quad: the domain boundary, where the columns' side faces are.
+std::map<std::pair<std::int32_t, std::int32_t>, int> plane_edge_uses(const PlanarQuadMesh& plane) {
   std::map<std::pair<std::int32_t, std::int32_t>, int> edge_uses;
   for (const auto& quad : plane.quads) {
     for (std::size_t c = 0; c < 4; ++c) {
@@ -869,10 +911,59 @@ void mesh_tissue(const TissueRecipe& recipe, const TriMesh& tissue, const Vec3& 
       ++edge_uses[{std::min(a, b), std::max(a, b)}];
     }
   }
-  const double rim_tolerance_mm = 1e-6 * projection.radius_mm;
+  return edge_uses;
+}
+
+// The tag of a column stack's side face on the domain boundary.
+struct SideFaceTagger {
+  const TissueRecipe& recipe;
+  bool synthesised;
+  Vec3 hjc;
+  const RimCone& rim_cone;
+  double rim_tolerance_mm;
+
+  // `inner`: the quad's four inner vertices; the side face is along its edge c, c + 1.
+  SurfaceTag tag(const HexMesh& out, const std::array<std::int32_t, 4>& inner, std::size_t c,
+                 const std::array<std::int32_t, 4>& side) const {
+    if (recipe.rim_side_bonded && synthesised) {
+      return faces_away_from_rim_axis(out, inner, c) ? SurfaceTag::kLabrumBonded : SurfaceTag::kFree;
+    }
+    if (recipe.rim_side_bonded) {
+      bool on_rim = true;
+      for (std::int32_t v : side) {
+        const Vec3 d = out.vertices[static_cast<std::size_t>(v)] - hjc;
+        on_rim = on_rim && std::abs(d.dot(rim_cone.axis) - d.norm() * rim_cone.cos_angle) < rim_tolerance_mm;
+      }
+      if (on_rim) return SurfaceTag::kLabrumBonded;
+    }
+    return SurfaceTag::kFree;
+  }
+
+  // A synthesised labrum's base lies along the rays at the measured rim, which is no cone: its
+  // side faces are those facing away from the acetabular axis (the shadow's outer edge), not the
+  // end caps (facing along the rim) nor the tip (towards the axis).
+  bool faces_away_from_rim_axis(const HexMesh& out, const std::array<std::int32_t, 4>& inner, std::size_t c) const {
+    const auto direction_of = [&](std::int32_t v) {
+      return Vec3((out.vertices[static_cast<std::size_t>(v)] - hjc).normalized());
+    };
+    const Vec3 middle = (direction_of(inner[c % 4]) + direction_of(inner[(c + 1) % 4])).normalized();
+    Vec3 centre = Vec3::Zero();
+    for (std::size_t k = 0; k < 4; ++k) centre += direction_of(inner[k]);
+    Vec3 outward = middle - centre.normalized();
+    outward -= outward.dot(middle) * middle;
+    Vec3 away = rim_cone.axis.dot(middle) * middle - rim_cone.axis;  // polar angle increasing
+    return outward.norm() > 0.0 && away.norm() > 0.0 && outward.normalized().dot(away.normalized()) > kRadialCosine;
+  }
+};
+
+// The hexahedra of the columns and their boundary faces: the inner and outer face of every
+// quad's stack, and the side faces along the domain boundary.
+void add_hexes(const TissueRecipe& recipe, const PlanarQuadMesh& plane, const std::vector<bool>& articular_column,
+               std::int32_t first_vertex, std::size_t layers, const SideFaceTagger& sides, HexMesh& out) {
+  const auto edge_uses = plane_edge_uses(plane);
   for (const auto& quad : plane.quads) {
     auto at = [&](std::size_t c, std::size_t layer) {
-      return column_vertex(static_cast<std::size_t>(quad[c % 4]), layer);
+      return first_vertex + static_cast<std::int32_t>(static_cast<std::size_t>(quad[c % 4]) * (layers + 1) + layer);
     };
     for (std::size_t layer = 0; layer < layers; ++layer) {
       out.hexes.push_back({at(0, layer), at(1, layer), at(2, layer), at(3, layer), at(0, layer + 1),
@@ -887,43 +978,55 @@ void mesh_tissue(const TissueRecipe& recipe, const TriMesh& tissue, const Vec3& 
     out.quad_tags.push_back(recipe.articular_outer ? recipe.far : articular_tag);
     out.quads.push_back({at(0, layers), at(1, layers), at(2, layers), at(3, layers)});
     out.quad_tags.push_back(recipe.articular_outer ? articular_tag : recipe.far);
+    const std::array<std::int32_t, 4> inner{at(0, 0), at(1, 0), at(2, 0), at(3, 0)};
     for (std::size_t c = 0; c < 4; ++c) {
       const auto a = quad[c];
       const auto b = quad[(c + 1) % 4];
-      if (edge_uses[{std::min(a, b), std::max(a, b)}] != 1) continue;
+      if (edge_uses.at({std::min(a, b), std::max(a, b)}) != 1) continue;
       for (std::size_t layer = 0; layer < layers; ++layer) {
         const std::array<std::int32_t, 4> side{at(c, layer), at(c + 1, layer), at(c + 1, layer + 1), at(c, layer + 1)};
-        SurfaceTag tag = SurfaceTag::kFree;
-        if (recipe.rim_side_bonded && synthesised) {
-          // A synthesised labrum's base lies along the rays at the measured rim, which is no
-          // cone: its side faces are those facing away from the acetabular axis (the shadow's
-          // outer edge), not the end caps (facing along the rim) nor the tip (towards the axis).
-          const auto direction_of = [&](std::int32_t v) {
-            return Vec3((out.vertices[static_cast<std::size_t>(v)] - hjc).normalized());
-          };
-          const Vec3 middle = (direction_of(at(c, 0)) + direction_of(at(c + 1, 0))).normalized();
-          Vec3 centre = Vec3::Zero();
-          for (std::size_t k = 0; k < 4; ++k) centre += direction_of(at(k, 0));
-          Vec3 outward = middle - centre.normalized();
-          outward -= outward.dot(middle) * middle;
-          Vec3 away = rim_axis.dot(middle) * middle - rim_axis;  // polar angle increasing
-          if (outward.norm() > 0.0 && away.norm() > 0.0 &&
-              outward.normalized().dot(away.normalized()) > kRadialCosine) {
-            tag = SurfaceTag::kLabrumBonded;
-          }
-        } else if (recipe.rim_side_bonded) {
-          bool on_rim = true;
-          for (std::int32_t v : side) {
-            const Vec3 d = out.vertices[static_cast<std::size_t>(v)] - hjc;
-            on_rim = on_rim && std::abs(d.dot(rim_axis) - d.norm() * rim_cos) < rim_tolerance_mm;
-          }
-          if (on_rim) tag = SurfaceTag::kLabrumBonded;
-        }
         out.quads.push_back(side);
-        out.quad_tags.push_back(tag);
+        out.quad_tags.push_back(sides.tag(out, inner, c, side));
       }
     }
   }
+}
+
+// rim_axis, rim_cos: the acetabular rim cone through the HJC, {d : d . rim_axis = |d| rim_cos}
+// (a plane when rim_cos = 0); the labrum's base lies on it.
+void mesh_tissue(const TissueRecipe& recipe, const TriMesh& tissue, const Vec3& hjc, const Vec3& rim_axis,
+                 double rim_cos, SoftTissueSource source, const HipVolumeOptions& options, HexMesh& out) {
+  // Synthesised layers follow a segmented bone's triangles, so their outlines zigzag at the bone's
+  // edge length: the outline is smoothed for the quad mesh and a boundary node is snapped onto it
+  // only when its own ray misses the tissue (snapping every node onto a zigzag folds the quads
+  // beside it). A synthesised labrum is a sweep with a smooth outline and sharp corners (its end
+  // caps): meshed as a generated one, only its bonded side found otherwise (SideFaceTagger).
+  const bool synthesised = source == SoftTissueSource::kSynthesised;
+  const bool zigzag_outline = synthesised && recipe.volume != VolumeTag::kLabrum;
+  const std::string name = recipe.name;
+  validate_mesh(tissue, name);
+
+  const RimCone rim_cone{rim_axis, rim_cos};
+  const std::vector<bool> rim_face = rim_cone_faces(tissue, hjc, rim_cone);
+  const RayCaster caster(tissue, hjc, rim_face);
+  const DevelopedRim rim(tissue, rim_face, hjc, rim_axis);
+
+  const auto articular_side = articular_side_faces(recipe, tissue, caster, rim_face, hjc, name);
+  const auto loops = boundary_loops(tissue, articular_side, name);
+  const Stereographic projection = shadow_projection(tissue, articular_side, hjc, name);
+  const std::vector<std::vector<Vec3>> loops_3d = loops_from_hjc(tissue, loops, hjc);
+  std::vector<std::vector<Vec3>> domain_loops = loops_3d;
+  if (zigzag_outline) {
+    for (auto& loop : domain_loops) loop = smooth_loop(loop, options.edge_mm);
+  }
+  const PlanarQuadMesh plane = quad_mesh_shadow(domain_loops, projection, options.edge_mm, name);
+
+  const std::size_t layers = static_cast<std::size_t>(options.layers);
+  const auto first_vertex = static_cast<std::int32_t>(out.vertices.size());
+  const ColumnCaster columns{recipe, caster, rim_cone, rim, loops_3d, zigzag_outline, options.min_thickness_mm, name};
+  const std::vector<bool> articular_column = add_columns(columns, plane, projection, hjc, layers, out);
+  const SideFaceTagger sides{recipe, synthesised, hjc, rim_cone, 1e-6 * projection.radius_mm};
+  add_hexes(recipe, plane, articular_column, first_vertex, layers, sides, out);
 }
 
 // Scaled Jacobian of a hexahedron: the smallest, over its 8 corners, determinant of the three

@@ -116,6 +116,114 @@ double PatchDistance::signed_distance(const Vec3& point, Vec3& gradient, bool& o
   return sign * distance;
 }
 
+namespace {
+
+// Target distances of the lunate vertices in the scanned pose (the reference ones, or the
+// constant) and whether each lies over the head patch; vertices beyond it are not used.
+struct LunateTargets {
+  std::vector<double> target_mm;
+  std::vector<char> usable;
+};
+
+LunateTargets lunate_targets(const PatchDistance& distance, const std::vector<Vec3>& lunate,
+                             FunctionalTarget target, double constant_mm) {
+  const std::size_t n = lunate.size();
+  LunateTargets targets{std::vector<double>(n, constant_mm), std::vector<char>(n, 1)};
+  for (std::size_t i = 0; i < n; ++i) {
+    Vec3 gradient;
+    bool border = false;
+    const double d = distance.signed_distance(lunate[i], gradient, border);
+    if (target == FunctionalTarget::kReference) targets.target_mm[i] = d;
+    if (border) targets.usable[i] = 0;
+  }
+  return targets;
+}
+
+// The femur in one circumduction pose, x -> R (x - c0) + c0 + t, shifted by t to restore the
+// inter-articular distances. A lunate point P seen from the femur: q = R^T (P - c0 - t) + c0;
+// d(q) its signed distance, dd/dt = -(R g)^T.
+struct PoseShiftFit {
+  const PatchDistance& distance;
+  const std::vector<Vec3>& lunate;
+  const LunateTargets& targets;
+  Eigen::Matrix3d rotation;
+  Vec3 c0;
+  std::vector<double> residual = std::vector<double>(lunate.size(), 0.0);
+  std::vector<char> used = std::vector<char>(lunate.size(), 0);
+
+  // Residuals, normal equations and mean squared residual at a shift.
+  double evaluate(const Vec3& shift, Eigen::Matrix3d& jtj, Eigen::Vector3d& jtr) {
+    jtj.setZero();
+    jtr.setZero();
+    double sum = 0.0;
+    int count = 0;
+    for (std::size_t i = 0; i < lunate.size(); ++i) {
+      used[i] = 0;
+      if (!targets.usable[i]) continue;
+      const Vec3 q = rotation.transpose() * (lunate[i] - c0 - shift) + c0;
+      Vec3 gradient;
+      bool border = false;
+      const double d = distance.signed_distance(q, gradient, border);
+      if (border) continue;
+      const Vec3 row = -(rotation * gradient);
+      residual[i] = d - targets.target_mm[i];
+      used[i] = 1;
+      jtj.noalias() += row * row.transpose();
+      jtr.noalias() += row * residual[i];
+      sum += residual[i] * residual[i];
+      ++count;
+    }
+    return count < 4 ? std::numeric_limits<double>::infinity() : sum / count;
+  }
+
+  // Gauss-Newton with step halving: the set of lunate vertices over the head changes with the
+  // shift, and a full step can overshoot across such a change. Whether it converged; `shift`,
+  // `residual` and `used` are those of the last evaluation at the shift returned.
+  bool solve(const FunctionalHjcOptions& options, Vec3& shift) {
+    shift = Vec3::Zero();
+    Eigen::Matrix3d jtj;
+    Eigen::Vector3d jtr;
+    double cost = evaluate(shift, jtj, jtr);
+    for (int iteration = 0; iteration < options.max_iterations && std::isfinite(cost); ++iteration) {
+      Eigen::Vector3d step = jtj.ldlt().solve(-jtr);
+      if (!step.allFinite()) break;
+      Eigen::Matrix3d trial_jtj;
+      Eigen::Vector3d trial_jtr;
+      double trial_cost = evaluate(shift + step, trial_jtj, trial_jtr);
+      for (int halving = 0; halving < 20 && !(trial_cost <= cost); ++halving) {
+        step *= 0.5;
+        trial_cost = evaluate(shift + step, trial_jtj, trial_jtr);
+      }
+      if (!(trial_cost <= cost)) {  // no descent along the Gauss-Newton direction: at the minimum
+        const bool converged = step.norm() < 1e3 * options.tolerance_mm;
+        evaluate(shift, jtj, jtr);
+        return converged;
+      }
+      shift += step;
+      cost = trial_cost;
+      jtj = trial_jtj;
+      jtr = trial_jtr;
+      if (step.norm() < options.tolerance_mm) return true;
+    }
+    return false;
+  }
+};
+
+// The least-moving point of the poses (R, b), x -> R x + b, and how much it still moves.
+void least_moving_point(const std::vector<std::pair<Eigen::Matrix3d, Vec3>>& poses, const Eigen::Matrix3d& normal_matrix,
+                        const Eigen::Vector3d& normal_rhs, FunctionalHjc& result) {
+  result.center_mm = normal_matrix.ldlt().solve(normal_rhs);
+  double motion_sum = 0.0;
+  for (const auto& [rotation, b] : poses) {
+    const double moved = ((rotation - Eigen::Matrix3d::Identity()) * result.center_mm + b).norm();
+    motion_sum += moved * moved;
+    result.residual_motion_max_mm = std::max(result.residual_motion_max_mm, moved);
+  }
+  result.residual_motion_rms_mm = std::sqrt(motion_sum / static_cast<double>(poses.size()));
+}
+
+}  // namespace
+
 FunctionalHjc functional_hjc(const TriMesh& head, const std::vector<Vec3>& head_normals,
                              const std::vector<Vec3>& lunate, const Vec3& start_center_mm,
                              const Vec3& long_axis, FunctionalTarget target, double constant_mm,
@@ -130,17 +238,8 @@ FunctionalHjc functional_hjc(const TriMesh& head, const std::vector<Vec3>& head_
     return result;
   }
   const PatchDistance distance(head, head_normals);
-  // Reference distances in the scanned pose; vertices beyond the head patch are not used.
   const std::size_t n = lunate.size();
-  std::vector<double> target_mm(n, constant_mm);
-  std::vector<char> usable(n, 1);
-  for (std::size_t i = 0; i < n; ++i) {
-    Vec3 gradient;
-    bool border = false;
-    const double d = distance.signed_distance(lunate[i], gradient, border);
-    if (target == FunctionalTarget::kReference) target_mm[i] = d;
-    if (border) usable[i] = 0;
-  }
+  const LunateTargets targets = lunate_targets(distance, lunate, target, constant_mm);
   result.target_mm = target == FunctionalTarget::kConstant ? constant_mm : 0.0;
   const Vec3 axis = long_axis.normalized();
   const Vec3 e1 = axis.unitOrthogonal();
@@ -157,67 +256,13 @@ FunctionalHjc functional_hjc(const TriMesh& head, const std::vector<Vec3>& head_
     const double phi = 2.0 * std::numbers::pi * k / options.poses;
     const Vec3 turn_axis = std::cos(phi) * e1 + std::sin(phi) * e2;
     const Eigen::Matrix3d rotation = Eigen::AngleAxisd(elevation, turn_axis).toRotationMatrix();
-    // Femur pose: x -> R (x - c0) + c0 + t. A lunate point P seen from the femur:
-    // q = R^T (P - c0 - t) + c0; d(q) its signed distance, dd/dt = -(R g)^T.
-    std::vector<double> residual(n, 0.0);
-    std::vector<char> used(n, 0);
-    // Residuals, normal equations and mean squared residual at a shift.
-    auto evaluate = [&](const Vec3& shift, Eigen::Matrix3d& jtj, Eigen::Vector3d& jtr) {
-      jtj.setZero();
-      jtr.setZero();
-      double sum = 0.0;
-      int count = 0;
-      for (std::size_t i = 0; i < n; ++i) {
-        used[i] = 0;
-        if (!usable[i]) continue;
-        const Vec3 q = rotation.transpose() * (lunate[i] - c0 - shift) + c0;
-        Vec3 gradient;
-        bool border = false;
-        const double d = distance.signed_distance(q, gradient, border);
-        if (border) continue;
-        const Vec3 row = -(rotation * gradient);
-        residual[i] = d - target_mm[i];
-        used[i] = 1;
-        jtj.noalias() += row * row.transpose();
-        jtr.noalias() += row * residual[i];
-        sum += residual[i] * residual[i];
-        ++count;
-      }
-      return count < 4 ? std::numeric_limits<double>::infinity() : sum / count;
-    };
-    // Gauss-Newton with step halving: the set of lunate vertices over the head changes with the
-    // shift, and a full step can overshoot across such a change.
-    Vec3 shift = Vec3::Zero();
-    bool converged = false;
-    Eigen::Matrix3d jtj;
-    Eigen::Vector3d jtr;
-    double cost = evaluate(shift, jtj, jtr);
-    for (int iteration = 0; iteration < options.max_iterations && std::isfinite(cost); ++iteration) {
-      Eigen::Vector3d step = jtj.ldlt().solve(-jtr);
-      if (!step.allFinite()) break;
-      Eigen::Matrix3d trial_jtj;
-      Eigen::Vector3d trial_jtr;
-      double trial_cost = evaluate(shift + step, trial_jtj, trial_jtr);
-      for (int halving = 0; halving < 20 && !(trial_cost <= cost); ++halving) {
-        step *= 0.5;
-        trial_cost = evaluate(shift + step, trial_jtj, trial_jtr);
-      }
-      if (!(trial_cost <= cost)) {  // no descent along the Gauss-Newton direction: at the minimum
-        converged = step.norm() < 1e3 * options.tolerance_mm;
-        evaluate(shift, jtj, jtr);
-        break;
-      }
-      shift += step;
-      cost = trial_cost;
-      jtj = trial_jtj;
-      jtr = trial_jtr;
-      if (step.norm() < options.tolerance_mm) { converged = true; break; }
-    }
-    if (!converged) continue;
+    PoseShiftFit fit{distance, lunate, targets, rotation, c0};
+    Vec3 shift;
+    if (!fit.solve(options, shift)) continue;
     for (std::size_t i = 0; i < n; ++i) {
-      if (!used[i]) continue;
-      distance_sum += residual[i] * residual[i];
-      distance_max = std::max(distance_max, std::abs(residual[i]));
+      if (!fit.used[i]) continue;
+      distance_sum += fit.residual[i] * fit.residual[i];
+      distance_max = std::max(distance_max, std::abs(fit.residual[i]));
       ++distance_count;
     }
     const Eigen::Matrix3d a = rotation - Eigen::Matrix3d::Identity();
@@ -232,14 +277,7 @@ FunctionalHjc functional_hjc(const TriMesh& head, const std::vector<Vec3>& head_
     result.message = "the inter-articular distances could not be restored in the circumduction poses";
     return result;
   }
-  result.center_mm = normal_matrix.ldlt().solve(normal_rhs);
-  double motion_sum = 0.0;
-  for (const auto& [rotation, b] : poses) {
-    const double moved = ((rotation - Eigen::Matrix3d::Identity()) * result.center_mm + b).norm();
-    motion_sum += moved * moved;
-    result.residual_motion_max_mm = std::max(result.residual_motion_max_mm, moved);
-  }
-  result.residual_motion_rms_mm = std::sqrt(motion_sum / static_cast<double>(poses.size()));
+  least_moving_point(poses, normal_matrix, normal_rhs, result);
   result.distance_rms_mm = distance_count > 0 ? std::sqrt(distance_sum / static_cast<double>(distance_count)) : 0.0;
   result.distance_max_mm = distance_max;
   result.ok = result.center_mm.allFinite();

@@ -21,11 +21,9 @@ bool in_contact(const PenetrationDepths& d, Eigen::Index row, Eigen::Index step)
   return d.curvilinear_mm(row, step) > 0.0 || d.radial_mm(row, step) > 0.0;
 }
 
-}  // namespace
-
-std::vector<RegressionStep> depth_nn_estimate(const Eigen::MatrixXd& scores, const Eigen::MatrixXd& values,
-                                              const PenetrationDepths& depths, const Eigen::VectorXd& target,
-                                              const PenetrationDepths& target_depths, int components, int k) {
+// The inputs agree in shape, k and components are positive and every depth is known.
+void check_shapes(const Eigen::MatrixXd& scores, const Eigen::MatrixXd& values, const PenetrationDepths& depths,
+                  const Eigen::VectorXd& target, const PenetrationDepths& target_depths, int components, int k) {
   const Eigen::Index m = values.rows(), p = values.cols();
   if (scores.rows() != m || target.size() != scores.cols() || depths.curvilinear_mm.rows() != m ||
       depths.curvilinear_mm.cols() != p || depths.radial_mm.rows() != m || depths.radial_mm.cols() != p ||
@@ -40,16 +38,13 @@ std::vector<RegressionStep> depth_nn_estimate(const Eigen::MatrixXd& scores, con
     throw_error("depth_nn: penetration depths unknown for some hip or step (the method needs both depths at "
                 "every step)");
   }
-  std::vector<RegressionStep> steps(static_cast<std::size_t>(p));
-  if (p == 0) return steps;
+}
 
-  // Hips with a contact-free first step and a positive value there: the reference of their level.
-  std::vector<bool> usable(static_cast<std::size_t>(m));
-  for (Eigen::Index i = 0; i < m; ++i) {
-    usable[static_cast<std::size_t>(i)] = std::isfinite(values(i, 0)) && values(i, 0) > 0.0 && !in_contact(depths, i, 0);
-  }
-
-  // Contact-free profile.
+// Contact-free profile: per step, the mean over usable hips out of contact of the value relative
+// to the hip's first step.
+Eigen::VectorXd contact_free_profile(const Eigen::MatrixXd& values, const PenetrationDepths& depths,
+                                     const std::vector<bool>& usable) {
+  const Eigen::Index m = values.rows(), p = values.cols();
   Eigen::VectorXd profile = Eigen::VectorXd::Constant(p, kNaN);
   for (Eigen::Index j = 0; j < p; ++j) {
     double sum = 0.0;
@@ -61,8 +56,18 @@ std::vector<RegressionStep> depth_nn_estimate(const Eigen::MatrixXd& scores, con
     }
     if (count > 0) profile(j) = sum / count;
   }
+  return profile;
+}
 
-  // Level: the k nearest usable hips on the first `components` scores.
+// A mean with the range of what it averages (NaN when empty).
+struct Spread {
+  double mean = kNaN, low = kNaN, high = kNaN;
+};
+
+// Level: the first-step values of the k nearest usable hips on the first `components` scores.
+Spread nearest_level(const Eigen::MatrixXd& scores, const Eigen::MatrixXd& values, const Eigen::VectorXd& target,
+                     const std::vector<bool>& usable, int components, int k) {
+  const Eigen::Index m = values.rows();
   const Eigen::Index used = std::min<Eigen::Index>(components, scores.cols());
   std::vector<std::pair<double, Eigen::Index>> by_score;
   for (Eigen::Index i = 0; i < m; ++i) {
@@ -72,25 +77,32 @@ std::vector<RegressionStep> depth_nn_estimate(const Eigen::MatrixXd& scores, con
   }
   std::sort(by_score.begin(), by_score.end());
   by_score.resize(std::min<std::size_t>(by_score.size(), static_cast<std::size_t>(k)));
-  double level = kNaN, level_low = kNaN, level_high = kNaN;
+  Spread level;
   if (!by_score.empty()) {
     double sum = 0.0;
-    level_low = std::numeric_limits<double>::infinity();
-    level_high = -level_low;
+    level.low = std::numeric_limits<double>::infinity();
+    level.high = -level.low;
     for (const auto& [d, i] : by_score) {
       sum += values(i, 0);
-      level_low = std::min(level_low, values(i, 0));
-      level_high = std::max(level_high, values(i, 0));
+      level.low = std::min(level.low, values(i, 0));
+      level.high = std::max(level.high, values(i, 0));
     }
-    level = sum / static_cast<double>(by_score.size());
+    level.mean = sum / static_cast<double>(by_score.size());
   }
+  return level;
+}
 
-  // Impingement factors of the training (hip, step) pairs in contact.
-  struct Pair {
-    double curvilinear, radial, factor;
-    Eigen::Index hip, step;
-  };
-  std::vector<Pair> pairs;
+// Impingement factor of a training (hip, step) pair in contact: its value over the level and
+// the profile's.
+struct ContactPair {
+  double curvilinear, radial, factor;
+  Eigen::Index hip, step;
+};
+
+std::vector<ContactPair> contact_pairs(const Eigen::MatrixXd& values, const PenetrationDepths& depths,
+                                       const std::vector<bool>& usable, const Eigen::VectorXd& profile) {
+  const Eigen::Index m = values.rows(), p = values.cols();
+  std::vector<ContactPair> pairs;
   for (Eigen::Index i = 0; i < m; ++i) {
     if (!usable[static_cast<std::size_t>(i)]) continue;
     for (Eigen::Index j = 0; j < p; ++j) {
@@ -99,35 +111,62 @@ std::vector<RegressionStep> depth_nn_estimate(const Eigen::MatrixXd& scores, con
                        i, j});
     }
   }
+  return pairs;
+}
+
+// The mean factor of the k pairs nearest to the target's depths (c, r), and its range.
+Spread nearest_factor(const std::vector<ContactPair>& pairs, double c, double r, int k) {
+  std::vector<std::tuple<double, Eigen::Index, Eigen::Index, double>> nearest;
+  for (const ContactPair& pair : pairs) {
+    nearest.emplace_back(std::hypot(pair.curvilinear - c, pair.radial - r), pair.hip, pair.step, pair.factor);
+  }
+  const auto count = std::min<std::size_t>(nearest.size(), static_cast<std::size_t>(k));
+  std::partial_sort(nearest.begin(), nearest.begin() + static_cast<std::ptrdiff_t>(count), nearest.end());
+  double sum = 0.0;
+  Spread factor;
+  factor.low = std::numeric_limits<double>::infinity();
+  factor.high = -factor.low;
+  for (std::size_t n = 0; n < count; ++n) {
+    const double f = std::get<3>(nearest[n]);
+    sum += f;
+    factor.low = std::min(factor.low, f);
+    factor.high = std::max(factor.high, f);
+  }
+  factor.mean = sum / static_cast<double>(count);
+  return factor;
+}
+
+}  // namespace
+
+std::vector<RegressionStep> depth_nn_estimate(const Eigen::MatrixXd& scores, const Eigen::MatrixXd& values,
+                                              const PenetrationDepths& depths, const Eigen::VectorXd& target,
+                                              const PenetrationDepths& target_depths, int components, int k) {
+  check_shapes(scores, values, depths, target, target_depths, components, k);
+  const Eigen::Index m = values.rows(), p = values.cols();
+  std::vector<RegressionStep> steps(static_cast<std::size_t>(p));
+  if (p == 0) return steps;
+
+  // Hips with a contact-free first step and a positive value there: the reference of their level.
+  std::vector<bool> usable(static_cast<std::size_t>(m));
+  for (Eigen::Index i = 0; i < m; ++i) {
+    usable[static_cast<std::size_t>(i)] = std::isfinite(values(i, 0)) && values(i, 0) > 0.0 && !in_contact(depths, i, 0);
+  }
+  const Eigen::VectorXd profile = contact_free_profile(values, depths, usable);
+  const Spread level = nearest_level(scores, values, target, usable, components, k);
+  const std::vector<ContactPair> pairs = contact_pairs(values, depths, usable, profile);
 
   for (Eigen::Index j = 0; j < p; ++j) {
     RegressionStep& step = steps[static_cast<std::size_t>(j)];
     step.estimate = step.low = step.high = kNaN;
-    if (!std::isfinite(level) || !std::isfinite(profile(j))) continue;
-    double factor = 1.0, factor_low = 1.0, factor_high = 1.0;
+    if (!std::isfinite(level.mean) || !std::isfinite(profile(j))) continue;
+    Spread factor{1.0, 1.0, 1.0};
     if (in_contact(target_depths, 0, j)) {
       if (pairs.empty()) continue;
-      const double c = target_depths.curvilinear_mm(0, j), r = target_depths.radial_mm(0, j);
-      std::vector<std::tuple<double, Eigen::Index, Eigen::Index, double>> nearest;
-      for (const Pair& pair : pairs) {
-        nearest.emplace_back(std::hypot(pair.curvilinear - c, pair.radial - r), pair.hip, pair.step, pair.factor);
-      }
-      const auto count = std::min<std::size_t>(nearest.size(), static_cast<std::size_t>(k));
-      std::partial_sort(nearest.begin(), nearest.begin() + static_cast<std::ptrdiff_t>(count), nearest.end());
-      double sum = 0.0;
-      factor_low = std::numeric_limits<double>::infinity();
-      factor_high = -factor_low;
-      for (std::size_t n = 0; n < count; ++n) {
-        const double f = std::get<3>(nearest[n]);
-        sum += f;
-        factor_low = std::min(factor_low, f);
-        factor_high = std::max(factor_high, f);
-      }
-      factor = sum / static_cast<double>(count);
+      factor = nearest_factor(pairs, target_depths.curvilinear_mm(0, j), target_depths.radial_mm(0, j), k);
     }
-    step.estimate = level * profile(j) * factor;
-    step.low = level_low * profile(j) * factor_low;
-    step.high = level_high * profile(j) * factor_high;
+    step.estimate = level.mean * profile(j) * factor.mean;
+    step.low = level.low * profile(j) * factor.low;
+    step.high = level.high * profile(j) * factor.high;
     step.defined = true;
   }
   return steps;
