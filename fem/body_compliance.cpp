@@ -218,7 +218,42 @@ bool BodyCompliance::factorise_body(std::size_t b, const ElasticSystem& system,
                                     const ContactModel& model, dealii::ConditionalOStream& log) {
   Body& body = bodies_[b];
   release(body);
-  const std::vector<bool>& fixed = constraints.fixed_dofs();
+  number_free_dofs(body, constraints.fixed_dofs());
+  const std::size_t n = body.dofs.size();
+  body.factor_points.resize(n / 3);
+  for (std::size_t i = 0; i < n; i += 3)
+    body.factor_points[i / 3] = system.support_points()[body.dofs[i]];
+  body.factor_rotation = rotation_of(model, body.rigid_body);
+  body.rotation = dealii::unit_symmetric_tensor<3>();
+  body.factor_lame = {model.bodies[b].material.lame_lambda_mpa(),
+                      model.bodies[b].material.shear_modulus_mpa()};
+
+  const BondedData bonded = bonded_data(b, body, constraints);
+  const std::size_t n_lift = bonded.data.size();
+  std::vector<double> rhs(n_lift * static_cast<std::size_t>(body.n_free), 0.0);
+  const std::vector<dealii::DoFHandler<3>::active_cell_iterator> cells =
+      factorise_free_stiffness(b, body, system, bonded, rhs);
+
+  // The liftings at the free dofs, then their reactions at the bonded dofs.
+  if (n_lift > 0 && !solve_block(body, rhs, n_lift, log)) return false;
+  body.liftings.assign(3 * body.lifted_bodies.size(), {});
+  for (std::size_t l = 0; l < n_lift; ++l) {
+    std::vector<double> lifting = bonded.data[l];
+    for (std::size_t i = 0; i < n; ++i) {
+      if (body.free_index[i] >= 0) lifting[i] = rhs[l * body.n_free + body.free_index[i]];
+    }
+    if (l < 3 * body.lifted_bodies.size())
+      body.liftings[l] = std::move(lifting);
+    else
+      body.extra = std::move(lifting);
+  }
+  add_lifting_reactions(body, system, cells, bonded);
+  body.node_columns.assign(body.surface_nodes.size(), {});
+  body.stale = false;
+  return true;
+}
+
+void BodyCompliance::number_free_dofs(Body& body, const std::vector<bool>& fixed) {
   const std::size_t n = body.dofs.size();
   body.factor_fixed.assign(n, false);
   body.free_index.assign(n, -1);
@@ -233,27 +268,17 @@ bool BodyCompliance::factorise_body(std::size_t b, const ElasticSystem& system,
     }
     if (fixed_components == 1 || fixed_components == 2) body.partly_fixed_nodes = true;
   }
-  body.factor_points.resize(n / 3);
-  for (std::size_t i = 0; i < n; i += 3)
-    body.factor_points[i / 3] = system.support_points()[body.dofs[i]];
-  body.factor_rotation = rotation_of(model, body.rigid_body);
-  body.rotation = dealii::unit_symmetric_tensor<3>();
-  body.factor_lame = {model.bodies[b].material.lame_lambda_mpa(),
-                      model.bodies[b].material.shear_modulus_mpa()};
+}
 
+BodyCompliance::BondedData BodyCompliance::bonded_data(std::size_t b, Body& body,
+                                                       const ContactConstraints& constraints) {
   // Liftings: data on the bonded dofs; 3 per rigid body the body is bonded to, then the extra.
   // The body's bonded dofs once: index into its dofs, its rigid body's place in lifted_bodies
   // (-1: bonded to none), component and extra displacement.
-  struct Held {
-    int i;
-    int k;
-    unsigned int component;
-    double extra;
-  };
-  std::vector<Held> held;
+  BondedData out;
+  const std::size_t n = body.dofs.size();
   body.lifted_bodies.clear();
   body.factor_extra.assign(n, 0.0);
-  bool has_extra = false;
   for (const BondedDof& bonded : constraints.bonded_dofs()) {
     if (body_of_node_[node_of_dof_[bonded.dof]] != static_cast<int>(b)) continue;
     int k = -1;
@@ -264,18 +289,24 @@ bool BodyCompliance::factorise_body(std::size_t b, const ElasticSystem& system,
       if (it == body.lifted_bodies.end()) body.lifted_bodies.push_back(bonded.rigid_body);
     }
     const int i = body_index_of_dof_[bonded.dof];
-    held.push_back({i, k, bonded.component, bonded.extra});
+    out.held.push_back({i, k, bonded.component, bonded.extra});
     body.factor_extra[i] = bonded.extra;
-    has_extra = has_extra || bonded.extra != 0.0;
+    out.has_extra = out.has_extra || bonded.extra != 0.0;
   }
-  const std::size_t n_lift = 3 * body.lifted_bodies.size() + (has_extra ? 1 : 0);
-  std::vector<std::vector<double>> data(n_lift, std::vector<double>(n, 0.0));
-  for (const Held& h : held) {
-    if (h.k >= 0) data[3 * h.k + h.component][h.i] = 1.0;
-    if (has_extra) data.back()[h.i] = h.extra;
+  const std::size_t n_lift = 3 * body.lifted_bodies.size() + (out.has_extra ? 1 : 0);
+  out.data.assign(n_lift, std::vector<double>(n, 0.0));
+  for (const Held& h : out.held) {
+    if (h.k >= 0) out.data[3 * h.k + h.component][h.i] = 1.0;
+    if (out.has_extra) out.data.back()[h.i] = h.extra;
   }
+  return out;
+}
 
+std::vector<dealii::DoFHandler<3>::active_cell_iterator> BodyCompliance::factorise_free_stiffness(
+    std::size_t b, Body& body, const ElasticSystem& system, const BondedData& bonded,
+    std::vector<double>& rhs) {
   // K restricted to the free dofs (upper triangle), and -K_fd d for each lifting.
+  const std::size_t n_lift = bonded.data.size();
   dealii::DynamicSparsityPattern dsp(body.n_free);
   const unsigned int dofs_per_cell = system.fe().n_dofs_per_cell();
   std::vector<global_dof_index> dofs(dofs_per_cell);
@@ -297,7 +328,6 @@ bool BodyCompliance::factorise_body(std::size_t b, const ElasticSystem& system,
   dealii::SparsityPattern pattern;
   pattern.copy_from(dsp);
   dealii::SparseMatrix<double> k(pattern);
-  std::vector<double> rhs(n_lift * static_cast<std::size_t>(body.n_free), 0.0);
   for (const auto& cell : cells) {
     cell->get_dof_indices(dofs);
     const dealii::FullMatrix<double>& matrix = system.cell_matrix(cell->active_cell_index());
@@ -311,7 +341,7 @@ bool BodyCompliance::factorise_body(std::size_t b, const ElasticSystem& system,
           k.add(r, c, matrix(i, j));
         } else if (c < 0) {
           for (std::size_t l = 0; l < n_lift; ++l)
-            rhs[l * body.n_free + r] -= matrix(i, j) * data[l][local[j]];
+            rhs[l * body.n_free + r] -= matrix(i, j) * bonded.data[l][local[j]];
         }
       }
     }
@@ -340,21 +370,17 @@ bool BodyCompliance::factorise_body(std::size_t b, const ElasticSystem& system,
   body.cholesky->factorise();
   body.cholesky->set_right_hand_side_blocking(static_cast<PetscInt>(3 * kNodesPerBlock));
   ++factorisations_;
+  return cells;
+}
 
-  // The liftings at the free dofs, then their reactions at the bonded dofs.
-  if (n_lift > 0 && !solve_block(body, rhs, n_lift, log)) return false;
-  body.liftings.assign(3 * body.lifted_bodies.size(), {});
-  for (std::size_t l = 0; l < n_lift; ++l) {
-    std::vector<double> lifting = data[l];
-    for (std::size_t i = 0; i < n; ++i) {
-      if (body.free_index[i] >= 0) lifting[i] = rhs[l * body.n_free + body.free_index[i]];
-    }
-    if (l < 3 * body.lifted_bodies.size())
-      body.liftings[l] = std::move(lifting);
-    else
-      body.extra = std::move(lifting);
-  }
-  std::vector<std::vector<double>> reaction(n_lift, std::vector<double>(n, 0.0));
+void BodyCompliance::add_lifting_reactions(
+    Body& body, const ElasticSystem& system,
+    const std::vector<dealii::DoFHandler<3>::active_cell_iterator>& cells, const BondedData& bonded) {
+  const std::size_t n_lift = bonded.data.size();
+  const unsigned int dofs_per_cell = system.fe().n_dofs_per_cell();
+  std::vector<global_dof_index> dofs(dofs_per_cell);
+  std::vector<int> local(dofs_per_cell);
+  std::vector<std::vector<double>> reaction(n_lift, std::vector<double>(body.dofs.size(), 0.0));
   for (const auto& cell : cells) {
     cell->get_dof_indices(dofs);
     const dealii::FullMatrix<double>& matrix = system.cell_matrix(cell->active_cell_index());
@@ -372,17 +398,14 @@ bool BodyCompliance::factorise_body(std::size_t b, const ElasticSystem& system,
   const std::size_t m = body.lifted_bodies.size();
   body.a.assign(m, std::vector<dealii::Tensor<2, 3>>(m));
   body.r0.assign(m, dealii::Tensor<1, 3>());
-  for (const Held& h : held) {
+  for (const Held& h : bonded.held) {
     if (h.k < 0) continue;
     for (std::size_t col = 0; col < m; ++col) {
       for (unsigned int c = 0; c < 3; ++c)
         body.a[h.k][col][h.component][c] += reaction[3 * col + c][h.i];
     }
-    if (has_extra) body.r0[h.k][h.component] += reaction.back()[h.i];
+    if (bonded.has_extra) body.r0[h.k][h.component] += reaction.back()[h.i];
   }
-  body.node_columns.assign(body.surface_nodes.size(), {});
-  body.stale = false;
-  return true;
 }
 
 bool BodyCompliance::solve_block(Body& body, std::vector<double>& rhs, std::size_t k,

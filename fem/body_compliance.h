@@ -154,9 +154,35 @@ class BodyCompliance {
     bool stale = true;
   };
   void release(Body& body);
+  // A bonded dof of a body: index into its dofs, its rigid body's place in lifted_bodies (-1:
+  // bonded to none), component and extra displacement.
+  struct Held {
+    int i;
+    int k;
+    unsigned int component;
+    double extra;
+  };
+  // The body's bonded dofs and the data of its liftings (3 per rigid body it is bonded to, then
+  // the extra displacement if any), over its dofs.
+  struct BondedData {
+    std::vector<Held> held;
+    std::vector<std::vector<double>> data;
+    bool has_extra = false;
+  };
   bool factorise_body(std::size_t b, const ElasticSystem& system,
                       const ContactConstraints& constraints, const ContactModel& model,
                       dealii::ConditionalOStream& log);
+  static void number_free_dofs(Body& body, const std::vector<bool>& fixed);
+  BondedData bonded_data(std::size_t b, Body& body, const ContactConstraints& constraints);
+  // Factorises the body's stiffness on its free dofs; `rhs` (n_lift x n_free) gets -K_fd d of
+  // each lifting. Returns the body's cells.
+  std::vector<dealii::DoFHandler<3>::active_cell_iterator> factorise_free_stiffness(
+      std::size_t b, Body& body, const ElasticSystem& system, const BondedData& bonded,
+      std::vector<double>& rhs);
+  // The translation stiffness A and reaction r0 of the body's liftings (after they are solved).
+  void add_lifting_reactions(Body& body, const ElasticSystem& system,
+                             const std::vector<dealii::DoFHandler<3>::active_cell_iterator>& cells,
+                             const BondedData& bonded);
   bool solve_block(Body& body, std::vector<double>& rhs, std::size_t k,
                    dealii::ConditionalOStream& log);
 

@@ -151,6 +151,29 @@ bool clear_of(const TangentPlane& plane, const FacePatch& master) {
 
 }  // namespace
 
+namespace {
+
+// The part of a polygon (in the slave face's parameters) inside the face's square [0,1]^2.
+std::vector<Point2> clipped_to_face(std::vector<Point2> polygon) {
+  polygon = clip(polygon, 0, 0.0, 1.0);
+  if (polygon.size() >= 3) polygon = clip(polygon, 0, 1.0, -1.0);
+  if (polygon.size() >= 3) polygon = clip(polygon, 1, 0.0, 1.0);
+  if (polygon.size() >= 3) polygon = clip(polygon, 1, 1.0, -1.0);
+  return polygon;
+}
+
+double signed_area(const std::vector<Point2>& polygon) {
+  double area = 0.0;
+  for (std::size_t i = 0; i < polygon.size(); ++i) {
+    const Point2& a = polygon[i];
+    const Point2& b = polygon[(i + 1) % polygon.size()];
+    area += 0.5 * (a[0] * b[1] - b[0] * a[1]);
+  }
+  return area;
+}
+
+}  // namespace
+
 std::vector<MortarPoint> MortarSegmenter::integrate(const FacePatch& slave) const {
   std::vector<MortarPoint> points;
   const dealii::Tensor<1, 3> slave_normal = slave.normal(0.5, 0.5);
@@ -162,39 +185,44 @@ std::vector<MortarPoint> MortarSegmenter::integrate(const FacePatch& slave) cons
     // Only faces that face each other can touch.
     if (master.normal(0.5, 0.5) * slave_normal >= 0.0) continue;
     if (options_.tangent_plane_cull && clear_of(plane, master)) continue;
+    segment(slave, master, slave_straight && master_straight_[m], points);
+  }
+  return points;
+}
 
-    // Curved pairs: the master face is cut into sub-squares, each projected on its own. A
-    // whole face that reaches far past the slave would project onto the slave patch's
-    // polynomial extension where that no longer follows the surface; its sub-squares near the
-    // slave project well, and the far ones are rejected by the distance test below.
-    const bool straight = slave_straight && master_straight_[m];
-    const unsigned samples = straight ? 1 : options_.curved_edge_samples;
-    const unsigned pieces = straight ? 1 : options_.curved_subdivisions;
-    // The pieces' boundary points lie on a grid of (grid + 1)^2 master parameters, and
-    // neighbouring pieces share theirs: each point is projected once per master face.
-    const unsigned grid = pieces * samples;
-    std::vector<signed char> projected((grid + 1) * (grid + 1), 0);  // 0: not yet, 1: ok, -1: not
-    std::vector<Point2> projection((grid + 1) * (grid + 1));
-    const auto project_grid_point = [&](unsigned a, unsigned b) {
-      const unsigned index = b * (grid + 1) + a;
-      if (projected[index] != 0) return projected[index] > 0;
-      projected[index] = -1;
-      dealii::Point<3> y;
-      dealii::Tensor<1, 3> ds, dt;
-      master.evaluate(double(a) / grid, double(b) / grid, y, ds, dt);
-      double s, t;
-      // A point far from the slave patch can project onto a spurious point of the patch's
-      // extension; a master point opposite the slave lies within the search radius.
-      if (!slave.project(y, s, t)) return false;
-      dealii::Point<3> foot;
-      dealii::Tensor<1, 3> fs, ft;
-      slave.evaluate(s, t, foot, fs, ft);
-      if (foot.distance(y) > options_.search_radius_mm) return false;
-      projected[index] = 1;
-      projection[index] = {s, t};
-      return true;
-    };
-    for (unsigned piece = 0; piece < pieces * pieces; ++piece) {
+void MortarSegmenter::segment(const FacePatch& slave, const FacePatch& master, bool straight,
+                              std::vector<MortarPoint>& points) const {
+  // Curved pairs: the master face is cut into sub-squares, each projected on its own. A
+  // whole face that reaches far past the slave would project onto the slave patch's
+  // polynomial extension where that no longer follows the surface; its sub-squares near the
+  // slave project well, and the far ones are rejected by the distance test below.
+  const unsigned samples = straight ? 1 : options_.curved_edge_samples;
+  const unsigned pieces = straight ? 1 : options_.curved_subdivisions;
+  // The pieces' boundary points lie on a grid of (grid + 1)^2 master parameters, and
+  // neighbouring pieces share theirs: each point is projected once per master face.
+  const unsigned grid = pieces * samples;
+  std::vector<signed char> projected((grid + 1) * (grid + 1), 0);  // 0: not yet, 1: ok, -1: not
+  std::vector<Point2> projection((grid + 1) * (grid + 1));
+  const auto project_grid_point = [&](unsigned a, unsigned b) {
+    const unsigned index = b * (grid + 1) + a;
+    if (projected[index] != 0) return projected[index] > 0;
+    projected[index] = -1;
+    dealii::Point<3> y;
+    dealii::Tensor<1, 3> ds, dt;
+    master.evaluate(double(a) / grid, double(b) / grid, y, ds, dt);
+    double s, t;
+    // A point far from the slave patch can project onto a spurious point of the patch's
+    // extension; a master point opposite the slave lies within the search radius.
+    if (!slave.project(y, s, t)) return false;
+    dealii::Point<3> foot;
+    dealii::Tensor<1, 3> fs, ft;
+    slave.evaluate(s, t, foot, fs, ft);
+    if (foot.distance(y) > options_.search_radius_mm) return false;
+    projected[index] = 1;
+    projection[index] = {s, t};
+    return true;
+  };
+  for (unsigned piece = 0; piece < pieces * pieces; ++piece) {
     const unsigned a0 = (piece % pieces) * samples, b0 = (piece / pieces) * samples;
     static constexpr unsigned kS[5] = {0, 1, 1, 0, 0}, kT[5] = {0, 0, 1, 1, 0};
     std::vector<Point2> polygon;
@@ -212,60 +240,54 @@ std::vector<MortarPoint> MortarSegmenter::integrate(const FacePatch& slave) cons
       }
     }
     if (!ok) continue;
-    polygon = clip(polygon, 0, 0.0, 1.0);
-    if (polygon.size() >= 3) polygon = clip(polygon, 0, 1.0, -1.0);
-    if (polygon.size() >= 3) polygon = clip(polygon, 1, 0.0, 1.0);
-    if (polygon.size() >= 3) polygon = clip(polygon, 1, 1.0, -1.0);
+    polygon = clipped_to_face(std::move(polygon));
     if (polygon.size() < 3) continue;
-    double area = 0.0;
-    for (std::size_t i = 0; i < polygon.size(); ++i) {
-      const Point2& a = polygon[i];
-      const Point2& b = polygon[(i + 1) % polygon.size()];
-      area += 0.5 * (a[0] * b[1] - b[0] * a[1]);
-    }
+    const double area = signed_area(polygon);
     if (std::abs(area) < 1e-14) continue;  // touches along an edge only
-    const double orientation = area > 0 ? 1.0 : -1.0;
+    integrate_polygon(slave, master, polygon, area > 0 ? 1.0 : -1.0, points);
+  }
+}
 
-    // Fan from vertex 0; signed triangle areas make this exact for any simple polygon.
-    for (std::size_t i = 1; i + 1 < polygon.size(); ++i) {
-      const Point2& a = polygon[0];
-      const Point2& b = polygon[i];
-      const Point2& c = polygon[i + 1];
-      const double det = (b[0] - a[0]) * (c[1] - b[1]) - (b[1] - a[1]) * (c[0] - b[0]);
-      if (det == 0.0) continue;
-      // Consecutive Gauss points are neighbours: each line meets the master near the last.
-      double start_sm = 0.5, start_tm = 0.5, start_lambda = 0.0;
-      for (std::size_t qu = 0; qu < gauss_x_.size(); ++qu) {
-        for (std::size_t qv = 0; qv < gauss_x_.size(); ++qv) {
-          // Duffy: p = a + u (b - a) + u v (c - b), dp = u det du dv.
-          const double u = gauss_x_[qu], v = gauss_x_[qv];
-          const double s = a[0] + u * (b[0] - a[0]) + u * v * (c[0] - b[0]);
-          const double t = a[1] + u * (b[1] - a[1]) + u * v * (c[1] - b[1]);
-          MortarPoint point;
-          dealii::Tensor<1, 3> ds, dt;
-          slave.evaluate(s, t, point.slave_point_mm, ds, dt);
-          const dealii::Tensor<1, 3> area_vector = dealii::cross_product_3d(ds, dt);
-          const double jacobian = area_vector.norm();
-          point.jxw = orientation * gauss_w_[qu] * gauss_w_[qv] * u * det * jacobian;
-          double sm = start_sm, tm = start_tm, lambda = start_lambda;
-          dealii::Tensor<1, 3> dsm, dtm;
-          if (!master.intersect_line_from(point.slave_point_mm, area_vector / jacobian, sm, tm,
-                                          lambda, point.master_point_mm, dsm, dtm))
-            continue;
-          start_sm = sm;
-          start_tm = tm;
-          start_lambda = lambda;
-          point.slave_unit_point = slave.unit_cell_point(s, t);
-          point.master = &master;
-          point.master_unit_point = master.unit_cell_point(sm, tm);
-          point.master_normal = master.normal(dsm, dtm);
-          points.push_back(point);
-        }
+void MortarSegmenter::integrate_polygon(const FacePatch& slave, const FacePatch& master,
+                                        const std::vector<std::array<double, 2>>& polygon,
+                                        double orientation, std::vector<MortarPoint>& points) const {
+  // Fan from vertex 0; signed triangle areas make this exact for any simple polygon.
+  for (std::size_t i = 1; i + 1 < polygon.size(); ++i) {
+    const Point2& a = polygon[0];
+    const Point2& b = polygon[i];
+    const Point2& c = polygon[i + 1];
+    const double det = (b[0] - a[0]) * (c[1] - b[1]) - (b[1] - a[1]) * (c[0] - b[0]);
+    if (det == 0.0) continue;
+    // Consecutive Gauss points are neighbours: each line meets the master near the last.
+    double start_sm = 0.5, start_tm = 0.5, start_lambda = 0.0;
+    for (std::size_t qu = 0; qu < gauss_x_.size(); ++qu) {
+      for (std::size_t qv = 0; qv < gauss_x_.size(); ++qv) {
+        // Duffy: p = a + u (b - a) + u v (c - b), dp = u det du dv.
+        const double u = gauss_x_[qu], v = gauss_x_[qv];
+        const double s = a[0] + u * (b[0] - a[0]) + u * v * (c[0] - b[0]);
+        const double t = a[1] + u * (b[1] - a[1]) + u * v * (c[1] - b[1]);
+        MortarPoint point;
+        dealii::Tensor<1, 3> ds, dt;
+        slave.evaluate(s, t, point.slave_point_mm, ds, dt);
+        const dealii::Tensor<1, 3> area_vector = dealii::cross_product_3d(ds, dt);
+        const double jacobian = area_vector.norm();
+        point.jxw = orientation * gauss_w_[qu] * gauss_w_[qv] * u * det * jacobian;
+        double sm = start_sm, tm = start_tm, lambda = start_lambda;
+        dealii::Tensor<1, 3> dsm, dtm;
+        if (!master.intersect_line_from(point.slave_point_mm, area_vector / jacobian, sm, tm,
+                                        lambda, point.master_point_mm, dsm, dtm))
+          continue;
+        start_sm = sm;
+        start_tm = tm;
+        start_lambda = lambda;
+        point.slave_unit_point = slave.unit_cell_point(s, t);
+        point.master = &master;
+        point.master_unit_point = master.unit_cell_point(sm, tm);
+        point.master_normal = master.normal(dsm, dtm);
+        points.push_back(point);
       }
     }
-    }  // pieces
   }
-  return points;
 }
 
 }  // namespace hipfai::fem

@@ -24,6 +24,7 @@
 #include <deal.II/base/point.h>
 #include <deal.II/base/tensor.h>
 
+#include <array>
 #include <vector>
 
 namespace hipfai::fem {
@@ -59,6 +60,14 @@ class MortarSegmenter {
 
  private:
   const std::vector<FacePatch>& master_faces_;
+  // The points of `slave` opposite `master` (straight: both faces bilinear), added to `points`.
+  void segment(const FacePatch& slave, const FacePatch& master, bool straight,
+               std::vector<MortarPoint>& points) const;
+  // Gauss points of a polygon of the slave face's parameters (its vertices' orientation given).
+  void integrate_polygon(const FacePatch& slave, const FacePatch& master,
+                         const std::vector<std::array<double, 2>>& polygon, double orientation,
+                         std::vector<MortarPoint>& points) const;
+
   std::vector<bool> master_straight_;  // bilinear faces: edges are straight lines
   MortarSegmentOptions options_;
   std::vector<double> gauss_x_, gauss_w_;  // on [0,1]
