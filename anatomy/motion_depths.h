@@ -1,7 +1,7 @@
 // hipfai — bone-to-bone penetration depths over a motion: for each pose of a list, the deepest
 // curvilinear and radial penetration of the femur bone into the pelvis bone and back.
 //
-// Method (thesis ch. 3-4, as studies/penetration_run.h applies it to the tissues, here between the
+// Method (thesis ch. 3-4, as studies/pipeline/penetration_run.h applies it to the tissues, here between the
 // two bones). Each pose (geometry::HipPoseDeg, joint coordinate system) is one rotation R of the
 // femur from neutral about the HJC, R = A Rjcs A^T in mesh coordinates (A = hip axes, columns
 // lateral, anterior, superior), with a single axis and angle (Euler's theorem):

@@ -6,7 +6,7 @@
 #include "anatomy/side.h"
 #include "app/command_registry.h"
 #include "geometry/mesh_io.h"
-#include "studies/assessment.h"
+#include "studies/pipeline/assessment.h"
 
 #include <string>
 

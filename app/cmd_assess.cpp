@@ -1,7 +1,7 @@
 // hipfai assess: the patient-specific FAI assessment of a segmented femur and pelvis — frames found
 // on the bones, radiographic measures in 3D, clinical motions to bony impingement, a user motion's
-// bone-to-bone depths, virtual resections (studies/assessment.h); writes DIR/assessment.json,
-// DIR/report.md with its figures, and VTP files (studies/assessment_report.h).
+// bone-to-bone depths, virtual resections (studies/pipeline/assessment.h); writes DIR/assessment.json,
+// DIR/report.md with its figures, and VTP files (studies/pipeline/assessment_report.h).
 #include "app/bone_pair_args.h"
 #include "app/cli_util.h"
 #include "app/command_registry.h"
@@ -9,10 +9,10 @@
 #include "core/error.h"
 #include "geometry/hip_measure.h"
 #include "geometry/mesh_io.h"
-#include "studies/assessment.h"
-#include "studies/soft_tissue_model.h"
-#include "studies/assessment_report.h"
-#include "studies/motion.h"
+#include "studies/pipeline/assessment.h"
+#include "studies/pipeline/soft_tissue_model.h"
+#include "studies/pipeline/assessment_report.h"
+#include "studies/pipeline/motion.h"
 
 #include <cstdio>
 #include <memory>
@@ -35,7 +35,7 @@ std::string lower_extension(const std::filesystem::path& path) {
   return ext;
 }
 
-// A motion CSV (studies/motion.h) or an OpenSim .mot/.sto (anatomy/opensim_motion.h).
+// A motion CSV (studies/pipeline/motion.h) or an OpenSim .mot/.sto (anatomy/opensim_motion.h).
 studies::Motion read_user_motion(const std::filesystem::path& path, std::optional<anatomy::Side> side) {
   const std::string ext = lower_extension(path);
   if (ext == ".csv") return studies::read_motion_csv(path);

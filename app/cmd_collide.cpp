@@ -6,7 +6,7 @@
 #include "contact/start_pose.h"
 #include "geometry/hip_frame.h"
 #include "geometry/mesh_io.h"
-#include "studies/radial_mapping_name.h"
+#include "studies/pipeline/radial_mapping_name.h"
 
 #include <iomanip>
 #include <iostream>

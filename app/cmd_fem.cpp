@@ -23,8 +23,8 @@
 #include "geometry/hip_volume_mesh.h"
 #include "studies/fem_levels_report.h"
 #include "studies/fem_levels_study.h"
-#include "studies/hip_fe_run.h"
-#include "studies/motion.h"
+#include "studies/pipeline/hip_fe_run.h"
+#include "studies/pipeline/motion.h"
 
 #include <mpi.h>
 

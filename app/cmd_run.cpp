@@ -1,8 +1,8 @@
 // hipfai run SCENE [--plan]: runs a scene, computing only the outputs it asks for.
 #include "app/command_registry.h"
-#include "studies/plan.h"
-#include "studies/scene.h"
-#include "studies/scene_runner.h"
+#include "studies/pipeline/plan.h"
+#include "studies/pipeline/scene.h"
+#include "studies/pipeline/scene_runner.h"
 
 #include <iostream>
 

@@ -1,8 +1,8 @@
 // hipfai soft-tissue: cartilage and labrum synthesised on a segmented femur and pelvis, written as a
-// hip model folder every command reads (studies/soft_tissue_model.h).
+// hip model folder every command reads (studies/pipeline/soft_tissue_model.h).
 #include "app/bone_pair_args.h"
 #include "app/command_registry.h"
-#include "studies/soft_tissue_model.h"
+#include "studies/pipeline/soft_tissue_model.h"
 
 #include <cstdio>
 #include <memory>

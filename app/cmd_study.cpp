@@ -5,7 +5,7 @@
 #include "studies/fai_study.h"
 #include "studies/hip_sensitivity.h"
 #include "studies/hip_sensitivity_report.h"
-#include "studies/radial_mapping_name.h"
+#include "studies/pipeline/radial_mapping_name.h"
 #include "studies/validation_report.h"
 #include "studies/validation_study.h"
 

@@ -14,7 +14,7 @@ inline constexpr double kArticularRadiusMm = 25.0;
 inline constexpr double kAcetabularCartilageThicknessMm = 2.0;
 // Deviation from sphericity of the articular surfaces: < 100 um (Macirowski, Tepic & Mann 1994,
 // cited in thesis §4.3.2.2). Surfaces within this of the articular sphere are spherical for the
-// study: touching, not penetrating (studies/penetration_run.h).
+// study: touching, not penetrating (studies/pipeline/penetration_run.h).
 inline constexpr double kSphericityToleranceMm = 0.1;
 // Femoral head cartilage: 2 mm at its thickest point, thinning to zero towards the edge
 // (Eckstein et al. 1997).
@@ -92,7 +92,7 @@ inline constexpr double kSignificanceLevel = 0.05;
 
 }  // namespace hipfai::literature
 
-// ==== Sitting-down joint load (fem-parts; appended block, see studies/motion.h) ================
+// ==== Sitting-down joint load (fem-parts; appended block, see studies/pipeline/motion.h) ================
 // What is taken from Bergmann et al. (2001, J Biomech 34:859-871) is only the peak resultant for
 // sitting down of their average patient, kStandToSitPeakForcePercentBW above (about 156 %BW).
 // The numbers below are NOT read from the paper: they are the assumptions that turn that one

@@ -1,9 +1,9 @@
-// libFuzzer harness of the segmented hip reader (studies/segmented_hip.h, segmented_hip_from_json:
+// libFuzzer harness of the segmented hip reader (studies/pipeline/segmented_hip.h, segmented_hip_from_json:
 // the hip.json text load_segmented_hip reads). The meshes it names are read from a folder holding
 // a small mesh under the seeds' names (fuzz_hip_folder.h).
 #include "fuzz_hip_folder.h"
 #include "fuzz_outcome.h"
-#include "studies/segmented_hip.h"
+#include "studies/pipeline/segmented_hip.h"
 
 #include <string>
 

@@ -1,7 +1,7 @@
-// libFuzzer harness of the motion CSV reader (studies/motion.h, parse_motion_csv: the text
+// libFuzzer harness of the motion CSV reader (studies/pipeline/motion.h, parse_motion_csv: the text
 // read_motion_csv reads).
 #include "fuzz_outcome.h"
-#include "studies/motion.h"
+#include "studies/pipeline/motion.h"
 
 #include <string>
 

@@ -1,8 +1,8 @@
-// libFuzzer harness of the scene YAML reader (studies/scene.h, parse_scene: the text read_scene
+// libFuzzer harness of the scene YAML reader (studies/pipeline/scene.h, parse_scene: the text read_scene
 // reads). Relative paths in the scene resolve into the per-process scratch folder.
 #include "fuzz_outcome.h"
 #include "fuzz_scratch.h"
-#include "studies/scene.h"
+#include "studies/pipeline/scene.h"
 
 #include <string>
 

@@ -13,7 +13,7 @@
 #include "geometry/mesh_io_stl.h"
 #include "geometry/mesh_io_vtp.h"
 #include "studies/estimator_model_file.h"
-#include "studies/motion.h"
+#include "studies/pipeline/motion.h"
 #include "studies/results/results_file.h"
 
 #include <filesystem>
@@ -171,7 +171,7 @@ void write_validation_seeds(const fs::path& out, const fs::path& source) {
   write_text(out / "validation_csv" / "steps_and_timings.csv", steps + '\f' + head_lines(results / "timings.csv", 3));
 }
 
-// An FE run's per-step table in the layout write_hip_fe_csv writes (studies/hip_fe_run.cpp): two
+// An FE run's per-step table in the layout write_hip_fe_csv writes (studies/pipeline/hip_fe_run.cpp): two
 // bodies, two steps, every column kind (numbers, a surface name, an empty cell).
 void write_fe_csv_seed(const fs::path& out) {
   std::string header = "step,status,ranks,dofs,active_set_iterations,max_pressure_mpa,mean_pressure_mpa,"

@@ -2,7 +2,7 @@
 // features, their scores and FE values, and the ways to estimate a target from them (the thesis'
 // PCA nearest-neighbour method, two baselines on the same scores, and depth_nn, which adds the
 // penetration depths of thesis §4.3), with the bordering flag. Numbers only: features come from
-// studies/pressure_features.h, depths from studies/penetration_run.h.
+// studies/pressure_features.h, depths from studies/pipeline/penetration_run.h.
 #pragma once
 
 #include "core/literature.h"

@@ -9,8 +9,8 @@
 #include "geometry/hip_generator.h"
 #include "geometry/hip_measure.h"
 #include "geometry/hip_model.h"
-#include "studies/assessment.h"
-#include "studies/hip_source.h"
+#include "studies/pipeline/assessment.h"
+#include "studies/pipeline/hip_source.h"
 
 #include <algorithm>
 #include <cmath>

@@ -103,19 +103,19 @@ struct HipPrediction {
   stats::EstimateResult result;
   double load_ms = 0, feature_ms = 0, predict_ms = 0;
   int misses = 0;
-  // A segmented hip (hip.json): its hip frame is approximate (studies/segmented_hip.h).
+  // A segmented hip (hip.json): its hip frame is approximate (studies/pipeline/segmented_hip.h).
   bool approximate_frame = false;
   // depth_nn only: the target's penetration depths over the model's motion (thesis §4.3, the
-  // study's own method, studies/penetration_run.h), 1 x steps each, and their time.
+  // study's own method, studies/pipeline/penetration_run.h), 1 x steps each, and their time.
   stats::PenetrationDepths depths;
   double penetration_ms = 0;
 };
 
 // Loads the hip folder — a model folder (model.json) or a segmented hip (hip.json, bones in the
-// scan's frame, studies/segmented_hip.h) — refusing, with what is missing, one the model's
+// scan's frame, studies/pipeline/segmented_hip.h) — refusing, with what is missing, one the model's
 // features cannot be taken from; extracts its features on the model's grid and estimates every step.
 // depth_nn also computes the hip's penetration depths over the model's motion, which must then be
-// standing-to-sitting (studies/motion.h: the motion of `hipfai study validate`, recognised by its
+// standing-to-sitting (studies/pipeline/motion.h: the motion of `hipfai study validate`, recognised by its
 // angles); another motion, or a hip without the four tissues, is refused.
 HipPrediction predict_hip(const EstimatorModel& model, const std::filesystem::path& hip_dir,
                           stats::EstimatorMethod method, int e_prime);

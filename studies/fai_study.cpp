@@ -7,8 +7,8 @@
 #include "geometry/mesh_io.h"
 #include "studies/fai_report.h"
 #include "studies/hip_sensitivity.h"
-#include "studies/hip_source.h"
-#include "studies/penetration_run.h"
+#include "studies/pipeline/hip_source.h"
+#include "studies/pipeline/penetration_run.h"
 
 #include <algorithm>
 #include <chrono>

@@ -20,9 +20,9 @@
 #include "contact/radial_mapping.h"
 #include "geometry/hip_frame.h"
 #include "geometry/hip_parameters.h"
-#include "studies/hip_source.h"
-#include "studies/motion.h"
-#include "studies/penetration_run.h"
+#include "studies/pipeline/hip_source.h"
+#include "studies/pipeline/motion.h"
+#include "studies/pipeline/penetration_run.h"
 
 #include <filesystem>
 #include <map>
@@ -55,7 +55,7 @@ struct FaiStudyOptions {
   std::int64_t table_size = 20000;
   int threads = 2;
   // Contact tolerance (mm) of the penetration method; negative: max(sagitta bound, sphericity)
-  // of each hip's mesh (studies/penetration_run.h).
+  // of each hip's mesh (studies/pipeline/penetration_run.h).
   double contact_tolerance_mm = -1.0;
   // Curvilinear depth sampled also on the border of the striking region (penetration_run.h).
   bool sample_striking_boundary = false;

@@ -6,7 +6,7 @@
 
 #ifdef HIPFAI_WITH_FEM
 
-#include "studies/hip_fe_run.h"
+#include "studies/pipeline/hip_fe_run.h"
 
 #include <deal.II/base/point.h>
 

@@ -7,9 +7,9 @@
 #include "geometry/hip_generator.h"
 #include "geometry/hip_measure.h"
 #include "geometry/sphere_split.h"
-#include "studies/hip_source.h"
-#include "studies/motion.h"
-#include "studies/penetration_run.h"
+#include "studies/pipeline/hip_source.h"
+#include "studies/pipeline/motion.h"
+#include "studies/pipeline/penetration_run.h"
 
 #include <nlohmann/json.hpp>
 

@@ -6,7 +6,7 @@
 //   first_contact_deg  exact angle of first contact along the motion's single axis between the
 //                      STRIKING part of the femur bone (triangles whose vertices all lie farther
 //                      than R + tol from the HJC, the vertices the curvilinear depth counts: see
-//                      studies/penetration_run.h) and the labrum, by the one-pass range finder;
+//                      studies/pipeline/penetration_run.h) and the labrum, by the one-pass range finder;
 //                      +inf when beyond 360 deg. Impingement within the motion iff it is below
 //                      the motion's angle (63.1 deg for standing to sitting).
 //   max_curvilinear_mm, max_radial_mm   the study's depths (penetration_run.h) over the motion.

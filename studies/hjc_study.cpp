@@ -9,8 +9,8 @@
 #include "geometry/mesh_io.h"
 #include "studies/hjc_cohort.h"
 #include "studies/hjc_study_report.h"
-#include "studies/penetration_run.h"
-#include "studies/segmented_hip.h"
+#include "studies/pipeline/penetration_run.h"
+#include "studies/pipeline/segmented_hip.h"
 
 #include <Eigen/Dense>
 

@@ -8,10 +8,10 @@
 // then computed on the clean tissues rotated about each estimate, about the true centre, and about
 // the true centre displaced by 1, 2 and 5 mm along +-X, +-Y, +-Z of the hip frame (the effect of a
 // known centre error).
-// Rotations: the six medical rotations of the hip frame (studies/motion.h) from neutral to the AAOS
+// Rotations: the six medical rotations of the hip frame (studies/pipeline/motion.h) from neutral to the AAOS
 // normal range (core/literature.h), in 1 deg steps. Per step: maximum curvilinear depth (femur
 // bone vs labrum, both roles) and maximum radial depth (femoral cartilage vs acetabular cartilage
-// + labrum, both roles), studies/penetration_run.h.
+// + labrum, both roles), studies/pipeline/penetration_run.h.
 // Comparison (thesis Eq. 12-15): per subject and method, |depth_i - depth_dref| over every step of
 // the six rotations — curvilinear in mm, radial in % of the dref depth (steps where dref's radial
 // depth is 0 are left out: the percentage is undefined there); mean and SD per subject (Figs.

@@ -8,13 +8,13 @@
 #include "core/stopwatch.h"
 #include "geometry/hip_generator.h"
 #include "geometry/hip_model.h"
-#include "studies/hip_source.h"
-#include "studies/motion.h"
-#include "studies/penetration_run.h"
-#include "studies/soft_tissue_model.h"
+#include "studies/pipeline/hip_source.h"
+#include "studies/pipeline/motion.h"
+#include "studies/pipeline/penetration_run.h"
+#include "studies/pipeline/soft_tissue_model.h"
 
 #ifdef HIPFAI_WITH_FEM
-#include "studies/fe_batch.h"
+#include "studies/pipeline/fe_batch.h"
 #include "studies/results/hip_fe_table.h"
 #endif
 

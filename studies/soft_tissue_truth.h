@@ -1,12 +1,12 @@
 // hipfai — synthesised soft tissue against known truth: each of the 25 generated hips of the study
 // grid (thesis §4.3.2.2) is stripped to its two bones, its cartilage and labrum are synthesised
-// from them (studies/soft_tissue_model.h, the hip's model.json as the frame), and the thesis'
+// from them (studies/pipeline/soft_tissue_model.h, the hip's model.json as the frame), and the thesis'
 // penetration depths over standing-to-sitting (30 sub-motions; curvilinear: femur bone vs labrum,
 // radial: femur bone and cartilage vs acetabular cartilage and labrum, both roles) are computed on
-// the generated and on the synthesised tissues (studies/penetration_run.h), both with the generated
+// the generated and on the synthesised tissues (studies/pipeline/penetration_run.h), both with the generated
 // hip's contact tolerance. Per hip: the tissues' volumes and both maxima, generated vs synthesised,
 // and whether each penetrates. With an FE level, also the FE of both tissue sets over the same
-// motion (studies/fe_batch.h, cached like `study validate`'s): the peaks over the motion of the
+// motion (studies/pipeline/fe_batch.h, cached like `study validate`'s): the peaks over the motion of the
 // contact pressure and of the von Mises stress per tissue, raw and ball-averaged.
 #pragma once
 

@@ -6,7 +6,7 @@
 #include "studies/fai_reference.h"
 #include "studies/fai_study.h"
 #include "studies/results/fe_step_record.h"
-#include "studies/hip_source.h"
+#include "studies/pipeline/hip_source.h"
 #include "studies/reports/svg_plot.h"
 
 #include <algorithm>

@@ -4,14 +4,14 @@
 #include "core/error.h"
 #include "core/stopwatch.h"
 #include "geometry/mesh_io.h"
-#include "studies/hip_source.h"
-#include "studies/motion.h"
-#include "studies/penetration_run.h"
-#include "studies/scene.h"
+#include "studies/pipeline/hip_source.h"
+#include "studies/pipeline/motion.h"
+#include "studies/pipeline/penetration_run.h"
+#include "studies/pipeline/scene.h"
 
 #ifdef HIPFAI_WITH_FEM
-#include "studies/fe_batch.h"
-#include "studies/hip_fe_run.h"
+#include "studies/pipeline/fe_batch.h"
+#include "studies/pipeline/hip_fe_run.h"
 #endif
 
 #include <algorithm>

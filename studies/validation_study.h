@@ -1,7 +1,7 @@
 // hipfai — the FAI validation study (thesis §4.3.2.3, Tables 8-9): on every hip of the CE x alpha
 // grid and every step of standing-to-sitting, the penetration depths (curvilinear and radial,
-// studies/penetration_run.h) beside the FE ground truth (von Mises per tissue and contact pressure,
-// studies/hip_fe_run.h). It computes and stores the per-step values; the correlations, tables and
+// studies/pipeline/penetration_run.h) beside the FE ground truth (von Mises per tissue and contact pressure,
+// studies/pipeline/hip_fe_run.h). It computes and stores the per-step values; the correlations, tables and
 // figures are made from the stored values by studies/validation_report.h.
 //
 // Stages per hip: generate (cached by parameters), penetration (radial tables cached), FE (cached
@@ -23,7 +23,7 @@
 #include "studies/results/fe_step_record.h"
 
 #ifdef HIPFAI_WITH_FEM
-#include "studies/hip_fe_run.h"
+#include "studies/pipeline/hip_fe_run.h"
 #endif
 
 #include <filesystem>

@@ -5,7 +5,7 @@
 namespace hipfai::studies {
 namespace {
 
-// A name in the FE run's table (studies/hip_fe_run.cpp, write_hip_fe_csv) and in the studies'
+// A name in the FE run's table (studies/pipeline/hip_fe_run.cpp, write_hip_fe_csv) and in the studies'
 // output columns.
 struct Names {
   const char* fe_csv;

@@ -1,4 +1,4 @@
-// hipfai — the per-step table of an FE run (fe.csv, written by studies/hip_fe_run.h's
+// hipfai — the per-step table of an FE run (fe.csv, written by studies/pipeline/hip_fe_run.h's
 // write_hip_fe_csv; columns in docs/results-layout.md, "fem run --csv"), read back once into typed
 // step records (studies/results/fe_step_record.h), so that its readers (scenes, the validation study and
 // its cache, the estimator's FE sweeps, the soft-tissue study) never look a column up by name.

@@ -14,7 +14,7 @@
 #include "fem/motion_solver.h"
 #include "geometry/hip_generator.h"
 #include "geometry/hip_volume_mesh.h"
-#include "studies/motion.h"
+#include "studies/pipeline/motion.h"
 #include "tests/fem/same_solution.h"
 
 #include <gtest/gtest.h>

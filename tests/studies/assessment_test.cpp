@@ -1,7 +1,7 @@
 // The patient-specific assessment end to end: known truth on generated hips (their frame given as
 // their model.json), invariance under rigid motions and mirroring into a left hip, the real LHDL
 // bones from the frame found on them, the cam resection, the output folder, and the one-line errors.
-#include "studies/assessment.h"
+#include "studies/pipeline/assessment.h"
 
 #include "anatomy/frame_file.h"
 #include "core/error.h"
@@ -9,7 +9,7 @@
 #include "geometry/hip_measure.h"
 #include "geometry/hip_model.h"
 #include "geometry/mesh_io.h"
-#include "studies/assessment_report.h"
+#include "studies/pipeline/assessment_report.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>

@@ -4,7 +4,7 @@
 #include "geometry/hip_model.h"
 #include "geometry/primitive_meshes.h"
 #include "studies/estimator_model_file.h"
-#include "studies/motion.h"
+#include "studies/pipeline/motion.h"
 #include "studies/results/results_file.h"
 
 #include <gtest/gtest.h>

@@ -5,9 +5,9 @@
 #include "geometry/hip_generator.h"
 #include "studies/fai_reference.h"
 #include "studies/hip_sensitivity.h"
-#include "studies/hip_source.h"
-#include "studies/motion.h"
-#include "studies/penetration_run.h"
+#include "studies/pipeline/hip_source.h"
+#include "studies/pipeline/motion.h"
+#include "studies/pipeline/penetration_run.h"
 
 #include <gtest/gtest.h>
 

@@ -149,7 +149,7 @@ TEST(FeStepRecord, NamesAreOneToOne) {
   }
   EXPECT_EQ(fe_csv.size(), kPressureStats.size() + kVonMisesStats.size() * kFeTissues.size());
   EXPECT_EQ(outputs.size(), measures);
-  // The names the FE writes (studies/hip_fe_run.cpp) and the studies' columns.
+  // The names the FE writes (studies/pipeline/hip_fe_run.cpp) and the studies' columns.
   EXPECT_EQ(fe_csv_column(VonMisesStat::kBall, FeTissue::kAcetabularCartilage),
             "ball_peak_von_mises_mpa acetabular cartilage");
   EXPECT_EQ(fe_csv_column(PressureStat::kMean), "mean_pressure_mpa");

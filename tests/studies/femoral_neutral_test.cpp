@@ -1,8 +1,8 @@
-// The femur's neutral (studies/hip_source.h, put_femur_at_neutral): at the ISB neutral the femur
+// The femur's neutral (studies/pipeline/hip_source.h, put_femur_at_neutral): at the ISB neutral the femur
 // turns by the anatomic-mechanical angle about the adduction axis through the HJC, knee medially;
 // the pelvis side and the default neutral stay as they are.
 #include "core/literature.h"
-#include "studies/hip_source.h"
+#include "studies/pipeline/hip_source.h"
 
 #include <gtest/gtest.h>
 

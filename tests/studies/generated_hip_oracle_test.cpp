@@ -5,7 +5,7 @@
 #include "contact/oracle_radial.h"
 #include "contact/radial_segmenting.h"
 #include "geometry/hip_generator.h"
-#include "studies/motion.h"
+#include "studies/pipeline/motion.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "studies/motion.h"
+#include "studies/pipeline/motion.h"
 
 #include "core/error.h"
 #include "core/literature.h"

@@ -7,9 +7,9 @@
 #include "fuzz_results_reads.h"
 #include "geometry/hip_model.h"
 #include "studies/estimator_model_file.h"
-#include "studies/motion.h"
-#include "studies/scene.h"
-#include "studies/segmented_hip.h"
+#include "studies/pipeline/motion.h"
+#include "studies/pipeline/scene.h"
+#include "studies/pipeline/segmented_hip.h"
 
 #include <gtest/gtest.h>
 

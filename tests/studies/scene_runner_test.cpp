@@ -1,5 +1,5 @@
 // The scene runner end to end on a generated hip: demand-driven stages and the cache.
-#include "studies/scene_runner.h"
+#include "studies/pipeline/scene_runner.h"
 
 #include "studies/results/results_file.h"
 

@@ -1,4 +1,4 @@
-#include "studies/scene.h"
+#include "studies/pipeline/scene.h"
 
 #include "core/error.h"
 

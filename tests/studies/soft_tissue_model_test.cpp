@@ -1,6 +1,6 @@
 // A hip model folder made from the real LHDL CT bones with synthesised cartilage and labrum: valid,
 // separate solids in the hip frame, read back by load_hip_model with what `hipfai run` needs.
-#include "studies/soft_tissue_model.h"
+#include "studies/pipeline/soft_tissue_model.h"
 
 #include "anatomy/mesh_boolean.h"
 #include "anatomy/side.h"

@@ -3,9 +3,9 @@
 // per-vertex depths, a step maximum never below the vertices', and a first contact never later.
 #include "geometry/hip_generator.h"
 #include "studies/hip_sensitivity.h"
-#include "studies/hip_source.h"
-#include "studies/motion.h"
-#include "studies/penetration_run.h"
+#include "studies/pipeline/hip_source.h"
+#include "studies/pipeline/motion.h"
+#include "studies/pipeline/penetration_run.h"
 
 #include <gtest/gtest.h>
 

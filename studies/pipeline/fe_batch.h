@@ -1,5 +1,5 @@
 // hipfai — the FE of many hips into the FE cache, in worker processes: the one place a study
-// solves FE runs it does not have yet (studies/hip_fe_run.h has the run, its key and its entry).
+// solves FE runs it does not have yet (studies/pipeline/hip_fe_run.h has the run, its key and its entry).
 //
 // run_fe_batch() keys every job (hip_fe_cache_key), takes the finished entries from the cache and
 // solves the rest, each in a `hipfai fem run` worker process (`jobs` at once, sharing the machine's
@@ -11,7 +11,7 @@
 
 #ifdef HIPFAI_WITH_FEM
 
-#include "studies/hip_fe_run.h"
+#include "studies/pipeline/hip_fe_run.h"
 
 #include <filesystem>
 #include <memory>

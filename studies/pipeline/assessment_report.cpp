@@ -1,5 +1,5 @@
 // hipfai — writes an assessment into an output folder (see assessment_report.h).
-#include "studies/assessment_report.h"
+#include "studies/pipeline/assessment_report.h"
 
 #include "core/atomic_file.h"
 #include "core/error.h"
@@ -7,7 +7,7 @@
 #include "core/version.h"
 #include "geometry/hip_measure.h"
 #include "geometry/mesh_io.h"
-#include "studies/assessment_figures.h"
+#include "studies/pipeline/assessment_figures.h"
 
 #include <nlohmann/json.hpp>
 

@@ -1,5 +1,5 @@
 // hipfai — the FE of many hips into the FE cache, in worker processes (see fe_batch.h).
-#include "studies/fe_batch.h"
+#include "studies/pipeline/fe_batch.h"
 
 #ifdef HIPFAI_WITH_FEM
 

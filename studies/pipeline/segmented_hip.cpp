@@ -1,4 +1,4 @@
-#include "studies/segmented_hip.h"
+#include "studies/pipeline/segmented_hip.h"
 
 #include "core/error.h"
 #include "geometry/hjc_regions.h"

@@ -1,8 +1,8 @@
-#include "studies/scene_runner.h"
+#include "studies/pipeline/scene_runner.h"
 
 #include "anatomy/frame_file.h"
-#include "studies/assessment.h"
-#include "studies/assessment_report.h"
+#include "studies/pipeline/assessment.h"
+#include "studies/pipeline/assessment_report.h"
 
 #include "contact/radial_mapping.h"
 #include "core/atomic_file.h"
@@ -13,7 +13,7 @@
 
 #ifdef HIPFAI_WITH_FEM
 #include "fem/contact_problem.h"
-#include "studies/hip_fe_run.h"
+#include "studies/pipeline/hip_fe_run.h"
 #endif
 
 #include <algorithm>

@@ -12,7 +12,7 @@
 //   alpha_profile.svg       the clock profile of alpha, before and after.
 #pragma once
 
-#include "studies/assessment.h"
+#include "studies/pipeline/assessment.h"
 
 #include <filesystem>
 

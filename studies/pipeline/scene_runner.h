@@ -4,7 +4,7 @@
 // and, when asked, VTP files of the tested tissues with their per-vertex depth fields.
 //
 // Stages run on demand: the penetration methods only for penetration outputs, the contact FE
-// (studies/hip_fe_run.h, cached under <cache>/fe/) only for von_mises / contact_pressure, after
+// (studies/pipeline/hip_fe_run.h, cached under <cache>/fe/) only for von_mises / contact_pressure, after
 // the penetration stages. FE columns of steps.csv (the same names under /fe/ in results.h5):
 //   fe_status                                    converged | active set not converged | ...
 //   von_mises_max_<tissue>_mpa                   von_mises: maximum over the tissue's elements,
@@ -18,10 +18,10 @@
 #include "core/fe_choices.h"
 
 #include "studies/results/fe_step_record.h"
-#include "studies/hip_source.h"
-#include "studies/motion.h"
-#include "studies/penetration_run.h"
-#include "studies/scene.h"
+#include "studies/pipeline/hip_source.h"
+#include "studies/pipeline/motion.h"
+#include "studies/pipeline/penetration_run.h"
+#include "studies/pipeline/scene.h"
 
 #include <filesystem>
 #include <string>
@@ -76,7 +76,7 @@ SceneRunSummary run_scene(const Scene& scene, const Motion& motion, const SceneR
 Motion motion_of(const Scene& scene);
 
 // The motion the FE solves: standing-to-sitting with the sitting-down load of the scene's body
-// weight (studies/motion.h); other motions unchanged (the FE gives steps without a force the
+// weight (studies/pipeline/motion.h); other motions unchanged (the FE gives steps without a force the
 // constant joint force of that body weight).
 Motion fe_motion_of(const Scene& scene, const Motion& motion);
 

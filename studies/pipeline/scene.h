@@ -10,7 +10,7 @@
 //     parametric: {ce_deg: 20, alpha_deg: 40, edge_mm: 2.0}   # or  model_dir: path/with/model.json
 //                                     # or  bones: {femur: f.ply, pelvis: p.ply, side: right, frame: f.json}
 //                                     #     (a segmented hip, dressed with synthesised cartilage and
-//                                     #     labrum into the cache first: studies/soft_tissue_model.h)
+//                                     #     labrum into the cache first: studies/pipeline/soft_tissue_model.h)
 //   tissues: [femur_bone, labrum, femoral_cartilage, acetabular_cartilage]
 //   motion: {builtin: standing_to_sitting, sub_motions: 30}  # or {medical: flexion, max_deg: 90,
 //                                                            #      steps: 18}  or  {csv: file.csv}
@@ -19,14 +19,14 @@
 //   options: {mapping: cube, table_size: 20000, swap_roles: true}
 //
 // FE outputs (von_mises, contact_pressure) run the contact FE of fem/ over the motion
-// (studies/hip_fe_run.h, cached under <cache>/fe/). Its settings, all optional, are in the
+// (studies/pipeline/hip_fe_run.h, cached under <cache>/fe/). Its settings, all optional, are in the
 // top-level `fe` block (ignored when no output needs the FE):
 //
 //   fe: {level: coarse, body_weight_n: 700}
 //     level          coarse | default | fine (core/fe_choices.h, docs/fem-levels.md);
 //                    default "default"
 //     body_weight_n  body weight (N), (0, 10000]; default 700. The joint force scales with it:
-//                    standing-to-sitting gets the sitting-down load (studies/motion.h,
+//                    standing-to-sitting gets the sitting-down load (studies/pipeline/motion.h,
 //                    attach_sitting_down_load), other motions the constant joint force
 //                    (fem::constant_joint_force_n) on every step whose CSV row gives no force.
 //
@@ -54,7 +54,7 @@ enum class Output {
   kRom,               // exact range of motion about each motion axis, femur vs acetabular bone
   kVonMises,          // FE ground truth (fem/)
   kContactPressure,   // FE ground truth (fem/)
-  kAssessment,        // patient-specific assessment of the bones (studies/assessment.h), in assessment/
+  kAssessment,        // patient-specific assessment of the bones (studies/pipeline/assessment.h), in assessment/
 };
 
 const char* output_name(Output output);

@@ -1,4 +1,4 @@
-#include "studies/plan.h"
+#include "studies/pipeline/plan.h"
 
 #include <sstream>
 

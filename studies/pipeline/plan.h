@@ -5,8 +5,8 @@
 // `hipfai run SCENE --plan` prints this plan without running it.
 #pragma once
 
-#include "studies/motion.h"
-#include "studies/scene.h"
+#include "studies/pipeline/motion.h"
+#include "studies/pipeline/scene.h"
 
 #include <string>
 #include <vector>
@@ -24,7 +24,7 @@ enum class StageKind {
   kRadialQuery,        // per step: radial depth
   kRangeOfMotion,      // exact ROM about one motion axis
   kFiniteElement,      // FE contact solve over the motion
-  kAssessment,         // patient-specific assessment of the bones (studies/assessment.h)
+  kAssessment,         // patient-specific assessment of the bones (studies/pipeline/assessment.h)
   kWriteResults,       // results.h5 + CSV
 };
 

@@ -1,5 +1,5 @@
 // hipfai — the figures of an assessment report (see assessment_figures.h).
-#include "studies/assessment_figures.h"
+#include "studies/pipeline/assessment_figures.h"
 
 #include "core/atomic_file.h"
 #include "core/literature.h"

@@ -1,5 +1,5 @@
 // hipfai — a hip model folder made from a segmented femur and pelvis (`hipfai soft-tissue`): the
-// assessment's frames and landmarks (studies/assessment.h), cartilage and labrum synthesised on the
+// assessment's frames and landmarks (studies/pipeline/assessment.h), cartilage and labrum synthesised on the
 // bones (anatomy/soft_tissue.h), everything expressed in the hip frame and written in the format
 // every command reads (geometry/hip_model.h), with a short soft_tissue.md.
 //
@@ -20,7 +20,7 @@
 
 #include "anatomy/soft_tissue.h"
 #include "geometry/hip_model.h"
-#include "studies/assessment.h"
+#include "studies/pipeline/assessment.h"
 
 #include <filesystem>
 #include <string>

@@ -1,5 +1,5 @@
 // hipfai — the patient-specific FAI assessment (see assessment.h for the pipeline).
-#include "studies/assessment.h"
+#include "studies/pipeline/assessment.h"
 
 #include "anatomy/mesh_boolean.h"
 #include "anatomy/resection.h"

@@ -30,8 +30,8 @@
 #include "contact/radial_segmenting.h"
 #include "contact/range_finder.h"
 #include "contact/start_pose.h"
-#include "studies/hip_source.h"
-#include "studies/motion.h"
+#include "studies/pipeline/hip_source.h"
+#include "studies/pipeline/motion.h"
 
 #include <functional>
 #include <map>

@@ -30,7 +30,7 @@
 #include "anatomy/pelvis_landmarks.h"
 #include "anatomy/side.h"
 #include "geometry/tri_mesh.h"
-#include "studies/motion.h"
+#include "studies/pipeline/motion.h"
 
 #include <Eigen/Geometry>
 

@@ -1,8 +1,8 @@
-#include "studies/scene.h"
+#include "studies/pipeline/scene.h"
 
 #include "core/error.h"
-#include "studies/motion.h"
-#include "studies/radial_mapping_name.h"
+#include "studies/pipeline/motion.h"
+#include "studies/pipeline/radial_mapping_name.h"
 
 #include <yaml-cpp/yaml.h>
 
@@ -100,7 +100,7 @@ std::set<std::string> tissues_for(Output output) {
     case Output::kAssessment: return {"femur_bone", "acetabular_bone"};
     case Output::kVonMises:
     case Output::kContactPressure:
-      // The hip FE model (studies/hip_fe_run.cpp): deformable cartilage and labrum, the femoral
+      // The hip FE model (studies/pipeline/hip_fe_run.cpp): deformable cartilage and labrum, the femoral
       // bone as the rigid body the rotation is applied to; the pelvis is a fixed boundary.
       return {"femur_bone", "femoral_cartilage", "acetabular_cartilage", "labrum"};
   }

@@ -1,4 +1,4 @@
-// hipfai — writes an assessment (studies/assessment.h) into an output folder, whole or not at all
+// hipfai — writes an assessment (studies/pipeline/assessment.h) into an output folder, whole or not at all
 // (the folder is filled under a temporary name and renamed into place):
 //
 //   assessment.json   in the input meshes' coordinates (mm, unit vectors, degrees):
@@ -14,7 +14,7 @@
 //   femur_resected.vtp, pelvis_trimmed.vtp   after the resections, when asked for.
 #pragma once
 
-#include "studies/assessment.h"
+#include "studies/pipeline/assessment.h"
 
 #include <filesystem>
 #include <string>

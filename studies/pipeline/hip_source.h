@@ -1,8 +1,8 @@
 // hipfai — where a scene's hip comes from: generated (and cached) or a user's model folder.
 #pragma once
 
-#include "studies/plan.h"
-#include "studies/scene.h"
+#include "studies/pipeline/plan.h"
+#include "studies/pipeline/scene.h"
 #include "geometry/hip_frame.h"
 #include "geometry/hip_model.h"
 #include "geometry/tri_mesh.h"

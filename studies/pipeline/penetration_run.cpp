@@ -1,4 +1,4 @@
-#include "studies/penetration_run.h"
+#include "studies/pipeline/penetration_run.h"
 
 #include "contact/penetrate.h"
 #include "core/error.h"

@@ -1,4 +1,4 @@
-#include "studies/hip_source.h"
+#include "studies/pipeline/hip_source.h"
 
 #include "anatomy/frame_file.h"
 #include "core/atomic_file.h"
@@ -10,7 +10,7 @@
 #include "geometry/hip_model.h"
 #include "geometry/mesh_io.h"
 #include "geometry/mesh_io_common.h"
-#include "studies/soft_tissue_model.h"
+#include "studies/pipeline/soft_tissue_model.h"
 
 #include <Eigen/Geometry>
 
@@ -90,7 +90,7 @@ LoadedHip acquire_hip(const Scene& scene, const std::set<std::string>& tissues,
       log.ran(StageKind::kGenerateHip);
     }
   } else if (scene.bones) {
-    // The bones dressed once (studies/soft_tissue_model.h), kept in the cache by the content of
+    // The bones dressed once (studies/pipeline/soft_tissue_model.h), kept in the cache by the content of
     // the files and choices that make the folder.
     const SceneBones& bones = *scene.bones;
     Hasher key;

@@ -1,6 +1,6 @@
 // hipfai — a hip model folder from segmented bones with synthesised soft tissues (see
 // soft_tissue_model.h).
-#include "studies/soft_tissue_model.h"
+#include "studies/pipeline/soft_tissue_model.h"
 
 #include "studies/reports/svg_plot.h"
 

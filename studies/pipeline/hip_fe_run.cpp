@@ -1,6 +1,6 @@
 #ifdef HIPFAI_WITH_FEM
 
-#include "studies/hip_fe_run.h"
+#include "studies/pipeline/hip_fe_run.h"
 
 #include "core/atomic_file.h"
 #include "core/csv.h"

@@ -24,7 +24,7 @@
 #include "core/fe_choices.h"
 #include "fem/hip_fe_model.h"
 #include "studies/results/hip_fe_table.h"
-#include "studies/motion.h"
+#include "studies/pipeline/motion.h"
 
 #include <filesystem>
 #include <map>
@@ -38,7 +38,7 @@ struct HipFeRunOptions {
   std::string model_dir;    // folder with model.json and the tissue meshes
   // The motion: `motion` when set (its steps without a force get the constant joint force of
   // body_weight_n), else the CSV `motion_file`, else standing-to-sitting in `steps` sub-motions
-  // with the sitting-down load after Bergmann et al. (2001) (studies/motion.h).
+  // with the sitting-down load after Bergmann et al. (2001) (studies/pipeline/motion.h).
   std::optional<Motion> motion;
   std::string motion_file;
   int steps = 30;
