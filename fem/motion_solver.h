@@ -15,7 +15,7 @@
 // sub-step is the same problem as the step itself.
 //
 // The motion comes as plain arrays (rotation matrix and force per step): fem does not parse
-// motion files, the caller does (app/cmd_fem.cpp via studies/motion.h).
+// motion files, the caller does (app/cmd_fem.cpp via studies/pipeline/motion.h).
 #pragma once
 
 #include "fem/contact_problem.h"

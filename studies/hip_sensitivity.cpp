@@ -77,20 +77,6 @@ double first_striking_contact_deg(const geometry::TriMesh& femur, const geometry
 
 namespace {
 
-
-double longest_edge(const std::map<std::string, geometry::TriMesh>& tissues) {
-  double longest = 0.0;
-  for (const auto& [name, mesh] : tissues) {
-    for (const auto& tri : mesh.triangles) {
-      for (std::size_t e = 0; e < 3; ++e) {
-        longest = std::max(longest, (mesh.vertices[static_cast<std::size_t>(tri[e])] -
-                                     mesh.vertices[static_cast<std::size_t>(tri[(e + 1) % 3])]).norm());
-      }
-    }
-  }
-  return longest;
-}
-
 geometry::HipParameters with(geometry::HipParameters p, const std::string& field, double value) {
   nlohmann::json json = nlohmann::json::parse(geometry::hip_parameters_to_json(p));
   if (!json.contains(field)) throw_error("sensitivity: unknown hip parameter '", field, "'");
@@ -193,12 +179,11 @@ SensitivityResult run_hip_sensitivity(const SensitivityOptions& options) {
         const PenetrationRun run = compute_penetration(hip, motion, penetration, log);
         row.max_curvilinear_mm = run.max_curvilinear_mm();
         row.max_radial_mm = run.max_radial_mm();
-        const double edge = longest_edge(model.tissues);
-        const double tolerance = edge * edge / (2.0 * p.articular_radius_mm);
+        // The striking region begins where the run's does: at R plus the tolerance it applied.
         const Eigen::Vector3d axis = (hip.frame * motion.steps.front().axis).normalized();
-        row.first_contact_deg = first_striking_contact_deg(model.tissue("femur_bone"), model.tissue("labrum"),
-                                                           model.hjc_mm, axis, p.articular_radius_mm + tolerance,
-                                                           options.threads);
+        row.first_contact_deg = first_striking_contact_deg(
+            model.tissue("femur_bone"), model.tissue("labrum"), model.hjc_mm, axis,
+            hip.articular_radius_mm + run.contact_tolerance_mm, options.threads);
       } catch (const Error& e) {
         row.error = e.what();
       }
