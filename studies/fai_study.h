@@ -36,8 +36,8 @@ namespace hipfai::studies {
 struct FaiStudyOptions {
   std::filesystem::path out_dir = "out/fai";
   std::filesystem::path cache_dir = "cache";
-  std::vector<double> ce_deg{0, 10, 20, 30, 40};
-  std::vector<double> alpha_deg{40, 50, 60, 70, 80};
+  std::vector<double> ce_deg = study_ce_deg();  // the thesis' grid (core/literature.h)
+  std::vector<double> alpha_deg = study_alpha_deg();
   double edge_mm = 2.0;                        // surface resolution of the main run
   int sub_motions = 30;
   // How the end pose's angles compose (geometry/hip_frame.h); the default is the joint coordinate

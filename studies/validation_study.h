@@ -24,6 +24,7 @@
 
 #ifdef HIPFAI_WITH_FEM
 #include "studies/pipeline/hip_fe_run.h"
+#include "studies/pipeline/hip_source.h"
 #endif
 
 #include <filesystem>
@@ -36,8 +37,8 @@ namespace hipfai::studies {
 struct ValidationOptions {
   std::filesystem::path out_dir = "out/validate";
   std::filesystem::path cache_dir = "cache";
-  std::vector<double> ce_deg{0, 10, 20, 30, 40};
-  std::vector<double> alpha_deg{40, 50, 60, 70, 80};
+  std::vector<double> ce_deg = study_ce_deg();  // the thesis' grid (core/literature.h)
+  std::vector<double> alpha_deg = study_alpha_deg();
   // (CE, alpha) of the hips to run instead of the grid, when not empty.
   std::vector<std::pair<double, double>> hips;
   double edge_mm = 2.0;       // surface resolution of the penetration method

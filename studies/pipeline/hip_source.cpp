@@ -31,13 +31,26 @@ geometry::HipParameters parameters_of(const ParametricHip& hip) {
 
 }  // namespace
 
+namespace {
+
+std::vector<double> steps_deg(double first, double last) {
+  std::vector<double> values;
+  for (double value = first; value <= last + 1e-9; value += literature::kStudyStepDeg) values.push_back(value);
+  return values;
+}
+
+}  // namespace
+
+std::vector<double> study_ce_deg() { return steps_deg(literature::kStudyCeMinDeg, literature::kStudyCeMaxDeg); }
+
+std::vector<double> study_alpha_deg() {
+  return steps_deg(literature::kStudyAlphaMinDeg, literature::kStudyAlphaMaxDeg);
+}
+
 std::vector<std::pair<double, double>> study_grid_angles() {
   std::vector<std::pair<double, double>> grid;
-  for (double ce = literature::kStudyCeMinDeg; ce <= literature::kStudyCeMaxDeg + 1e-9; ce += literature::kStudyStepDeg) {
-    for (double alpha = literature::kStudyAlphaMinDeg; alpha <= literature::kStudyAlphaMaxDeg + 1e-9;
-         alpha += literature::kStudyStepDeg) {
-      grid.emplace_back(ce, alpha);
-    }
+  for (const double ce : study_ce_deg()) {
+    for (const double alpha : study_alpha_deg()) grid.emplace_back(ce, alpha);
   }
   return grid;
 }

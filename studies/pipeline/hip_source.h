@@ -58,6 +58,9 @@ std::string parametric_hip_id(double ce_deg, double alpha_deg);
 // The thesis' study grid (§4.3.2.2, core/literature.h): the 25 (CE, alpha) pairs, CE 0-40 and alpha
 // 40-80 deg in 10 deg steps, CE-major.
 std::vector<std::pair<double, double>> study_grid_angles();
+// The grid's axes: CE 0, 10, ..., 40 and alpha 40, 50, ..., 80 deg.
+std::vector<double> study_ce_deg();
+std::vector<double> study_alpha_deg();
 
 // Folder of the cached generated hip for these parameters under `cache_dir` (key: parameters and
 // a content hash of core/ and geometry/, kHipSourceHash).
