@@ -35,4 +35,11 @@ void check_references(const ContactModel& model) {
   }
 }
 
+int rigid_body_of_material(const ContactModel& model, dealii::types::material_id material) {
+  int rigid = -1;
+  for (const Body& body : model.bodies)
+    if (body.material_id == material) rigid = body.bonded_rigid_body;
+  return rigid;
+}
+
 }  // namespace hipfai::fem

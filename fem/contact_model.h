@@ -85,4 +85,8 @@ struct ContactModel {
 // boundaries) are made by the stages that use the mesh.
 void check_references(const ContactModel& model);
 
+// The rigid body the cells of `material` are bonded to (the last body of that material decides),
+// -1 for none: the bone a cell turns with when the mesh is placed.
+int rigid_body_of_material(const ContactModel& model, dealii::types::material_id material);
+
 }  // namespace hipfai::fem

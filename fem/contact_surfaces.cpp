@@ -94,9 +94,7 @@ void ContactSurfaces::update(const ElasticSystem& system, const ContactModel& mo
 
 std::pair<dealii::Tensor<2, 3>, dealii::Point<3>> ContactSurfaces::placement(
     const ContactModel& model, dealii::types::material_id material) {
-  int rigid = -1;  // the last body of the material decides, as in ElasticSystem::place_bodies
-  for (const Body& body : model.bodies)
-    if (body.material_id == material) rigid = body.bonded_rigid_body;
+  const int rigid = rigid_body_of_material(model, material);
   if (rigid < 0) return {dealii::unit_symmetric_tensor<3>(), dealii::Point<3>()};
   return {model.rigid_bodies[rigid].rotation, model.rigid_bodies[rigid].rotation_center_mm};
 }

@@ -89,14 +89,10 @@ double ElasticSystem::diameter_if_placed(const ContactModel& model) const {
 }
 
 std::vector<dealii::Point<3>> ElasticSystem::placed_vertices(const ContactModel& model) const {
-  std::map<dealii::types::material_id, int> rigid_of_material;
-  for (const Body& body : model.bodies)
-    rigid_of_material[body.material_id] = body.bonded_rigid_body;
   std::vector<dealii::Point<3>> placed = reference_vertices_;
   std::vector<bool> done(reference_vertices_.size(), false);
   for (const auto& cell : triangulation_.cell_iterators()) {
-    const auto it = rigid_of_material.find(cell->material_id());
-    const int rigid = it == rigid_of_material.end() ? -1 : it->second;
+    const int rigid = rigid_body_of_material(model, cell->material_id());
     for (const unsigned int v : cell->vertex_indices()) {
       const unsigned int index = cell->vertex_index(v);
       if (done[index]) continue;  // bodies that share a vertex: the first one places it
