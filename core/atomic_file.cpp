@@ -3,6 +3,7 @@
 #include "core/error.h"
 
 #include <atomic>
+#include <cctype>
 #include <charconv>
 #include <csignal>
 #include <cerrno>
@@ -16,9 +17,25 @@
 namespace hipfai {
 namespace {
 
+// This machine's name as it may stand in a file name (characters other than letters, digits, '-'
+// and '_' as '_').
+const std::string& host_tag() {
+  static const std::string tag = [] {
+    char name[256] = {};
+    if (::gethostname(name, sizeof name - 1) != 0) return std::string("unknown");
+    std::string text(name);
+    for (char& c : text) {
+      if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_') c = '_';
+    }
+    return text.empty() ? std::string("unknown") : text;
+  }();
+  return tag;
+}
+
 std::filesystem::path partial_path_for(const std::filesystem::path& target) {
   static std::atomic<unsigned long> counter{0};
-  return target.string() + "." + std::to_string(::getpid()) + "-" + std::to_string(counter++) + ".partial";
+  return target.string() + "." + std::to_string(::getpid()) + "-" + std::to_string(counter++) + "@" + host_tag() +
+         ".partial";
 }
 
 // A process that exists and has not terminated. A killed process whose parent died too can stay a
@@ -35,8 +52,10 @@ bool process_is_running(pid_t pid) {
   return state != 'Z' && state != 'X';
 }
 
-// Removes the temporary files or folders of `target` left by processes that no longer exist
-// (killed before they could clean up). Those of live processes, including this one, are theirs.
+// Removes the temporary files or folders of `target` left by processes of this machine that no
+// longer exist (killed before they could clean up). Those of live processes, including this one,
+// are theirs; so are those of other machines sharing the folder ("@<host>" in the name), whose
+// processes cannot be looked at from here.
 void remove_orphaned_partials(const std::filesystem::path& target) {
   const std::string prefix = target.filename().string() + ".";
   const std::string suffix = ".partial";
@@ -51,6 +70,8 @@ void remove_orphaned_partials(const std::filesystem::path& target) {
     const auto [end_of_pid, parsed] = std::from_chars(middle.data(), middle.data() + middle.size(), pid);
     if (parsed != std::errc() || end_of_pid == middle.data() + middle.size() || *end_of_pid != '-') continue;
     if (pid <= 0 || pid == ::getpid()) continue;
+    const std::size_t at = middle.find('@');
+    if (at != std::string_view::npos && middle.substr(at + 1) != host_tag()) continue;
     if (process_is_running(static_cast<pid_t>(pid))) continue;
     orphans.push_back(it->path());
   }

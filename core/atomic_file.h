@@ -3,9 +3,11 @@
 // therefore never leaves a half file under the target's name, and a reader sees either the old
 // file or the new one. Every writer in the tree goes through this header.
 //
-// The temporary name is "<target>.<pid>-<n>.partial": unique per process and per write, so two
-// processes (a study's hips run one per process and share caches) writing the same target never
-// write into one temporary file; the rename then makes one of the whole files win.
+// The temporary name is "<target>.<pid>-<n>@<host>.partial": unique per process, per write and per
+// machine, so two processes (a study's hips run one per process and share caches, or jobs on
+// several machines share one on a network filesystem) writing the same target never write into
+// one temporary file; the rename then makes one of the whole files win. Temporaries left by killed
+// processes are removed by the next writer of the same target on the same machine.
 #pragma once
 
 #include <filesystem>

@@ -3,77 +3,25 @@
 
 #ifdef HIPFAI_WITH_FEM
 
-#include "core/atomic_file.h"
-#include "core/child_process.h"
 #include "core/error.h"
 #include "core/parallel.h"
 #include "core/stopwatch.h"
 
 
 #include <algorithm>
+#include <chrono>
 #include <condition_variable>
 #include <deque>
 #include <cstdio>
 #include <mutex>
-#include <sstream>
 #include <thread>
-
-extern char** environ;
 
 namespace hipfai::studies {
 namespace {
 
-// The environment of an FE worker: single-threaded BLAS and OpenMP (the worker's own threads are
-// its --threads), and nothing of an MPI launcher the parent may have been started under.
-std::vector<std::string> worker_environment() {
-  std::vector<std::string> env;
-  for (char** e = environ; e != nullptr && *e != nullptr; ++e) {
-    const std::string entry(*e);
-    if (entry.rfind("OMPI_", 0) == 0 || entry.rfind("PMIX_", 0) == 0 || entry.rfind("OMP_NUM_THREADS=", 0) == 0 ||
-        entry.rfind("OPENBLAS_NUM_THREADS=", 0) == 0) {
-      continue;
-    }
-    env.push_back(entry);
-  }
-  env.emplace_back("OMP_NUM_THREADS=1");
-  env.emplace_back("OPENBLAS_NUM_THREADS=1");
-  return env;
-}
-
-std::string seconds_text(double seconds) {
-  std::ostringstream text;
-  text.precision(10);
-  text << seconds;
-  return text.str();
-}
-
-// Solves one run into its cache entry (in this process or a worker process with `threads` FE
-// threads); writes the run's wall time beside its table.
-void solve(const FeBatchJob& job, const std::filesystem::path& entry, const FeBatchOptions& options,
-           unsigned int threads) {
-  AtomicDirectory staging(entry);
-  const std::filesystem::path& partial = staging.partial_path();
-  HipFeRunOptions run = job.run;
-  run.out_file = (partial / "results.h5").string();
-  run.csv_file = (partial / "fe.csv").string();
-  if (run.vtu_every > 0) run.vtu_prefix = (partial / "fe").string();
-  const auto start = SteadyClock::now();
-  if (options.program.empty()) {
-    run.progress = false;
-    (void)run_hip_fe(run, false);
-  } else {
-    run.threads = threads;
-    const int status = run_program(options.program, hip_fe_command_arguments(run), partial / "run.log", worker_environment());
-    // Exit status 1 with a complete table: some steps did not converge (kept, with their status).
-    if (status != 0 && !std::filesystem::exists(partial / "fe.csv")) {
-      staging.keep();  // the log the message points to
-      throw_error("FE of ", job.run.model_dir, " failed (exit status ", status, "); see ",
-                  (partial / "run.log").string());
-    }
-  }
-  write_file_atomically(partial / "timing.txt", "wall_s " + seconds_text(seconds_since(start)) + "\n");
-  commit_hip_fe_entry(staging);
-}
+// How long a worker whose only jobs are being solved by other jobs waits before looking again
+// (or until a new job is added).
+constexpr std::chrono::milliseconds kBusyEntryPoll{500};
 
 }  // namespace
 
@@ -85,7 +33,8 @@ struct FeBatch::State {
   std::deque<FeBatchJob> jobs;
   std::deque<FeBatchEntry> entries;
   std::deque<std::size_t> queue;    // jobs to solve, not yet taken
-  std::size_t queued = 0, reused = 0, finished = 0;
+  std::deque<std::size_t> busy;     // jobs whose entry another job was solving when last tried
+  std::size_t queued = 0, reused = 0, finished = 0, made_elsewhere = 0;
   bool closed = false;              // no more jobs
   std::vector<std::string> errors;
   std::mutex mutex;
@@ -96,29 +45,47 @@ struct FeBatch::State {
   void work() {
     for (;;) {
       std::size_t j = 0;
+      bool retried = false;  // a job put aside before: wait a little when it is still busy
       {
         std::unique_lock<std::mutex> lock(mutex);
-        wake.wait(lock, [&] { return closed || !queue.empty(); });
-        if (queue.empty()) return;
-        j = queue.front();
-        queue.pop_front();
+        wake.wait(lock, [&] { return closed || !queue.empty() || !busy.empty(); });
+        if (!queue.empty()) {
+          j = queue.front();
+          queue.pop_front();
+        } else if (!busy.empty()) {
+          j = busy.front();
+          busy.pop_front();
+          retried = true;
+        } else {
+          return;
+        }
       }
       const auto job_start = SteadyClock::now();
       std::string error;
+      EntrySource source = EntrySource::kBusy;
       try {
-        solve(jobs[j], entries[j].entry, options, worker_threads);
+        source = make_fe_entry(jobs[j], entries[j].entry, FeEntrySolver{options.program, worker_threads}, LockWait::kTry);
       } catch (const std::exception& e) {
         error = e.what();
       }
-      const std::lock_guard<std::mutex> lock(mutex);
+      std::unique_lock<std::mutex> lock(mutex);
       if (!error.empty()) {
         errors.push_back(error);
         entries[j].error = error;
         continue;
       }
+      if (source == EntrySource::kBusy) {
+        busy.push_back(j);
+        if (retried) wake.wait_for(lock, kBusyEntryPoll);
+        continue;
+      }
+      entries[j].source = source;
+      entries[j].reused = source != EntrySource::kMade;
+      made_elsewhere += source != EntrySource::kMade;
       if (options.progress) {
-        std::printf("%s: FE [%zu/%zu] %s in %.0f s (%.0f s elapsed)\n", options.label.c_str(), ++finished,
-                    queued, jobs[j].id.c_str(), seconds_since(job_start), seconds_since(start));
+        std::printf("%s: FE [%zu/%zu] %s %s in %.0f s (%.0f s elapsed)\n", options.label.c_str(), ++finished,
+                    queued, jobs[j].id.c_str(), source == EntrySource::kMade ? "solved" : "made by another job",
+                    seconds_since(job_start), seconds_since(start));
         std::fflush(stdout);
       }
     }
@@ -128,7 +95,10 @@ struct FeBatch::State {
     {
       const std::lock_guard<std::mutex> lock(mutex);
       closed = true;
-      if (!drain) queue.clear();
+      if (!drain) {
+        queue.clear();
+        busy.clear();
+      }
     }
     wake.notify_all();
     for (std::thread& thread : threads) thread.join();
@@ -157,8 +127,8 @@ FeBatch::~FeBatch() {
 void FeBatch::add(FeBatchJob job) {
   State& s = *state_;
   FeBatchEntry entry;
-  entry.entry = hip_fe_cache_entry(s.options.cache_dir, hip_fe_cache_key(job.run));
-  entry.reused = std::filesystem::exists(entry.entry / "fe.csv");
+  entry.entry = fe_job_entry(job, s.options.cache_dir);
+  entry.reused = fe_entry_is_complete(entry.entry);
   {
     const std::lock_guard<std::mutex> lock(s.mutex);
     if (s.closed) throw_error(s.options.label, ": a job added to a finished FE batch");
@@ -179,9 +149,11 @@ std::vector<FeBatchEntry> FeBatch::finish() {
   s.stop(true);
   if (s.options.program.empty()) s.work();  // closed: solves the queue, then returns
   if (s.options.progress) {
-    std::printf("%s: FE (level %s) on %zu hips: %zu from the cache, %zu solved in %d process(es), %.0f s\n",
-                s.options.label.c_str(), s.jobs.empty() ? "-" : to_string(s.jobs.front().run.level), s.jobs.size(),
-                s.reused, s.queued, s.workers, seconds_since(s.start));
+    std::printf(
+        "%s: FE (level %s) on %zu hips: %zu from the cache, %zu solved in %d process(es), %zu made by another job, "
+        "%.0f s\n",
+        s.options.label.c_str(), s.jobs.empty() ? "-" : to_string(s.jobs.front().run.level), s.jobs.size(), s.reused,
+        s.queued - s.made_elsewhere - s.errors.size(), s.workers, s.made_elsewhere, seconds_since(s.start));
     std::fflush(stdout);
   }
   if (!s.errors.empty() && !s.options.keep_going) {

@@ -5,13 +5,17 @@
 // solves the rest, each in a `hipfai fem run` worker process (`jobs` at once, sharing the machine's
 // threads; no MPI launcher's environment) or, without a program, one after the other in this process. A
 // worker is killed with the study (PR_SET_PDEATHSIG), and an entry exists only when complete
-// (AtomicDirectory), so a killed batch resumes where it stopped. Each entry holds fe.csv,
-// results.h5, run.log (workers) and timing.txt ("wall_s <seconds>").
+// (studies/pipeline/fe_entry.h), so a killed batch resumes where it stopped.
+//
+// Jobs sharing the cache: an entry another job (another study, another user) is solving at the
+// moment is put aside and the batch's next job taken; the entry is looked at again when nothing
+// else is left, and read once the other job has finished it. Each entry is thus solved once, and
+// two studies of the same hips started together share the work instead of doing it twice.
 #pragma once
 
 #ifdef HIPFAI_WITH_FEM
 
-#include "studies/pipeline/hip_fe_run.h"
+#include "studies/pipeline/fe_entry.h"
 
 #include <filesystem>
 #include <memory>
@@ -19,11 +23,6 @@
 #include <vector>
 
 namespace hipfai::studies {
-
-struct FeBatchJob {
-  std::string id;         // names the hip in progress lines and errors
-  HipFeRunOptions run;    // model_dir, motion, level, ... (out_file and csv_file are the entry's)
-};
 
 struct FeBatchOptions {
   std::filesystem::path cache_dir = "cache";
@@ -39,7 +38,8 @@ struct FeBatchOptions {
 
 struct FeBatchEntry {
   std::filesystem::path entry;       // the cache entry's folder (fe.csv, results.h5, timing.txt)
-  bool reused = false;               // found finished in the cache
+  bool reused = false;               // not solved by this batch: found in the cache, or made by another job
+  EntrySource source = EntrySource::kFound;  // which of the two, or kMade
   std::string error;                 // keep_going: why the run failed (empty: it did not)
 };
 

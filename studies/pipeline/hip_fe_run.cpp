@@ -3,6 +3,7 @@
 #include "studies/pipeline/hip_fe_run.h"
 
 #include "core/atomic_file.h"
+#include "core/cache_entry.h"
 #include "core/csv.h"
 #include "core/error.h"
 #include "core/hash.h"
@@ -75,8 +76,9 @@ Motion hip_fe_motion(const HipFeRunOptions& options) {
 
 HipFeRunSummary run_hip_fe(const HipFeRunOptions& options, bool throw_on_failure) {
   fem::limit_threads(options.threads);
+  const MPI_Comm communicator = options.ranks == FeRanks::kThisRank ? MPI_COMM_SELF : MPI_COMM_WORLD;
   int rank = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_rank(communicator, &rank);
   const auto start = std::chrono::steady_clock::now();
   // Everything that can fail on the user's input is read before the first solve.
   // Joint force: the motion's own where it has one (standing-to-sitting: the sitting-down profile);
@@ -97,7 +99,7 @@ HipFeRunSummary run_hip_fe(const HipFeRunOptions& options, bool throw_on_failure
     case FeSolver::kDirect: solver.linear_solver = fem::LinearSolver::kDirect; break;
     case FeSolver::kCg: solver.linear_solver = fem::LinearSolver::kCgAmg; break;
   }
-  fem::ContactProblem problem(MPI_COMM_WORLD, solver);
+  fem::ContactProblem problem(communicator, solver);
   fem::build_hip_fe_model(problem, volume.mesh, model.tissue("femur_bone"), model.hjc_mm);
 
   HipFeRunSummary summary;
@@ -246,28 +248,17 @@ CachedHipFe run_hip_fe_cached(HipFeRunOptions options, const std::filesystem::pa
   const auto start = std::chrono::steady_clock::now();
   CachedHipFe cached;
   cached.entry = hip_fe_cache_entry(cache_dir, hip_fe_cache_key(options));
-  if (std::filesystem::exists(cached.entry / "fe.csv")) {
-    cached.table = read_hip_fe_csv(cached.entry / "fe.csv");
-    cached.reused = true;
-  } else {
-    AtomicDirectory staging(cached.entry);
+  const auto has_table = [](const std::filesystem::path& entry) { return std::filesystem::exists(entry / "fe.csv"); };
+  const EntrySource source = make_cache_entry(cached.entry, has_table, [&](AtomicDirectory& staging) {
     options.out_file = (staging.partial_path() / "results.h5").string();
     options.csv_file = (staging.partial_path() / "fe.csv").string();
     options.results_location = (cached.entry / "results.h5").string();
     (void)run_hip_fe(options, false);
-    commit_hip_fe_entry(staging);
-    cached.table = read_hip_fe_csv(cached.entry / "fe.csv");
-  }
+  });
+  cached.reused = source != EntrySource::kMade;
+  cached.table = read_hip_fe_csv(cached.entry / "fe.csv");
   cached.seconds = seconds_since(start);
   return cached;
-}
-
-void commit_hip_fe_entry(AtomicDirectory& run) {
-  if (!std::filesystem::exists(run.partial_path() / "fe.csv")) {
-    run.keep();  // its run.log says why
-    throw_error(run.partial_path().string(), ": the FE run left no table (fe.csv); see its run.log");
-  }
-  run.commit([](const std::filesystem::path& entry) { return std::filesystem::exists(entry / "fe.csv"); });
 }
 
 std::vector<std::string> hip_fe_command_arguments(const HipFeRunOptions& options) {

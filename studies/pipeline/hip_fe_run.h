@@ -15,7 +15,8 @@
 // FE results (kFeSourceHash: core/, geometry/, fem/, this driver; a commit elsewhere keeps the cache) — and stored under
 // <cache>/fe/<key>/ (fe.csv, results.h5, run.log). An entry exists only when complete: it is
 // computed in a temporary folder beside it (core/atomic_file.h, AtomicDirectory) and renamed
-// when the motion has finished.
+// when the motion has finished, under the entry's lock (core/cache_entry.h), so that jobs sharing
+// the cache solve each run once.
 #pragma once
 
 #ifdef HIPFAI_WITH_FEM
@@ -33,6 +34,12 @@
 #include <vector>
 
 namespace hipfai::studies {
+
+// The MPI ranks that solve one run.
+enum class FeRanks {
+  kAll,       // every rank of MPI_COMM_WORLD (`mpirun -np N hipfai fem run`)
+  kThisRank,  // this rank alone (MPI_COMM_SELF): one unit of a study spread over the ranks
+};
 
 struct HipFeRunOptions {
   std::string model_dir;    // folder with model.json and the tissue meshes
@@ -59,6 +66,9 @@ struct HipFeRunOptions {
   // Search each step's contact while the steps before are solved (fem::MotionOptions); the
   // results do not depend on it either.
   bool search_ahead = true;
+  // The results do not depend on it either where the run is on one rank (kThisRank, or kAll
+  // without mpirun); not part of the cache key.
+  FeRanks ranks = FeRanks::kAll;
   bool verbose = false;   // active-set iterations on stdout
   bool progress = true;   // progress bar on stderr (rank 0)
   std::string label = "fem run";  // prefix of the progress and summary lines
@@ -82,8 +92,8 @@ struct HipFeRunSummary {
 // an unreadable motion file.
 Motion hip_fe_motion(const HipFeRunOptions& options);
 
-// Runs the hip FE model of options.model_dir through the motion (all ranks of MPI_COMM_WORLD
-// take part; rank 0 writes). Throws hipfai::Error for input that cannot be used (model folder,
+// Runs the hip FE model of options.model_dir through the motion (the ranks of options.ranks take
+// part; the first of them writes). Throws hipfai::Error for input that cannot be used (model folder,
 // motion, level, unwritable output), and — when throw_on_failure — after the motion when some
 // step did not converge (its results are written all the same).
 HipFeRunSummary run_hip_fe(const HipFeRunOptions& options, bool throw_on_failure = true);
@@ -99,8 +109,9 @@ std::string hip_fe_cache_key(const HipFeRunOptions& options);
 std::filesystem::path hip_fe_cache_entry(const std::filesystem::path& cache_dir, const std::string& key);
 
 // A run from the cache, or computed in this process and then cached (out_file / csv_file of
-// `options` are ignored: the entry's files are used). Not converged steps are kept (their status
-// is in the table), not an error.
+// `options` are ignored: the entry's files are used), under the entry's lock (core/cache_entry.h):
+// when another job is solving the same run, this one waits and reads its entry. Not converged
+// steps are kept (their status is in the table), not an error.
 struct CachedHipFe {
   HipFeTable table;
   std::filesystem::path entry;  // the cache entry's folder
@@ -108,11 +119,6 @@ struct CachedHipFe {
   double seconds = 0.0;         // this call's wall time
 };
 CachedHipFe run_hip_fe_cached(HipFeRunOptions options, const std::filesystem::path& cache_dir);
-
-// Moves a finished run's folder (filled at run.partial_path()) into place as its cache entry;
-// when another process finished the same entry first, this one is dropped. A run that left no
-// fe.csv is an error, and its folder is kept for its run.log.
-void commit_hip_fe_entry(AtomicDirectory& run);
 
 // The command line of `hipfai fem run` that computes `options` (out/csv/vtu as set in them), for
 // running a hip in its own process. Only standing-to-sitting or a motion file can be passed.

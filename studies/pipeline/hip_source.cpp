@@ -2,6 +2,7 @@
 
 #include "anatomy/frame_file.h"
 #include "core/atomic_file.h"
+#include "core/cache_entry.h"
 #include "core/error.h"
 #include "core/hash.h"
 #include "core/literature.h"
@@ -92,15 +93,18 @@ LoadedHip acquire_hip(const Scene& scene, const std::set<std::string>& tissues,
   if (scene.parametric) {
     hip.id = parametric_hip_id(scene.parametric->ce_deg, scene.parametric->alpha_deg);
     hip.dir = generated_hip_dir(*scene.parametric, cache_dir);
-    if (std::filesystem::exists(hip.dir / "model.json")) {
-      log.hit(StageKind::kGenerateHip);
-    } else {
-      const auto generated = geometry::generate_hip(parameters_of(*scene.parametric));
-      // Written beside the final folder and renamed, so an interrupted run leaves no half model.
-      AtomicDirectory staging(hip.dir);
-      geometry::write_hip_model(generated.model, staging.partial_path(), "ply");
-      staging.commit([](const std::filesystem::path& dir) { return std::filesystem::exists(dir / "model.json"); });
+    // Written beside the final folder and renamed, so an interrupted run leaves no half model;
+    // made once when several jobs sharing the cache ask for it together (core/cache_entry.h).
+    const EntrySource source = make_cache_entry(
+        hip.dir, [](const std::filesystem::path& dir) { return std::filesystem::exists(dir / "model.json"); },
+        [&](AtomicDirectory& staging) {
+          const auto generated = geometry::generate_hip(parameters_of(*scene.parametric));
+          geometry::write_hip_model(generated.model, staging.partial_path(), "ply");
+        });
+    if (source == EntrySource::kMade) {
       log.ran(StageKind::kGenerateHip);
+    } else {
+      log.hit(StageKind::kGenerateHip);
     }
   } else if (scene.bones) {
     // The bones dressed once (studies/pipeline/soft_tissue_model.h), kept in the cache by the content of

@@ -1,6 +1,7 @@
 #include "core/atomic_file.h"
 
 #include "core/error.h"
+#include "tests/core/scratch_folder.h"
 
 #include <gtest/gtest.h>
 
@@ -21,17 +22,9 @@ namespace fs = std::filesystem;
 
 class AtomicFileTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::path(HIPFAI_BINARY_DIR) / "test-scratch" / "atomic_file" /
-           ::testing::UnitTest::GetInstance()->current_test_info()->name();
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
+  void SetUp() override { dir_ = test::scratch_folder("atomic_file"); }
 
-  std::string contents(const fs::path& path) const {
-    std::ifstream in(path, std::ios::binary);
-    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  }
+  std::string contents(const fs::path& path) const { return test::file_contents(path); }
 
   std::size_t files_in_dir() const {
     return static_cast<std::size_t>(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()));
@@ -163,6 +156,21 @@ TEST_F(AtomicFileTest, FoldersOfDeadProcessesAreRemovedByTheNextRun) {
   EXPECT_FALSE(fs::exists(dead));
   EXPECT_TRUE(fs::exists(live));   // this process's own
   EXPECT_TRUE(fs::exists(other));  // another target's
+}
+
+// A cache on a network filesystem is shared by machines: a temporary named by another machine
+// ("@<host>") belongs to a process this one cannot look at, and is left alone even when the same
+// pid runs nothing here. This machine's own (its name as partial_path() spells it) are cleaned.
+TEST_F(AtomicFileTest, FoldersOfOtherMachinesAreLeftAlone) {
+  const AtomicDirectory probe(dir_ / "probe");
+  const std::string own = probe.partial_path().filename().string();
+  const std::string this_host = own.substr(own.find('@') + 1, own.size() - own.find('@') - 1 - 8);
+  const fs::path elsewhere = dir_ / "entry.2147483646-0@some-other-node.partial";
+  const fs::path here = dir_ / ("entry.2147483646-1@" + this_host + ".partial");
+  for (const fs::path& folder : {elsewhere, here}) fs::create_directories(folder);
+  const AtomicDirectory next(dir_ / "entry");
+  EXPECT_TRUE(fs::exists(elsewhere));
+  EXPECT_FALSE(fs::exists(here));
 }
 
 // A writer killed mid-write leaves "<target>.<pid>-<n>.partial" beside the target (a generated hip's
