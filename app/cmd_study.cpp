@@ -1,6 +1,7 @@
 // hipfai study fai: the 25-model FAI penetration study (thesis §4.3).
 #include "app/cli_util.h"
 #include "app/command_registry.h"
+#include "core/error.h"
 #include "geometry/hip_parameters.h"
 #include "studies/fai_study.h"
 #include "studies/hip_sensitivity.h"
@@ -153,13 +154,25 @@ void add_validate_command(CLI::App* study) {
       run.sub_motions = 6;
       if (validate->count("--fe-level") == 0) run.fe_level = FeLevel::kCoarse;
     }
+    // Under mpirun / srun the hips are spread over the ranks, and rank 0 alone reports.
+    run.spread = studies::unit_spread_of_this_process();
     const auto result = studies::run_validation_study(run);
+    if (!result.wrote_tables) return;
+    // A hip that failed is named in one line; the others' tables and report are kept.
+    std::string failed_hips;
+    for (const auto& failed : result.failed) failed_hips += (failed_hips.empty() ? "" : "; ") + failed.hip + ": " + failed.message;
+    const auto fail = [&] {
+      throw_error("validate: ", result.failed.size(), " of ", result.failed.size() + result.hips.size(),
+                  " hips failed (the others are in ", run.out_dir.string(), "): ", failed_hips);
+    };
+    if (!result.failed.empty() && result.hips.empty()) fail();
     const auto report = studies::write_correlation_report(run.out_dir);
     std::cout << std::fixed << std::setprecision(2) << "validate: " << result.hips.size() << " hips x " << result.steps
               << " steps, FE level " << to_string(result.fe_level) << ", " << std::setprecision(0) << result.seconds
               << " s; mean r (primary measure) " << std::setprecision(2) << report.mean_r_all << " all, "
               << report.mean_r_curvilinear << " curvilinear, " << report.mean_r_radial << " radial over "
               << report.ok_cells << " cells; report: " << report.report.string() << '\n';
+    if (!result.failed.empty()) fail();
   });
 }
 

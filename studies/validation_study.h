@@ -7,7 +7,9 @@
 // Stages per hip: generate (cached by parameters), penetration (radial tables cached), FE (cached
 // by hip_fe_cache_key). The FE of the hips runs in `jobs` worker processes (`hipfai fem run`, one
 // hip per process, killed with the study: on 2 cores 1.55x faster than one hip after the other and
-// 4.7x faster than one hip on two MPI ranks, docs/validation.md).
+// 4.7x faster than one hip on two MPI ranks, docs/validation.md). Started under an MPI launcher
+// (UnitSpread::kMpiRanks), the hips' penetration and FE units are spread over the ranks instead
+// (studies/validation_ranks.h, docs/cluster.md), with the same results, and rank 0 writes them.
 // A killed run resumes: generated hips and finished FE runs come from the cache, and only the
 // hips without a finished FE entry are solved again.
 //
@@ -20,6 +22,7 @@
 #pragma once
 
 #include "core/fe_choices.h"
+#include "studies/pipeline/mpi_launch.h"
 #include "studies/results/fe_step_record.h"
 
 #ifdef HIPFAI_WITH_FEM
@@ -51,6 +54,9 @@ struct ValidationOptions {
   // the other.
   std::filesystem::path program;
   bool progress = true;
+  // kMpiRanks: the hips over the ranks of MPI_COMM_WORLD when there are two or more (every rank
+  // calls run_validation_study with the same options); with one rank, as kThisMachine.
+  UnitSpread spread = UnitSpread::kThisMachine;
 };
 
 // The FE measures of steps.csv, in column order (named by fe_measure_name, so the names end in
@@ -78,15 +84,26 @@ struct ValidationHipTiming {
   double fe_dofs = 0;
 };
 
+// A hip whose unit failed when the hips were spread over MPI ranks (the others were kept).
+struct ValidationHipFailure {
+  std::string hip;      // "ce20_alpha40"
+  std::string message;  // why
+};
+
 struct ValidationResult {
-  std::vector<ValidationHipTiming> hips;
+  // False on the ranks other than 0 of a study spread over MPI ranks: they wrote nothing and the
+  // fields below are empty.
+  bool wrote_tables = true;
+  std::vector<ValidationHipTiming> hips;  // the hips in steps.csv
+  std::vector<ValidationHipFailure> failed;
   int steps = 0;
   FeLevel fe_level = FeLevel::kDefault;
   double seconds = 0;
 };
 
 // Throws hipfai::Error for unusable options (before any work) and when an FE run leaves no
-// results (naming the hip and its log).
+// results (naming the hip and its log). Spread over MPI ranks, a hip that fails is in
+// ValidationResult::failed instead, and the tables hold the other hips.
 ValidationResult run_validation_study(const ValidationOptions& options);
 
 }  // namespace hipfai::studies

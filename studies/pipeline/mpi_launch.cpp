@@ -1,0 +1,47 @@
+#include "studies/pipeline/mpi_launch.h"
+
+#include <cstdlib>
+
+#ifdef HIPFAI_WITH_FEM
+#include "core/parallel.h"
+#include "fem/contact_problem.h"
+
+#include <algorithm>
+#endif
+
+namespace hipfai::studies {
+
+bool started_by_mpi_launcher() {
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_SIZE", "PMI_RANK"}) {
+    if (std::getenv(name) != nullptr) return true;
+  }
+  return false;
+}
+
+UnitSpread unit_spread_of_this_process() {
+  return started_by_mpi_launcher() ? UnitSpread::kMpiRanks : UnitSpread::kThisMachine;
+}
+
+#ifdef HIPFAI_WITH_FEM
+MpiWorld join_mpi_world() {
+  fem::ensure_mpi_initialized();
+  MpiWorld world;
+  MPI_Comm_rank(MPI_COMM_WORLD, &world.rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &world.size);
+  return world;
+}
+
+unsigned int threads_per_worker_rank(MPI_Comm comm) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm node;
+  MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, rank, MPI_INFO_NULL, &node);
+  const int is_worker = rank == 0 ? 0 : 1;
+  int workers_here = 0;
+  MPI_Allreduce(&is_worker, &workers_here, 1, MPI_INT, MPI_SUM, node);
+  MPI_Comm_free(&node);
+  return static_cast<unsigned int>(std::max(1, resolve_threads(0) / std::max(1, workers_here)));
+}
+#endif
+
+}  // namespace hipfai::studies

@@ -1,0 +1,39 @@
+// hipfai — how a study spreads its independent units (a hip's penetration, a hip's FE): over this
+// machine's cores, as it always did, or over the ranks of an MPI job (`mpirun -np N hipfai study
+// ...`, `srun hipfai study ...`). A process started directly never initialises MPI for a study.
+#pragma once
+
+#ifdef HIPFAI_WITH_FEM
+#include <mpi.h>
+#endif
+
+namespace hipfai::studies {
+
+enum class UnitSpread {
+  kThisMachine,  // this process and its worker processes (--jobs)
+  kMpiRanks,     // the ranks of MPI_COMM_WORLD (rank 0 hands out units and writes the results)
+};
+
+// True when an MPI launcher started this process: its variables are in the environment (Open MPI's
+// OMPI_COMM_WORLD_SIZE, PMIx's PMIX_RANK, PMI's PMI_SIZE as Slurm's srun and MPICH set them).
+bool started_by_mpi_launcher();
+
+// kMpiRanks when started_by_mpi_launcher(), else kThisMachine.
+UnitSpread unit_spread_of_this_process();
+
+#ifdef HIPFAI_WITH_FEM
+struct MpiWorld {
+  int rank = 0;
+  int size = 1;
+};
+
+// Initialises MPI once (with deal.II and PETSc, fem::ensure_mpi_initialized) and returns this
+// process's place in MPI_COMM_WORLD.
+MpiWorld join_mpi_world();
+
+// Threads of each unit on a worker rank: the hardware threads of its node shared among the
+// worker ranks there (rank 0 hands out work and sleeps in between). Collective over `comm`.
+unsigned int threads_per_worker_rank(MPI_Comm comm);
+#endif
+
+}  // namespace hipfai::studies
