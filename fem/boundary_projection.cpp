@@ -13,7 +13,7 @@ namespace hipfai::fem {
 BoundaryProjector::BoundaryProjector(const dealii::Mapping<3>& mapping,
                                      const dealii::DoFHandler<3>& dof_handler,
                                      dealii::types::boundary_id boundary_id)
-    : dof_handler_(dof_handler) {
+    : fe_(&dof_handler.get_fe()) {
   for (const auto& cell : dof_handler.active_cell_iterators()) {
     for (const unsigned int face_no : cell->face_indices()) {
       const auto face = cell->face(face_no);
@@ -23,12 +23,20 @@ BoundaryProjector::BoundaryProjector(const dealii::Mapping<3>& mapping,
   }
 }
 
-BoundaryProjection BoundaryProjector::project(const dealii::Point<3>& query_mm,
+BoundaryProjection BoundaryProjector::closest(const dealii::Point<3>& query_mm,
                                               double search_radius_mm) const {
+  const FacePatch* face = nullptr;
+  double s = 0.0, t = 0.0;
+  return closest(query_mm, search_radius_mm, face, s, t);
+}
+
+BoundaryProjection BoundaryProjector::closest(const dealii::Point<3>& query_mm,
+                                              double search_radius_mm, const FacePatch*& best_face,
+                                              double& best_s, double& best_t) const {
   BoundaryProjection best;
   best.distance_mm = std::numeric_limits<double>::max();
-  double best_s = 0.0, best_t = 0.0;
-  const FacePatch* best_face = nullptr;
+  best_s = best_t = 0.0;
+  best_face = nullptr;
 
   for (const FacePatch& face : faces_) {
     bool inside = true;
@@ -70,10 +78,17 @@ BoundaryProjection BoundaryProjector::project(const dealii::Point<3>& query_mm,
   if (best_face == nullptr) return best;
   best.found = true;
   best.normal = best_face->normal(best_s, best_t);
+  return best;
+}
 
-  const dealii::FiniteElement<3>& fe = dof_handler_.get_fe();
-  std::vector<dealii::types::global_dof_index> dofs(fe.n_dofs_per_cell());
-  best_face->cell->get_dof_indices(dofs);
+BoundaryProjection BoundaryProjector::project(const dealii::Point<3>& query_mm,
+                                              double search_radius_mm) const {
+  const FacePatch* best_face = nullptr;
+  double best_s = 0.0, best_t = 0.0;
+  BoundaryProjection best = closest(query_mm, search_radius_mm, best_face, best_s, best_t);
+  if (!best.found) return best;
+  const dealii::FiniteElement<3>& fe = *fe_;
+  const std::vector<dealii::types::global_dof_index>& dofs = best_face->dofs;
   const dealii::Point<3> unit_point = best_face->unit_cell_point(best_s, best_t);
   for (unsigned int i = 0; i < fe.n_dofs_per_cell(); ++i) {
     const double value = fe.shape_value(i, unit_point);

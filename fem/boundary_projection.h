@@ -14,6 +14,7 @@
 #include <deal.II/base/tensor.h>
 #include <deal.II/base/types.h>
 #include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/fe.h>
 #include <deal.II/fe/mapping.h>
 
 #include <array>
@@ -38,9 +39,10 @@ class BoundaryProjector {
   // shared triangulation). The DoF handler must use an FESystem of 3 equal scalar elements.
   BoundaryProjector(const dealii::Mapping<3>& mapping, const dealii::DoFHandler<3>& dof_handler,
                     dealii::types::boundary_id boundary_id);
-  // The same from the boundary's faces already made (fem/contact_surfaces.h).
-  BoundaryProjector(const dealii::DoFHandler<3>& dof_handler, std::vector<FacePatch> faces)
-      : dof_handler_(dof_handler), faces_(std::move(faces)) {}
+  // The same from the boundary's faces already made (fem/contact_surfaces.h), of a mesh with
+  // element `fe`. Reads nothing of the mesh afterwards (the faces carry their dofs).
+  BoundaryProjector(const dealii::FiniteElement<3>& fe, std::vector<FacePatch> faces)
+      : fe_(&fe), faces_(std::move(faces)) {}
 
   std::size_t n_faces() const { return faces_.size(); }
   const std::vector<FacePatch>& faces() const { return faces_; }
@@ -48,10 +50,17 @@ class BoundaryProjector {
   // Closest point on the boundary to `query_mm`, searching faces whose bounding box, grown by
   // `search_radius_mm`, contains the query. found = false when none does.
   BoundaryProjection project(const dealii::Point<3>& query_mm, double search_radius_mm) const;
+  // The same without the interpolation weights (found, point, normal and distance): what the
+  // contact search needs, at a fraction of the cost.
+  BoundaryProjection closest(const dealii::Point<3>& query_mm, double search_radius_mm) const;
 
  private:
+  // closest() and the face and parameters of its point (null face: none found).
+  BoundaryProjection closest(const dealii::Point<3>& query_mm, double search_radius_mm,
+                             const FacePatch*& face, double& s, double& t) const;
+
+  const dealii::FiniteElement<3>* fe_;
   // Faces with their bounding boxes padded for curvature.
-  const dealii::DoFHandler<3>& dof_handler_;
   std::vector<FacePatch> faces_;
 };
 

@@ -84,19 +84,28 @@ void CondensedContact::begin_run(BodyCompliance& bodies, const ContactModel& mod
   node_force_.assign(bodies.n_nodes(), dealii::Tensor<1, 3>());
 }
 
+namespace {
+
+// target += w0 c0 + w1 c1 + w2 c2 over `size` entries: the three columns of a node in one pass
+// over the target (a third of the memory traffic). The AVX2 clone, chosen at run time where the
+// processor has it, does the same arithmetic in the same order four entries at a time (no fused
+// multiply-add), so its sums are bit for bit the default clone's.
+__attribute__((target_clones("avx2", "default"))) void add_weighted_columns(
+    double* target, const double* c0, const double* c1, const double* c2, double w0, double w1,
+    double w2, std::size_t size) {
+  for (std::size_t i = 0; i < size; ++i) target[i] += w0 * c0[i] + w1 * c1[i] + w2 * c2[i];
+}
+
+}  // namespace
+
 void CondensedContact::compute_h(std::size_t n) {
   std::vector<double>& out = h_[n];
   out.assign(n_surface_dofs_, 0.0);
   for (const Term& term : constraints_[n].terms) {
     const double* columns = bodies_->columns(term.node);
     const std::size_t size = 3 * bodies_->n_surface_nodes(term.body);
-    double* target = out.data() + body_offset_[term.body];
-    // The three columns in one pass over the target (a third of the memory traffic).
-    const double w0 = term.local[0], w1 = term.local[1], w2 = term.local[2];
-    const double* c0 = columns;
-    const double* c1 = columns + size;
-    const double* c2 = columns + 2 * size;
-    for (std::size_t i = 0; i < size; ++i) target[i] += w0 * c0[i] + w1 * c1[i] + w2 * c2[i];
+    add_weighted_columns(out.data() + body_offset_[term.body], columns, columns + size,
+                         columns + 2 * size, term.local[0], term.local[1], term.local[2], size);
   }
 }
 

@@ -96,6 +96,11 @@ class ContactProblem::Impl {
   std::vector<ContactModel> upcoming;
   ContactSearchAhead search_ahead;
   bool searched_ahead = false;  // this run's nodes came from it
+  // The searches ahead take a thread of their own: only when the caller expects more runs and
+  // this one may use two threads.
+  bool searches_ahead() const {
+    return !upcoming.empty() && threads_per_rank(system.communicator()) >= 2;
+  }
   std::vector<SlaveNode> nodes;
   std::vector<bool> active;
   // Of the last run: its solved state, the nodes' forces and gaps (empty: no state solved),
@@ -117,6 +122,14 @@ void ContactProblem::Impl::setup_system() {
     compliance_failed = false;
     factorisations_before_run = compliance.factorisations();
     if (compliance.needs_factorisation()) {
+      // This run's own contact search goes ahead of the factorisation, beside it.
+      if (searches_ahead()) {
+        surfaces.update(system, model);
+        std::vector<ContactModel> runs{model};
+        runs.insert(runs.end(), upcoming.begin(), upcoming.end());
+        search_ahead.plan(system, surfaces, runs, constraints.fixed_dofs(),
+                          options.tangent_plane_cull);
+      }
       // Every rank factorises the whole bodies (the substructured path is replicated, not
       // distributed, on several ranks), so it needs every cell's matrix.
       system.compute_cell_matrices(true);
@@ -134,20 +147,25 @@ void ContactProblem::Impl::setup_system() {
 }
 
 void ContactProblem::Impl::find_contact_nodes() {
+  {
+    dealii::TimerOutput::Scope scope(timer, "contact search");
+    surfaces.update(system, model);
+  }
+  std::optional<std::vector<SlaveNode>> found;
+  {
+    // Waits only for a search of this run still in progress.
+    dealii::TimerOutput::Scope scope(timer, "contact search ahead (waiting)");
+    found = search_ahead.take(system, surfaces, model, constraints.fixed_dofs(),
+                              options.tangent_plane_cull);
+  }
   dealii::TimerOutput::Scope scope(timer, "contact search");
-  surfaces.update(system, model);
-  std::optional<std::vector<SlaveNode>> found = search_ahead.take(
-      system, surfaces, model, constraints.fixed_dofs(), options.tangent_plane_cull);
   searched_ahead = found.has_value();
   if (searched_ahead) pcout << "fem: contact nodes from the search run beside the previous run" << std::endl;
   nodes = found ? std::move(*found)
                 : collect_slave_nodes(system, model, surfaces, constraints.fixed_dofs(),
                                       options.tangent_plane_cull);
-  // The searches ahead take a thread of their own: only when the run may use two.
-  if (!upcoming.empty() && threads_per_rank(system.communicator()) >= 2) {
+  if (searches_ahead())
     search_ahead.plan(system, surfaces, upcoming, constraints.fixed_dofs(), options.tangent_plane_cull);
-    search_ahead.resume();
-  }
   upcoming.clear();
 }
 
@@ -320,11 +338,6 @@ void ContactProblem::Impl::postprocess(ContactResult& result) {
 ContactResult ContactProblem::Impl::run() {
   const dealii::Timer wall_clock;
   timer.reset();
-  // The searches ahead read the mesh: they pause before the run ends, also when it throws.
-  struct PauseSearchAhead {
-    ContactSearchAhead& search;
-    ~PauseSearchAhead() { search.pause(); }
-  } pause_search_ahead{search_ahead};
   check_references(model);
   setup_system();
   find_contact_nodes();
@@ -356,10 +369,6 @@ ContactResult ContactProblem::Impl::run() {
   if (!options.vtu_file.empty()) {
     dealii::TimerOutput::Scope scope(timer, "output");
     output_results(options.vtu_file);
-  }
-  {
-    dealii::TimerOutput::Scope scope(timer, "contact search ahead (waiting)");
-    search_ahead.pause();
   }
   result.statistics.wall_time_s = wall_clock.wall_time();
   const SolveStatistics& counts = result.statistics;

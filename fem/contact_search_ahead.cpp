@@ -1,6 +1,5 @@
 #include "fem/contact_search_ahead.h"
 
-#include <deal.II/base/timer.h>
 
 namespace hipfai::fem {
 
@@ -40,6 +39,8 @@ struct ContactSearchAhead::Search {
   enum class State { kQueued, kRunning, kDone };
   ContactModel model;
   ContactSurfaces surfaces;  // turned to the model's placement
+  std::shared_ptr<const std::vector<SlaveBoundaryNodes>> slaves;
+  const ElasticSystem* system = nullptr;  // for its finite element's tables only
   ContactSearchSettings settings;
   std::vector<bool> fixed_dof;
   dealii::types::global_dof_index n_dofs = 0;
@@ -61,60 +62,51 @@ ContactSearchAhead::~ContactSearchAhead() {
 void ContactSearchAhead::plan(const ElasticSystem& system, const ContactSurfaces& surfaces,
                               const std::vector<ContactModel>& upcoming,
                               const std::vector<bool>& fixed_dof, bool tangent_plane_cull) {
-  pause();
   const std::lock_guard<std::mutex> lock(mutex_);
-  std::list<Search> queue;
+  if (!slaves_ && !upcoming.empty())
+    slaves_ = std::make_shared<const std::vector<SlaveBoundaryNodes>>(
+        slave_boundary_nodes(system, upcoming.front()));
+  const auto searchable = [&](const ContactModel& model) {
+    bool match = slaves_->size() == model.contact_pairs.size();
+    for (std::size_t p = 0; match && p < slaves_->size(); ++p)
+      match = (*slaves_)[p].boundary_id == model.contact_pairs[p].slave_boundary_id;
+    return match;
+  };
+  std::list<std::shared_ptr<Search>> queue;
   for (const ContactModel& model : upcoming) {
+    if (!searchable(model)) continue;  // other slave boundaries: the run searches itself
     auto kept = queue_.begin();
-    while (kept != queue_.end() && !same_search_geometry(kept->model, model)) ++kept;
-    if (kept != queue_.end()) {
+    while (kept != queue_.end() && !same_search_geometry((*kept)->model, model)) ++kept;
+    if (kept != queue_.end() && (*kept)->slaves == slaves_) {
       queue.splice(queue.end(), queue_, kept);
       continue;
     }
-    Search& search = queue.emplace_back();
-    search.model = model;
-    search.surfaces = surfaces.predicted(model);
+    auto search = std::make_shared<Search>();
+    search->model = model;
+    search->surfaces = surfaces.predicted(model);
+    search->slaves = slaves_;
+    search->system = &system;
     // One thread: the run's own stages keep the worker pool (a search that entered it would
     // hold its slots while the solve waits for them).
-    search.settings = {contact_search_radius(system.diameter_if_placed(model)), 1, tangent_plane_cull};
-    search.fixed_dof = fixed_dof;
-    search.n_dofs = system.dof_handler().n_dofs();
+    search->settings = {contact_search_radius(system.diameter_if_placed(model)), 1, tangent_plane_cull};
+    search->fixed_dof = fixed_dof;
+    search->n_dofs = system.dof_handler().n_dofs();
+    queue.push_back(std::move(search));
   }
   queue_ = std::move(queue);
-  system_ = &system;
   if (!thread_.joinable()) thread_ = std::thread([this] { work(); });
-}
-
-void ContactSearchAhead::resume() {
-  {
-    const std::lock_guard<std::mutex> lock(mutex_);
-    paused_ = false;
-  }
   changed_.notify_all();
-}
-
-double ContactSearchAhead::pause() {
-  const dealii::Timer timer;
-  std::unique_lock<std::mutex> lock(mutex_);
-  paused_ = true;
-  changed_.wait(lock, [this] {
-    for (const Search& search : queue_)
-      if (search.state == Search::State::kRunning) return false;
-    return true;
-  });
-  return timer.wall_time();
 }
 
 void ContactSearchAhead::work() {
   std::unique_lock<std::mutex> lock(mutex_);
   while (true) {
-    Search* next = nullptr;
+    std::shared_ptr<Search> next;
     changed_.wait(lock, [&] {
       if (stop_) return true;
-      if (paused_) return false;
-      for (Search& search : queue_) {
-        if (search.state != Search::State::kQueued) continue;
-        next = &search;
+      for (const std::shared_ptr<Search>& search : queue_) {
+        if (search->state != Search::State::kQueued) continue;
+        next = search;
         return true;
       }
       return false;
@@ -124,8 +116,8 @@ void ContactSearchAhead::work() {
     lock.unlock();
     std::optional<std::vector<SlaveNode>> nodes;
     try {
-      nodes = collect_slave_nodes(*system_, next->model, next->surfaces, next->fixed_dof,
-                                  next->settings);
+      nodes = collect_slave_nodes(*next->system, next->model, next->surfaces, *next->slaves,
+                                  next->fixed_dof, next->settings);
     } catch (...) {
       // The run that needs this placement searches it again and reports the error itself.
     }
@@ -141,26 +133,37 @@ std::optional<std::vector<SlaveNode>> ContactSearchAhead::take(const ElasticSyst
                                                                const ContactModel& model,
                                                                const std::vector<bool>& fixed_dof,
                                                                bool tangent_plane_cull) {
-  pause();
-  const std::lock_guard<std::mutex> lock(mutex_);
+  std::unique_lock<std::mutex> lock(mutex_);
   auto it = queue_.begin();
-  while (it != queue_.end() && !same_search_geometry(it->model, model)) ++it;
+  while (it != queue_.end() && !same_search_geometry((*it)->model, model)) ++it;
   if (it == queue_.end()) return std::nullopt;  // a pose nobody expected (a cutback's half step)
   queue_.erase(queue_.begin(), it);             // the poses before it have passed
-  Search search = std::move(queue_.front());
+  const std::shared_ptr<Search> search = queue_.front();
   queue_.pop_front();
-  bool same = search.state == Search::State::kDone && search.nodes.has_value() &&
-              search.surfaces.same_faces(surfaces) &&
-              search.settings.search_radius_mm == contact_search_radius(system.diameter()) &&
-              search.settings.tangent_plane_cull == tangent_plane_cull &&
-              search.n_dofs == system.dof_handler().n_dofs() && search.fixed_dof == fixed_dof;
-  // The slave nodes were read from the mesh in another placement: they must not have moved.
-  for (std::size_t n = 0; same && n < search.nodes->size(); ++n) {
-    const SlaveNode& node = (*search.nodes)[n];
-    same = node.position == system.support_points()[node.dofs[0]];
+  if (search->state == Search::State::kRunning)
+    changed_.wait(lock, [&] { return search->state == Search::State::kDone; });
+  lock.unlock();
+  bool same = search->state == Search::State::kDone && search->nodes.has_value() &&
+              search->surfaces.same_faces(surfaces) &&
+              search->settings.search_radius_mm == contact_search_radius(system.diameter()) &&
+              search->settings.tangent_plane_cull == tangent_plane_cull &&
+              search->n_dofs == system.dof_handler().n_dofs() && search->fixed_dof == fixed_dof;
+  // The slave nodes were read from the mesh before: they must not have moved, nor their dofs.
+  bool slaves_same = true;
+  for (std::size_t p = 0; same && p < search->slaves->size(); ++p) {
+    for (const SlaveNode& node : (*search->slaves)[p].nodes) {
+      for (unsigned int c = 0; slaves_same && c < 3; ++c)
+        slaves_same = node.dofs[c] < system.support_points().size();
+      slaves_same = slaves_same && node.position == system.support_points()[node.dofs[0]];
+      if (!slaves_same) break;
+    }
   }
-  if (!same) return std::nullopt;
-  return std::move(search.nodes);
+  if (!slaves_same) {
+    const std::lock_guard<std::mutex> relock(mutex_);
+    if (slaves_ == search->slaves) slaves_.reset();
+  }
+  if (!same || !slaves_same) return std::nullopt;
+  return std::move(search->nodes);
 }
 
 }  // namespace hipfai::fem

@@ -14,9 +14,13 @@
 // the nodes are those the run's own search would give, so the answers do not change; only the
 // time does. The first run's long solve (the compliance columns) hides most of the searches.
 //
-// The searches run on a thread of their own, one at a time, only between resume() and pause():
-// the caller must pause before it changes the mesh, the dofs or the system's placement
-// (ContactProblem resumes after its own search and pauses at the end of every run).
+// The searches run on a thread of their own, one after the other, and read nothing of the system
+// once planned: the slave boundaries' nodes are taken from the mesh when the first search is
+// planned (slave_boundary_nodes), the faces carry their dofs, and each search holds its own copy
+// of everything else. So the caller moves the mesh, renumbers its dofs and solves while they run;
+// it waits only when it takes a search still in progress. The slave nodes kept are checked against
+// the mesh at every take (their dofs' support points); when they differ the run searches itself
+// and they are taken anew at the next plan.
 #pragma once
 
 #include "fem/contact_model.h"
@@ -43,19 +47,15 @@ class ContactSearchAhead {
 
   // The placements of the runs to come, in order: searches already made or queued for the same
   // placements are kept, the others queued (the faces of `surfaces`, brought to the system's
-  // current placement, turned to each), and searches no longer expected dropped. Paused or not
-  // started: call resume() to let the searches run.
+  // current placement, turned to each), and searches no longer expected dropped. The thread
+  // starts on them at once.
   void plan(const ElasticSystem& system, const ContactSurfaces& surfaces,
             const std::vector<ContactModel>& upcoming, const std::vector<bool>& fixed_dof,
             bool tangent_plane_cull);
-  // Lets the thread search the queued placements, one after the other.
-  void resume();
-  // Lets the search in progress finish and starts no other; returns the seconds waited.
-  double pause();
-  // The nodes searched ahead for this run if the search is finished and searched exactly this
-  // run's input (the system placed and set up for `model`, `surfaces` updated to it); nothing
-  // otherwise (the caller then searches). Searches of placements before it are dropped. Call
-  // while paused.
+  // The nodes searched ahead for this run if its search searched exactly this run's input (the
+  // system placed and set up for `model`, `surfaces` updated to it), after waiting for it if it
+  // is in progress; nothing otherwise (the caller then searches; a search not yet started is
+  // dropped, not waited for). Searches of placements before it are dropped.
   std::optional<std::vector<SlaveNode>> take(const ElasticSystem& system,
                                              const ContactSurfaces& surfaces,
                                              const ContactModel& model,
@@ -66,13 +66,15 @@ class ContactSearchAhead {
   struct Search;
   void work();
 
-  const ElasticSystem* system_ = nullptr;
-  std::vector<bool> fixed_dof_;
-  dealii::types::global_dof_index n_dofs_ = 0;
-  std::list<Search> queue_;  // in the order of the runs to come; stable addresses for the thread
+  // The slave boundaries' nodes every queued search reads (null until the first plan, or after
+  // a take found them moved).
+  std::shared_ptr<const std::vector<SlaveBoundaryNodes>> slaves_;
+  // In the order of the runs to come; the thread holds the one it searches, so dropping it from
+  // the queue is safe.
+  std::list<std::shared_ptr<Search>> queue_;
   std::mutex mutex_;
   std::condition_variable changed_;
-  bool paused_ = true, stop_ = false;
+  bool stop_ = false;
   std::thread thread_;  // started by the first plan()
 };
 

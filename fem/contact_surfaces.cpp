@@ -72,7 +72,9 @@ void ContactSurfaces::update(const ElasticSystem& system, const ContactModel& mo
         }
         MadeFace& old = made[index];
         const dealii::Tensor<2, 3> turn = rotation * dealii::transpose(old.rotation);
-        bool same = checkable && face_support_dofs(system, cell, face_no, scratch) == old.support_dofs;
+        // The same dofs (the patch carries its cell's, fem/face_patch.h) and the same shape.
+        cell->get_dof_indices(scratch);
+        bool same = checkable && scratch == old.patch.dofs;
         for (std::size_t k = 0; same && k < old.support_dofs.size(); ++k) {
           const dealii::Point<3> expected = centre + turn * (old.support_points[k] - centre);
           same = system.support_points()[old.support_dofs[k]].distance(expected) <= tolerance;

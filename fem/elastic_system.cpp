@@ -268,27 +268,39 @@ VonMisesField ElasticSystem::von_mises(const dealii::Vector<double>& displacemen
     body_of_material[model.bodies[b].material_id] = b;
   VonMisesField field;
   field.samples.resize(model.bodies.size());
-  dealii::FEValues<3> fe_values(
-      mapping_, fe_, dealii::QGauss<3>(fe_.degree + 1),
-      dealii::update_gradients | dealii::update_quadrature_points | dealii::update_JxW_values);
-  const dealii::FEValuesExtractors::Vector extractor(0);
-  std::vector<dealii::SymmetricTensor<2, 3>> strains(fe_values.n_quadrature_points);
   field.cell_max.reinit(triangulation_.n_active_cells());
-  for (const auto& cell : dof_handler_.active_cell_iterators()) {
-    fe_values.reinit(cell);
-    fe_values[extractor].get_function_symmetric_gradients(displacement, strains);
-    const auto [lambda, mu] = lame_by_material_.at(cell->material_id());
-    std::vector<FieldSample>& out = field.samples[body_of_material.at(cell->material_id())];
-    for (unsigned int q = 0; q < strains.size(); ++q) {
-      const dealii::SymmetricTensor<2, 3>& strain = strains[q];
-      const dealii::SymmetricTensor<2, 3> stress =
-          lambda * dealii::trace(strain) * dealii::unit_symmetric_tensor<3>() + 2.0 * mu * strain;
-      const dealii::SymmetricTensor<2, 3> deviator = dealii::deviator(stress);
-      const double value = std::sqrt(1.5 * (deviator * deviator));
-      out.push_back({to_vec3(fe_values.quadrature_point(q)), value, fe_values.JxW(q)});
+  // Cells in chunks over the threads, each cell's samples into its own slot, gathered in cell
+  // order afterwards: the same field whatever the number of threads.
+  std::vector<dealii::DoFHandler<3>::active_cell_iterator> cells;
+  for (const auto& cell : dof_handler_.active_cell_iterators()) cells.push_back(cell);
+  std::vector<std::vector<FieldSample>> cell_samples(cells.size());
+  run_in_chunks(cells.size(), threads_per_rank(comm_), [&](std::size_t first, std::size_t last) {
+    dealii::FEValues<3> fe_values(
+        mapping_, fe_, dealii::QGauss<3>(fe_.degree + 1),
+        dealii::update_gradients | dealii::update_quadrature_points | dealii::update_JxW_values);
+    const dealii::FEValuesExtractors::Vector extractor(0);
+    std::vector<dealii::SymmetricTensor<2, 3>> strains(fe_values.n_quadrature_points);
+    for (std::size_t c = first; c < last; ++c) {
+      const auto& cell = cells[c];
+      fe_values.reinit(cell);
+      fe_values[extractor].get_function_symmetric_gradients(displacement, strains);
+      const auto [lambda, mu] = lame_by_material_.at(cell->material_id());
+      std::vector<FieldSample>& out = cell_samples[c];
       float& cell_max = field.cell_max[cell->active_cell_index()];
-      cell_max = std::max(cell_max, static_cast<float>(value));
+      for (unsigned int q = 0; q < strains.size(); ++q) {
+        const dealii::SymmetricTensor<2, 3>& strain = strains[q];
+        const dealii::SymmetricTensor<2, 3> stress =
+            lambda * dealii::trace(strain) * dealii::unit_symmetric_tensor<3>() + 2.0 * mu * strain;
+        const dealii::SymmetricTensor<2, 3> deviator = dealii::deviator(stress);
+        const double value = std::sqrt(1.5 * (deviator * deviator));
+        out.push_back({to_vec3(fe_values.quadrature_point(q)), value, fe_values.JxW(q)});
+        cell_max = std::max(cell_max, static_cast<float>(value));
+      }
     }
+  });
+  for (std::size_t c = 0; c < cells.size(); ++c) {
+    std::vector<FieldSample>& out = field.samples[body_of_material.at(cells[c]->material_id())];
+    out.insert(out.end(), cell_samples[c].begin(), cell_samples[c].end());
   }
   return field;
 }

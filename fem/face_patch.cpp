@@ -115,7 +115,8 @@ dealii::Point<3> FacePatch::unit_cell_point(double s, double t) const {
 FacePatch::FacePatch(const dealii::Mapping<3>& mapping,
                      const dealii::DoFHandler<3>::active_cell_iterator& cell_in,
                      unsigned int face_no_in)
-    : cell(cell_in), face_no(face_no_in) {
+    : cell(cell_in), face_no(face_no_in), dofs(cell_in->get_fe().n_dofs_per_cell()) {
+  cell->get_dof_indices(dofs);
   const auto grid = [&](unsigned int degree) {
     std::vector<dealii::Point<3>> points;
     for (unsigned int j = 0; j <= degree; ++j) {
@@ -158,6 +159,7 @@ FacePatch FacePatch::turned(const dealii::Tensor<2, 3>& rotation, const dealii::
   FacePatch out;
   out.cell = cell;
   out.face_no = face_no;
+  out.dofs = dofs;
   out.degree_ = degree_;
   out.orientation_ = orientation_;  // a proper rotation keeps ds x dt on the same side
   const auto turn = [&](const std::vector<dealii::Point<3>>& points) {

@@ -30,8 +30,9 @@ class FacePatch {
 
   // The same patch bit for bit: the same face, interpolation nodes and bounds' grid.
   bool identical(const FacePatch& other) const {
-    return cell == other.cell && face_no == other.face_no && degree_ == other.degree_ &&
-           orientation_ == other.orientation_ && nodes_ == other.nodes_ && samples_ == other.samples_;
+    return cell == other.cell && face_no == other.face_no && dofs == other.dofs &&
+           degree_ == other.degree_ && orientation_ == other.orientation_ && nodes_ == other.nodes_ &&
+           samples_ == other.samples_;
   }
 
   // Degree of the interpolating polynomial (the mapping's, or kDegree).
@@ -77,6 +78,9 @@ class FacePatch {
 
   dealii::DoFHandler<3>::active_cell_iterator cell;
   unsigned int face_no = 0;
+  // The cell's dofs when the patch was made: what the contact search reads instead of the DoF
+  // handler, so that it never touches the mesh (which another thread may be renumbering).
+  std::vector<dealii::types::global_dof_index> dofs;
   dealii::Point<3> box_min, box_max;  // bounding box, padded for curvature
   dealii::Point<3> vertex(unsigned int i) const;  // corners in counter-clockwise (s, t) order
   // Points of the face on the equispaced (kDegree+1)^2 grid of (s, t), s fastest: its bounds.

@@ -22,15 +22,10 @@ using dealii::types::global_dof_index;
 
 namespace {
 
-// The nodes of one slave boundary (their dofs, positions and areas), keyed by the x-component dof.
-struct PairNodes {
-  std::vector<SlaveNode> nodes;
-  std::map<global_dof_index, std::size_t> node_of_dof;  // x-component dof -> index into nodes
-};
-
-PairNodes gather_pair_nodes(const ElasticSystem& system, unsigned int p,
+SlaveBoundaryNodes gather_pair_nodes(const ElasticSystem& system, unsigned int p,
                             dealii::types::boundary_id slave_boundary_id) {
-  PairNodes out;
+  SlaveBoundaryNodes out;
+  out.boundary_id = slave_boundary_id;
   const dealii::FESystem<3>& fe = system.fe();
   dealii::FEFaceValues<3> face_values(system.mapping(), fe, dealii::QGauss<2>(fe.degree + 1),
                                       dealii::update_values | dealii::update_JxW_values);
@@ -120,7 +115,7 @@ struct MortarIntegrals {
 
 MortarIntegrals integrate_mortar(const ElasticSystem& system, const BoundaryProjector& projector,
                                  const std::vector<FacePatch>& slave_faces,
-                                 const PairNodes& pair_nodes,
+                                 const SlaveBoundaryNodes& pair_nodes,
                                  const ContactSearchSettings& settings) {
   const std::size_t count = pair_nodes.nodes.size();
   MortarIntegrals out;
@@ -200,10 +195,9 @@ MortarIntegrals integrate_mortar(const ElasticSystem& system, const BoundaryProj
   // Faces opposite the master cost far more than the rest: blocks taken dynamically.
   parallel_blocks(slave_faces.size(), static_cast<int>(settings.n_threads), 8, integrate_faces);
 
-  std::vector<global_dof_index> dofs(fe.n_dofs_per_cell()), master_dofs(fe.n_dofs_per_cell());
   for (std::size_t f = 0; f < slave_faces.size(); ++f) {
     const FaceResult& result = face_results[f];
-    slave_faces[f].cell->get_dof_indices(dofs);
+    const std::vector<global_dof_index>& dofs = slave_faces[f].dofs;
     std::vector<std::size_t> local(result.slave_base.size());
     for (std::size_t a = 0; a < local.size(); ++a) {
       local[a] = pair_nodes.node_of_dof.at(dofs[system.system_index(result.slave_base[a], 0)]);
@@ -211,7 +205,7 @@ MortarIntegrals integrate_mortar(const ElasticSystem& system, const BoundaryProj
       out.weighted_gap[local[a]] += result.gap[a];
     }
     for (const Block& block : result.blocks) {
-      block.master->cell->get_dof_indices(master_dofs);
+      const std::vector<global_dof_index>& master_dofs = block.master->dofs;
       const std::size_t nm = block.master_base.size();
       for (std::size_t a = 0; a < local.size(); ++a) {
         for (std::size_t b = 0; b < nm; ++b) {
@@ -262,28 +256,51 @@ std::vector<SlaveNode> collect_slave_nodes(const ElasticSystem& system, const Co
                               threads_per_rank(system.communicator()), tangent_plane_cull});
 }
 
+std::vector<SlaveBoundaryNodes> slave_boundary_nodes(const ElasticSystem& system,
+                                                     const ContactModel& model) {
+  std::vector<SlaveBoundaryNodes> out;
+  for (unsigned int p = 0; p < model.contact_pairs.size(); ++p) {
+    const dealii::types::boundary_id id = model.contact_pairs[p].slave_boundary_id;
+    out.push_back(gather_pair_nodes(system, p, id));
+    if (out.back().nodes.empty()) {
+      throw_error("fem model: contact pair ", p, ": slave boundary ", static_cast<int>(id),
+                  " has no faces");
+    }
+  }
+  return out;
+}
+
 std::vector<SlaveNode> collect_slave_nodes(const ElasticSystem& system, const ContactModel& model,
                                            const ContactSurfaces& surfaces,
                                            const std::vector<bool>& fixed_dof,
                                            const ContactSearchSettings& settings) {
+  return collect_slave_nodes(system, model, surfaces, slave_boundary_nodes(system, model),
+                             fixed_dof, settings);
+}
+
+std::vector<SlaveNode> collect_slave_nodes(const ElasticSystem& system, const ContactModel& model,
+                                           const ContactSurfaces& surfaces,
+                                           const std::vector<SlaveBoundaryNodes>& slaves,
+                                           const std::vector<bool>& fixed_dof,
+                                           const ContactSearchSettings& settings) {
+  bool match = slaves.size() == model.contact_pairs.size();
+  for (std::size_t p = 0; match && p < slaves.size(); ++p)
+    match = slaves[p].boundary_id == model.contact_pairs[p].slave_boundary_id;
+  if (!match) throw_error("fem: the slave boundaries given are not the model's contact pairs'");
   std::vector<SlaveNode> nodes;
   const double search_radius_mm = settings.search_radius_mm;
   for (unsigned int p = 0; p < model.contact_pairs.size(); ++p) {
     const ContactPair& pair = model.contact_pairs[p];
     std::unique_ptr<BoundaryProjector> projector;
     if (pair.master_rigid_body < 0) {
-      projector = std::make_unique<BoundaryProjector>(system.dof_handler(),
+      projector = std::make_unique<BoundaryProjector>(system.fe(),
                                                       surfaces.faces(pair.master_boundary_id));
       if (projector->n_faces() == 0) {
         throw_error("fem model: contact pair ", p, ": master boundary ",
                     static_cast<int>(pair.master_boundary_id), " has no faces");
       }
     }
-    const PairNodes pair_nodes = gather_pair_nodes(system, p, pair.slave_boundary_id);
-    if (pair_nodes.nodes.empty()) {
-      throw_error("fem model: contact pair ", p, ": slave boundary ",
-                  static_cast<int>(pair.slave_boundary_id), " has no faces");
-    }
+    const SlaveBoundaryNodes& pair_nodes = slaves[p];
     MortarIntegrals integrals;
     if (projector)
       integrals = integrate_mortar(system, *projector, surfaces.faces(pair.slave_boundary_id),
@@ -303,7 +320,7 @@ std::vector<SlaveNode> collect_slave_nodes(const ElasticSystem& system, const Co
         node.rigid_body = pair.master_rigid_body;
         node.initial_gap = (node.position - master_point) * node.normal;
       } else {
-        const BoundaryProjection projection = projector->project(node.position, search_radius_mm);
+        const BoundaryProjection projection = projector->closest(node.position, search_radius_mm);
         if (!projection.found) continue;  // nothing opposite: this node cannot touch
         // Barely covered nodes (the master ends just past them) would give an ill-scaled row.
         const double covered = integrals.covered[local];

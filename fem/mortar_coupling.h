@@ -26,6 +26,7 @@
 #include <deal.II/base/types.h>
 
 #include <array>
+#include <map>
 #include <utility>
 #include <vector>
 
@@ -77,6 +78,28 @@ struct ContactSearchSettings {
 // and makes no MPI call.
 std::vector<SlaveNode> collect_slave_nodes(const ElasticSystem& system, const ContactModel& model,
                                            const ContactSurfaces& surfaces,
+                                           const std::vector<bool>& fixed_dof,
+                                           const ContactSearchSettings& settings);
+
+// The nodes of one contact pair's slave boundary as the mesh gives them: their pair, dofs,
+// support points and areas (the integral of each node's shape function over the boundary, under
+// the mapping), the rest of each SlaveNode unset. What the search reads of the mesh besides the
+// faces.
+struct SlaveBoundaryNodes {
+  dealii::types::boundary_id boundary_id = 0;  // the slave boundary
+  std::vector<SlaveNode> nodes;
+  std::map<dealii::types::global_dof_index, std::size_t> node_of_dof;  // x dof -> index into nodes
+};
+// Those of every contact pair of `model`, in pair order, from the system as it is now. Throws
+// hipfai::Error for a pair whose slave boundary has no faces.
+std::vector<SlaveBoundaryNodes> slave_boundary_nodes(const ElasticSystem& system,
+                                                     const ContactModel& model);
+// The same search from them (one per pair of `model`): of the system it reads only the finite
+// element's tables, never the mesh, its dofs or support points (the faces carry their dofs), so it
+// can run on another thread while the mesh is moved and its dofs renumbered.
+std::vector<SlaveNode> collect_slave_nodes(const ElasticSystem& system, const ContactModel& model,
+                                           const ContactSurfaces& surfaces,
+                                           const std::vector<SlaveBoundaryNodes>& slaves,
                                            const std::vector<bool>& fixed_dof,
                                            const ContactSearchSettings& settings);
 

@@ -226,7 +226,8 @@ TEST(FemMotion, LoadedCoreRelocatesAndTheContactResultantBalancesTheLoad) {
 // shell turns with its bone, so every step's master faces and search radius differ. As the
 // master (the hip's pairing: the acetabular side is the slave) the search ahead is used; as the
 // slave it moves between the steps, which the search ahead must notice (it read the slave nodes
-// in the previous placement), and every step searches anew.
+// in the previous placement), and every later step searches anew. The first step's own search
+// runs beside its factorisation, on the mesh as placed for it: used either way.
 TEST(FemMotion, SearchAheadGivesTheStepsOfTheMotionSearchedStepByStep) {
   const Tensor<1, 3> axis({1, 2, 3});
   std::vector<MotionStep> steps;
@@ -258,7 +259,8 @@ TEST(FemMotion, SearchAheadGivesTheStepsOfTheMotionSearchedStepByStep) {
       const ContactResult& ahead = runs[1][k];
       ASSERT_EQ(stepwise.status, ContactStatus::kConverged) << "step " << k;
       ASSERT_EQ(ahead.status, ContactStatus::kConverged) << "step " << k;
-      EXPECT_EQ(ahead.statistics.searched_ahead, !femoral_slave && k > 0 && two_threads) << "step " << k;
+      EXPECT_EQ(ahead.statistics.searched_ahead, (k == 0 || !femoral_slave) && two_threads)
+          << "step " << k;
       EXPECT_EQ(ahead.statistics.active_set_iterations, stepwise.statistics.active_set_iterations);
       EXPECT_EQ(ahead.rigid_translation_mm[0], stepwise.rigid_translation_mm[0]) << "step " << k;
       EXPECT_EQ(ahead.peaks.max_pressure_mpa, stepwise.peaks.max_pressure_mpa) << "step " << k;
