@@ -7,6 +7,7 @@
 #include "fem/contact_problem.h"
 
 #include <algorithm>
+#include <sched.h>
 #endif
 
 namespace hipfai::studies {
@@ -40,7 +41,12 @@ unsigned int threads_per_worker_rank(MPI_Comm comm) {
   int workers_here = 0;
   MPI_Allreduce(&is_worker, &workers_here, 1, MPI_INT, MPI_SUM, node);
   MPI_Comm_free(&node);
-  return static_cast<unsigned int>(std::max(1, resolve_threads(0) / std::max(1, workers_here)));
+  int threads = std::max(1, resolve_threads(0) / std::max(1, workers_here));
+  // A launcher that binds each rank to its own CPUs (srun --cpus-per-task, mpirun --bind-to):
+  // no more threads than the rank may run on.
+  cpu_set_t allowed;
+  if (sched_getaffinity(0, sizeof allowed, &allowed) == 0) threads = std::min(threads, std::max(1, CPU_COUNT(&allowed)));
+  return static_cast<unsigned int>(threads);
 }
 #endif
 

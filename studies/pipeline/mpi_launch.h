@@ -32,7 +32,8 @@ struct MpiWorld {
 MpiWorld join_mpi_world();
 
 // Threads of each unit on a worker rank: the hardware threads of its node shared among the
-// worker ranks there (rank 0 hands out work and sleeps in between). Collective over `comm`.
+// worker ranks there (rank 0 hands out work and sleeps in between), and no more than the CPUs the
+// launcher bound the rank to. Collective over `comm`.
 unsigned int threads_per_worker_rank(MPI_Comm comm);
 #endif
 
