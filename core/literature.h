@@ -257,3 +257,12 @@ inline constexpr double kCamResectionTargetAlphaDeg = 50.0;
 // (end of the resections section)
 
 }  // namespace hipfai::literature
+
+// ==== Space-filling designs (appended block, see stats/space_filling_design.h) ==================
+namespace hipfai::literature {
+// Maximin Latin hypercubes are optimised through the phi_p criterion, (sum over pairs of d^-p)^(1/p),
+// of Morris & Mitchell (1995, J Stat Plan Inference 43:381-402), which tends to the maximin
+// criterion as p grows; p = 50 as in Jin, Chen & Sudjianto (2005, J Stat Plan Inference
+// 134:268-287) and Damblin, Couplet & Iooss (2013, J Simulation 7:276-289; R DiceDesign's default).
+inline constexpr int kMaximinPhiPower = 50;
+}  // namespace hipfai::literature
