@@ -82,13 +82,55 @@ Vec3 unit_perpendicular(const Vec3& axis, const Vec3& hint) {
   return (hint - hint.dot(axis) * axis).normalized();
 }
 
+// The angle (rad) seen from the HJC between the centre of the cam's cross-section circle (radius
+// rc, centre D = R + h - rc from the HJC) and either point where it crosses the R sphere (law of
+// cosines). Swept about the neck axis, the section meets the R sphere along two circles about n:
+// its feet, at alpha (far side) and alpha - 2 delta (near side) from n.
+double cam_half_angle(const HipParameters& p) {
+  const double radius = p.articular_radius_mm;
+  const double rc = p.cam_radius_mm;
+  const double distance = radius + p.cam_height_mm - rc;
+  return std::acos((radius * radius + distance * distance - rc * rc) / (2.0 * radius * distance));
+}
+
+// How far (deg) a circle of the head about n (the cartilage margin, the head-neck junction) is kept
+// from a foot of the cam. The head ball, the R sphere, the junction plane and the cam's sweep are
+// all surfaces of revolution about n: when a foot of the cam falls on one of the head's circles,
+// three surfaces meet along one arc and the cam's end balls touch that circle tangentially.
+// OpenCASCADE's fuse then gives the cam's end-section edge parameter curves shifted by a whole
+// period (2 pi) on the sweep and on the end ball, so gmsh cannot close those periodic faces'
+// boundary loops in (u, v) ("Impossible to mesh periodic surface"): alpha =
+// femoral_cartilage_edge_deg (45 by default: CE 35 / alpha 45), or alpha - 2 delta =
+// normal_alpha_deg (76.39 deg with the default cam). Measured on these hips, the failures need the
+// circles within 1e-4 deg of the foot (1e-3 deg apart and more generate, at 2 and 4 mm edges);
+// 0.01 deg (4 um on the head) keeps them a hundred times further, far below any surface mesh
+// (edges >= 0.2 mm) and the angles' 1 deg.
+constexpr double kCircleFromCamFootDeg = 0.01;
+
+// `circle_deg` (an angle from n of a circle of the head), moved away from a foot of the cam it falls
+// within kCircleFromCamFootDeg of, on its own side (under the cam when it lies on the foot); it
+// moves by at most that distance. Circles away from the feet (every hip whose feet are not near
+// them, the study grid's among them) are kept as they are.
+double circle_apart_from_cam(const HipParameters& p, double circle_deg) {
+  if (p.alpha_deg <= p.normal_alpha_deg) return circle_deg;  // no cam
+  const double far_deg = p.alpha_deg;  // the cam covers the angles between its feet
+  const double near_deg = p.alpha_deg - 2.0 * cam_half_angle(p) * kRadToDeg;
+  if (std::abs(circle_deg - far_deg) < kCircleFromCamFootDeg) {
+    return circle_deg > far_deg ? far_deg + kCircleFromCamFootDeg : far_deg - kCircleFromCamFootDeg;
+  }
+  if (std::abs(circle_deg - near_deg) < kCircleFromCamFootDeg) {
+    return circle_deg < near_deg ? near_deg - kCircleFromCamFootDeg : near_deg + kCircleFromCamFootDeg;
+  }
+  return circle_deg;
+}
+
 // The cam (see build_solids): the cross-section circle swept over the clock arc, plus its end
 // balls, as OCC solids (new ones on every call: booleans consume their tools).
 DimTags cam_solids(const HipParameters& p) {
   const double radius = p.articular_radius_mm;
   const double rc = p.cam_radius_mm;
   const double distance = radius + p.cam_height_mm - rc;
-  const double delta = std::acos((radius * radius + distance * distance - rc * rc) / (2.0 * radius * distance));
+  const double delta = cam_half_angle(p);
   const double centre_angle = p.alpha_deg * kDegToRad - delta;
   const Vec3 n = neck_axis(p);
   auto centre_at = [&](double clock_deg) {
@@ -103,8 +145,19 @@ DimTags cam_solids(const HipParameters& p) {
   // section circle at +-n and its dome faces away from the sweep: no seam crosses the cam.
   // Near the neck axis the section would cross the axis of revolution (small alpha): everything
   // closer to the axis than half the neck radius is inside the neck cylinder anyway, so the
-  // section (and the caps) are clipped there.
-  const double clip = 0.5 * p.neck_radius_mm;
+  // section (and the caps) are clipped there. The caps' poles lie as far from the axis as the
+  // section's centre: near the clipping cylinder (alpha just above normal_alpha_deg with the
+  // default cam) the cut runs through or by the poles, and OpenCASCADE returns the femur in
+  // pieces or faces gmsh cannot mesh (at 2 mm, alpha 40.0001-40.024 failed or looped, the poles
+  // up to 0.007 mm from the cylinder: CE 3.8 / alpha 40.024 of the random sweep). Where the
+  // centre is within 1 mm of that cylinder, the clip is taken 1 mm nearer the axis than the centre
+  // instead: still inside the neck, so the hip is the same solid, and every other hip (the study
+  // grid's among them) keeps its clip.
+  constexpr double kPoleClearanceMm = 1.0;
+  const double centre_height = centre_at(p.cam_begin_deg).dot(clock_direction(p, p.cam_begin_deg));
+  const double clip = std::abs(centre_height - 0.5 * p.neck_radius_mm) < kPoleClearanceMm
+                          ? centre_height - kPoleClearanceMm
+                          : 0.5 * p.neck_radius_mm;
   DimTags solids;
   for (const auto& [clock_deg, outwards] : {std::pair{p.cam_begin_deg, -1.0}, std::pair{p.cam_end_deg, 1.0}}) {
     const Vec3 c = centre_at(clock_deg);
@@ -246,11 +299,12 @@ std::pair<DimTags, DimTags> femur_solids(const HipParameters& p) {
   // Head ball: centre s n, radius R - t + s, so the pole (-n) is t below the R sphere and the
   // two spheres meet at the cartilage edge angle phi_e from n:
   //   R^2 + s^2 - 2 R s cos(phi_e) = (R - t + s)^2  =>  s = (R^2 - (R-t)^2) / (2 (R - t + R cos phi_e)).
+  // The margin and the junction are circles about n; neither may lie on a foot of the cam.
   const double inner = radius - p.femoral_cartilage_mm;
-  const double edge = p.femoral_cartilage_edge_deg * kDegToRad;
+  const double edge = circle_apart_from_cam(p, p.femoral_cartilage_edge_deg) * kDegToRad;
   const double shift = (radius * radius - inner * inner) / (2.0 * (inner + radius * std::cos(edge)));
   const double head_radius = inner + shift;
-  const double junction = std::min(p.alpha_deg, p.normal_alpha_deg) * kDegToRad;
+  const double junction = circle_apart_from_cam(p, std::min(p.alpha_deg, p.normal_alpha_deg)) * kDegToRad;
 
   // Bone head: head ball within the R sphere, cut by the plane normal to n through the circle at
   // the junction angle; neck side of that plane is left to the neck cylinder, so the contour
@@ -397,12 +451,28 @@ struct TissueSolids {
   std::vector<std::pair<std::string, DimTags>> tissues;
 };
 
+// The socket's opening as built (deg from the acetabular axis a to the rim cone). restrict_to_socket
+// cuts with a cone of height `big` whose base has radius big tan(half-angle): within 1e-4 deg of a
+// hemisphere (CE within about 1e-4 deg of hemisphere_ce_deg) that is 1e8 mm and more, and
+// OpenCASCADE's booleans fail ("Intersection operation cannot be performed") or leave periodic
+// faces gmsh cannot mesh. A rim cone within kFlatRimRad of the plane is therefore built as the
+// plane, for every tissue alike: the rim moves by at most 1e-4 rad, 3 um on the socket and
+// 0.006 deg of CE, and cones that far from flat and beyond build and mesh (measured on these hips:
+// the failures need CE within 1e-4 deg of the hemisphere's). The hemisphere itself (within 1e-9
+// rad, built as the plane already) keeps its computed value, so those hips are unchanged.
+double built_socket_opening_deg(const HipParameters& p) {
+  constexpr double kFlatRimRad = 1e-4;
+  const double opening_deg = socket_opening_deg(p);
+  const double off_rad = std::abs(opening_deg - 90.0) * kDegToRad;
+  return off_rad >= 1e-9 && off_rad < kFlatRimRad ? 90.0 : opening_deg;
+}
+
 // The five tissues as OCC solids in the current model (see hip_generator.h for the recipe), made
 // in a fixed order: OpenCASCADE numbers the entities as they are made, and the meshes follow.
 TissueSolids build_solids(const HipParameters& p) {
   const double big = 4.0 * (p.pelvis_block_x_mm + p.pelvis_block_y_mm + p.pelvis_block_z_mm);
   const Vec3 a = acetabular_axis(p);
-  const double opening = socket_opening_deg(p) * kDegToRad;
+  const double opening = built_socket_opening_deg(p) * kDegToRad;
   TissueSolids solids;
   const auto [bone, femoral_cartilage] = femur_solids(p);
   solids.tissues.emplace_back("femur_bone", bone);
@@ -753,7 +823,7 @@ HipGeneratorResult generate_hip(const HipParameters& parameters) {
   model.superior = Vec3::UnitZ();
   model.lateral = Vec3::UnitX();
   model.acetabular_axis = acetabular_axis(parameters);
-  model.socket_opening_deg = socket_opening_deg(parameters);
+  model.socket_opening_deg = built_socket_opening_deg(parameters);
   // The clinical angles measured back on the meshes (never from the parameters above).
   const auto ce = measure_ce_angle({&model.tissue("acetabular_bone"), &model.tissue("acetabular_cartilage")},
                                    model.hjc_mm, model.lateral, model.superior);

@@ -21,6 +21,10 @@
 //                        bring the posteroinferior rim over the neck in the neutral pose).
 // Each tissue is meshed on its own (surfaces are not shared between tissues), so each is a
 // closed manifold surface; triangles are re-oriented outward.
+// Coincidences the B-rep cannot carry are kept out of every (CE, alpha) of the range: a circle of
+// the head (margin, junction) on a foot of the cam is moved 0.01 deg off it, the cam's clip is
+// kept 1 mm off its end balls' poles, and a rim cone within 1e-4 rad of a plane is built as the
+// plane (hip_generator.cpp says why each; the study grid's hips are unchanged).
 #pragma once
 
 #include "geometry/hip_model.h"
