@@ -4,9 +4,13 @@
 #include "core/error.h"
 #include "core/literature.h"
 #include "studies/estimator_model_file.h"
+#include "studies/estimator_sample.h"
+#include "studies/estimator_sample_report.h"
 #include "studies/estimator_study.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
@@ -250,13 +254,69 @@ void add_validate_command(CLI::App* estimator) {
   });
 }
 
+// What `estimator sample` reads from its command line (names parsed into enums in the callback).
+struct SampleArgs {
+  int n = 0, held_out = 0;
+  std::uint64_t seed = 1;
+  std::string design = "lhs", out;
+  std::vector<std::string> vary{"ce", "alpha"};
+  double edge_mm = 2.0;
+};
+
+void add_sample_command(CLI::App* estimator) {
+  auto* sample = estimator->add_subcommand(
+      "sample", "Training and held-out hips spread over the parameter space by a space-filling design, generated "
+                "one folder per hip, with design.csv; a re-run makes only the missing hips");
+  auto args = std::make_shared<SampleArgs>();
+  sample->add_option("--n", args->n, "Training hips")->required();
+  sample->add_option("--out", args->out, "Output folder (design.csv and one folder per hip)")->required();
+  sample->add_option("--seed", args->seed, "Seed of the design (same seed, same hips)")->capture_default_str();
+  sample->add_option("--design", args->design,
+                     "lhs (maximin Latin hypercube) or sobol (digitally shifted Sobol sequence)")
+      ->capture_default_str();
+  sample->add_option("--vary", args->vary,
+                     "Parameters varied, comma-separated: ce (0-45 deg), alpha (40-80), neck_shaft_angle (110-146.2), "
+                     "femoral_anteversion (-10-40); the others keep the generator's defaults")
+      ->delimiter(',')
+      ->capture_default_str();
+  sample->add_option("--held-out", args->held_out,
+                     "Held-out hips, drawn the same way from another stream of the seed (never a training hip)")
+      ->capture_default_str();
+  sample->add_option("--edge-mm", args->edge_mm, "Surface edge of the generated hips, mm")
+      ->check(CLI::Range(0.2, 10.0))
+      ->capture_default_str();
+  sample->callback([args] {
+    studies::SampleOptions options;
+    options.n = args->n;
+    options.held_out = args->held_out;
+    options.seed = args->seed;
+    options.design = stats::parse_sampling_design(args->design);
+    options.vary.clear();
+    for (const auto& name : args->vary) options.vary.push_back(studies::parse_sampled_parameter(name));
+    options.edge_mm = args->edge_mm;
+    const studies::SamplePlan plan = studies::plan_sample(options);
+    studies::write_design_csv(plan, args->out);
+    const auto outcomes = studies::generate_sample_hips(
+        plan, args->out, [&plan](std::size_t index, const studies::SampleHipOutcome& outcome) {
+          const bool failed = outcome.status == studies::SampleHipOutcome::Status::kFailed;
+          (failed ? std::cerr : std::cout) << studies::sample_hip_line(plan, index, outcome) << std::endl;
+        });
+    std::cout << studies::sample_summary(plan, outcomes, args->out) << '\n';
+    const auto failed = std::count_if(outcomes.begin(), outcomes.end(), [](const auto& outcome) {
+      return outcome.status == studies::SampleHipOutcome::Status::kFailed;
+    });
+    if (failed > 0) throw_error("estimator sample: ", failed, " of ", outcomes.size(), " hips failed (named above)");
+  });
+}
+
 const CommandRegistrar registrar("estimator", [](CLI::App& parent) {
   auto* estimator = parent.add_subcommand(
-      "estimator", "Contact-pressure estimator of thesis §4.5 (PCA nearest neighbour): train, predict, validate");
+      "estimator", "Contact-pressure estimator of thesis §4.5 (PCA nearest neighbour): train, predict, validate, sample");
   estimator->require_subcommand(1);
   add_train_command(estimator);
   add_predict_command(estimator);
   add_validate_command(estimator);
+  add_sample_command(estimator);
 });
 
 }  // namespace
