@@ -1,5 +1,9 @@
 #include "fem/contact_search_ahead.h"
 
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
 
 namespace hipfai::fem {
 
@@ -32,6 +36,10 @@ bool same_search_geometry(const ContactModel& a, const ContactModel& b) {
   }
   return true;
 }
+
+// The searching thread's nice value: the solve's threads (nice 0) get about nine tenths of a
+// core they share with it (CFS weights 1024 and 110).
+constexpr int kSearchNice = 10;
 
 }  // namespace
 
@@ -99,6 +107,11 @@ void ContactSearchAhead::plan(const ElasticSystem& system, const ContactSurfaces
 }
 
 void ContactSearchAhead::work() {
+  // The searches are ahead of the solves: they need only the time the solves leave, so this
+  // thread yields its core to the run's own threads (the run's stages split their loops over the
+  // worker pool, and a search taking a core would leave those loops to one thread). Linux gives
+  // each thread its own nice value; where that fails the thread runs at the normal priority.
+  setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), kSearchNice);
   std::unique_lock<std::mutex> lock(mutex_);
   while (true) {
     std::shared_ptr<Search> next;
