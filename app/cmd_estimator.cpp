@@ -4,6 +4,8 @@
 #include "core/error.h"
 #include "core/literature.h"
 #include "studies/estimator_model_file.h"
+#include "studies/estimator_refine.h"
+#include "studies/estimator_refine_report.h"
 #include "studies/estimator_sample.h"
 #include "studies/estimator_sample_report.h"
 #include "studies/estimator_study.h"
@@ -309,14 +311,50 @@ void add_sample_command(CLI::App* estimator) {
   });
 }
 
+void add_refine_command(CLI::App* estimator) {
+  auto* refine = estimator->add_subcommand(
+      "refine", "Pick the candidate hips whose predictions are least certain (the next hips to run the FE on and "
+                "train with `train --base`)");
+  auto model_path = std::make_shared<std::string>();
+  auto candidates = std::make_shared<std::string>();
+  auto criterion = std::make_shared<std::string>("width");
+  auto method = std::make_shared<std::string>("pca_nn");
+  auto csv = std::make_shared<std::string>();
+  auto budget = std::make_shared<int>(1);
+  refine->add_option("--model", *model_path, "Model file from `estimator train`")->required();
+  refine->add_option("--candidates", *candidates,
+                     "Folder of candidate hip folders (model.json), e.g. an `estimator sample` output")
+      ->required();
+  refine->add_option("--budget", *budget, "Hips to pick")->capture_default_str();
+  refine->add_option("--criterion", *criterion,
+                     "width (mean interval width of --method) or disagreement (mean range of the methods' estimates)")
+      ->capture_default_str();
+  refine->add_option("--method", *method, "Method whose interval `width` reads: pca_nn, knn, ridge, depth_nn")
+      ->capture_default_str();
+  refine->add_option("--csv", *csv, "Write hip, score, rank (0 = not picked) of every candidate to this file");
+  refine->callback([=] {
+    studies::RefineOptions options;
+    options.candidates = *candidates;
+    options.budget = *budget;
+    options.criterion = stats::parse_uncertainty_criterion(*criterion);
+    options.method = stats::parse_estimator_method(*method);
+    if (options.budget < 1) throw_error("estimator refine: --budget ", options.budget, " must be at least 1");
+    const auto model = studies::read_estimator_model(*model_path);
+    const auto result = studies::pick_refine_candidates(model, options);
+    if (!csv->empty()) write_file_atomically(*csv, studies::refine_csv(result));
+    std::cout << studies::refine_summary(result, options);
+  });
+}
+
 const CommandRegistrar registrar("estimator", [](CLI::App& parent) {
   auto* estimator = parent.add_subcommand(
-      "estimator", "Contact-pressure estimator of thesis §4.5 (PCA nearest neighbour): train, predict, validate, sample");
+      "estimator", "Contact-pressure estimator of thesis §4.5 (PCA nearest neighbour): train, predict, validate, sample, refine");
   estimator->require_subcommand(1);
   add_train_command(estimator);
   add_predict_command(estimator);
   add_validate_command(estimator);
   add_sample_command(estimator);
+  add_refine_command(estimator);
 });
 
 }  // namespace

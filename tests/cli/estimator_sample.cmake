@@ -7,3 +7,9 @@ hipfai_cli_test(NAME estimator_sample_unknown_parameter EXIT nonzero STDERR "unk
   COMMAND estimator sample --n 3 --vary ce,labrum --out @TMP@/out)
 hipfai_cli_test(NAME estimator_sample_negative_held_out EXIT nonzero STDERR "--held-out -2 must be 0 or more"
   COMMAND estimator sample --n 3 --held-out -2 --out @TMP@/out)
+
+# estimator refine: bad input is a one-line error before any model is read.
+hipfai_cli_test(NAME estimator_refine_unknown_criterion EXIT nonzero STDERR "unknown criterion 'entropy' \\(known: width, disagreement\\)"
+  COMMAND estimator refine --model @TMP@/none.h5 --candidates @TMP@ --criterion entropy)
+hipfai_cli_test(NAME estimator_refine_budget_zero EXIT nonzero STDERR "--budget 0 must be at least 1"
+  COMMAND estimator refine --model @TMP@/none.h5 --candidates @TMP@ --budget 0)
