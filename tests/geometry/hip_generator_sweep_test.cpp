@@ -42,6 +42,8 @@ struct HipCheck {
   std::size_t overlapping_vertices = 0;  // deeper than the tolerance
   std::size_t vertices = 0;
   std::size_t labrum_pieces = 0;
+  int surface_algorithm = 0;        // the gmsh algorithm that meshed the hip (6 first, then 1, 5)
+  std::string mesher_failures;      // what the algorithms tried before it reported
   double seconds = 0.0;
 };
 
@@ -74,6 +76,8 @@ HipCheck generate_and_check(double ce_deg, double alpha_deg, double edge_mm, con
   }
   const HipModel& model = result.model;
   check.seconds = result.seconds;
+  check.surface_algorithm = model.surface_algorithm;
+  check.mesher_failures = model.mesher_failures;
   check.surfaces_clean = true;
   double edge = 0.0;
   for (const char* name : kHipTissueNames) {
@@ -174,20 +178,25 @@ TEST(GeneratorSweep, DISABLED_RandomHips) {
   std::ofstream csv(csv_path != nullptr ? csv_path : "generator_sweep.csv");
   ASSERT_TRUE(csv) << "cannot write the sweep CSV";
   csv << "hip,ce_deg,alpha_deg,edge_mm,status,ce_measured_deg,alpha_measured_deg,ce_error_deg,alpha_error_deg,"
-         "surfaces_clean,labrum_pieces,deepest_overlap_mm,overlap_tolerance_mm,vertices,seconds\n";
+         "surfaces_clean,labrum_pieces,deepest_overlap_mm,overlap_tolerance_mm,vertices,seconds,surface_algorithm,"
+         "mesher_failures\n";
   std::mt19937_64 engine(seed);
   for (int k = 0; k < hips; ++k) {
     const double ce = uniform(engine, 0.0, 45.0);
     const double alpha = uniform(engine, 40.0, 80.0);
     const HipCheck check = generate_and_check(ce, alpha, edge_mm);
-    std::string status = check.status;
-    std::replace(status.begin(), status.end(), ',', ';');
-    std::replace(status.begin(), status.end(), '\n', ' ');
+    auto csv_field = [](std::string text) {
+      std::replace(text.begin(), text.end(), ',', ';');
+      std::replace(text.begin(), text.end(), '\n', ' ');
+      return text;
+    };
+    const std::string status = csv_field(check.status);
     csv << std::setprecision(10) << k << ',' << ce << ',' << alpha << ',' << edge_mm << ',' << status << ','
         << std::setprecision(6) << check.ce_measured_deg << ',' << check.alpha_measured_deg << ','
         << check.ce_measured_deg - ce << ',' << check.alpha_measured_deg - alpha << ','
         << (check.surfaces_clean ? 1 : 0) << ',' << check.labrum_pieces << ',' << check.deepest_overlap_mm << ',' << check.overlap_tolerance_mm << ','
-        << check.vertices << ',' << std::setprecision(4) << check.seconds << '\n'
+        << check.vertices << ',' << std::setprecision(4) << check.seconds << ',' << check.surface_algorithm << ','
+        << csv_field(check.mesher_failures) << '\n'
         << std::flush;
     std::ostringstream label;
     label << "hip " << k << ": CE " << ce << " / alpha " << alpha << " at " << edge_mm << " mm";
