@@ -316,7 +316,8 @@ void ContactProblem::Impl::postprocess(ContactResult& result) {
   {
     dealii::TimerOutput::Scope scope(timer, "stresses");
     VonMisesField field = system.von_mises(state.displacement, model);
-    summarize_stress(field, options.peak_average_radius_mm, result);
+    summarize_stress(field, options.peak_average_radius_mm, result,
+                     threads_per_rank(system.communicator()));
     cell_von_mises = std::move(field.cell_max);
   }
   // Every rank holds the same replicated numbers, so all ranks reach the same verdict.

@@ -1,5 +1,6 @@
 #include "fem/contact_summary.h"
 
+#include "core/parallel.h"
 #include "fem/peak_measures.h"
 
 #include <algorithm>
@@ -76,27 +77,31 @@ void summarize_contact(const std::vector<SlaveNode>& nodes, const std::vector<bo
     result.peaks.ball_peak_pressure_pair = static_cast<int>(pair_of_sample[pressure_peak.sample]);
 }
 
-void summarize_stress(const VonMisesField& field, double radius_mm, ContactResult& result) {
+void summarize_stress(const VonMisesField& field, double radius_mm, ContactResult& result,
+                      std::size_t n_threads) {
   const std::size_t n_bodies = field.samples.size();
   result.peaks.max_von_mises_mpa.assign(n_bodies, 0.0);
   result.peaks.p95_von_mises_mpa.assign(n_bodies, 0.0);
   result.peaks.ball_peak_von_mises_mpa.assign(n_bodies, 0.0);
   result.peaks.ball_peak_von_mises_position_mm.assign(n_bodies, dealii::Point<3>());
-  for (std::size_t b = 0; b < n_bodies; ++b) {
-    // Per body: a ball at a tissue boundary averages that tissue only.
-    const BallPeak peak = ball_peak_or_nan(field.samples[b], radius_mm);
-    result.peaks.ball_peak_von_mises_mpa[b] = peak.value;
-    result.peaks.ball_peak_von_mises_position_mm[b] = to_point(peak.position_mm);
-    if (field.samples[b].empty()) continue;
-    std::vector<double> values;
-    values.reserve(field.samples[b].size());
-    for (const FieldSample& sample : field.samples[b]) values.push_back(sample.value);
-    std::sort(values.begin(), values.end());
-    result.peaks.max_von_mises_mpa[b] = values.back();
-    // Nearest-rank 95th percentile.
-    const std::size_t rank = static_cast<std::size_t>(std::ceil(0.95 * values.size()));
-    result.peaks.p95_von_mises_mpa[b] = values[std::max<std::size_t>(rank, 1) - 1];
-  }
+  // The bodies on the threads, each into its own slots.
+  parallel_blocks(n_bodies, static_cast<int>(n_threads), 1, [&](std::size_t first, std::size_t last) {
+    for (std::size_t b = first; b < last; ++b) {
+      // Per body: a ball at a tissue boundary averages that tissue only.
+      const BallPeak peak = ball_peak_or_nan(field.samples[b], radius_mm);
+      result.peaks.ball_peak_von_mises_mpa[b] = peak.value;
+      result.peaks.ball_peak_von_mises_position_mm[b] = to_point(peak.position_mm);
+      if (field.samples[b].empty()) continue;
+      std::vector<double> values;
+      values.reserve(field.samples[b].size());
+      for (const FieldSample& sample : field.samples[b]) values.push_back(sample.value);
+      std::sort(values.begin(), values.end());
+      result.peaks.max_von_mises_mpa[b] = values.back();
+      // Nearest-rank 95th percentile.
+      const std::size_t rank = static_cast<std::size_t>(std::ceil(0.95 * values.size()));
+      result.peaks.p95_von_mises_mpa[b] = values[std::max<std::size_t>(rank, 1) - 1];
+    }
+  });
 }
 
 bool make_finite(ContactResult& result, dealii::Vector<double>& displacement) {

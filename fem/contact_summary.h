@@ -9,6 +9,7 @@
 
 #include <deal.II/lac/vector.h>
 
+#include <cstddef>
 #include <vector>
 
 namespace hipfai::fem {
@@ -22,8 +23,9 @@ void summarize_contact(const std::vector<SlaveNode>& nodes, const std::vector<bo
                        std::size_t n_pairs, double radius_mm, ContactResult& result);
 
 // Fills the per-body von Mises summaries: maximum, nearest-rank 95th percentile, ball-averaged
-// peak (radius_mm) and its centre.
-void summarize_stress(const VonMisesField& field, double radius_mm, ContactResult& result);
+// peak (radius_mm) and its centre; the bodies on `n_threads` threads (the same numbers).
+void summarize_stress(const VonMisesField& field, double radius_mm, ContactResult& result,
+                      std::size_t n_threads = 1);
 
 // Replaces every non-finite number of the result and of the displacement by 0; false when there
 // was one.
