@@ -91,16 +91,23 @@ Eigen::MatrixXd latin_hypercube(int n, int axes, std::mt19937_64& engine, Sampli
   }
   auto centre = [n](int stratum) { return (stratum + 0.5) / n; };
   constexpr int half_power = literature::kMaximinPhiPower / 2;
-  Eigen::MatrixXd squared(n, n);
-  double sum = 0.0;
+  auto centre_distance2 = [&](int i, int j) {
+    double d2 = 0.0;
+    for (int k = 0; k < axes; ++k) d2 += std::pow(centre(strata(i, k)) - centre(strata(j, k)), 2);
+    return d2;
+  };
+  Eigen::MatrixXd squared = Eigen::MatrixXd::Zero(n, n);
   for (int i = 0; i < n; ++i) {
-    for (int j = i + 1; j < n; ++j) {
-      double d2 = 0.0;
-      for (int k = 0; k < axes; ++k) d2 += std::pow(centre(strata(i, k)) - centre(strata(j, k)), 2);
-      squared(i, j) = squared(j, i) = d2;
-      sum += inverse_power(d2, half_power);
-    }
+    for (int j = i + 1; j < n; ++j) squared(i, j) = squared(j, i) = centre_distance2(i, j);
   }
+  auto phi_sum = [&] {
+    double total = 0.0;
+    for (int i = 0; i < n; ++i) {
+      for (int j = i + 1; j < n; ++j) total += inverse_power(squared(i, j), half_power);
+    }
+    return total;
+  };
+  double sum = phi_sum();
   auto phi = [](double s) { return std::pow(s, 1.0 / literature::kMaximinPhiPower); };
   result.initial_phi_p = n > 1 ? phi(sum) : 0.0;
   // Exchanging the strata of rows a and b on axis k changes only the distances from a and from b.
@@ -121,15 +128,15 @@ Eigen::MatrixXd latin_hypercube(int n, int axes, std::mt19937_64& engine, Sampli
           }
           // Only a clear improvement counts: round-off of the sum must not make the search cycle.
           if (delta < -1e-10 * sum) {
-            for (int m = 0; m < n; ++m) {
-              if (m == a || m == b) continue;
-              const double cm = centre(strata(m, k));
-              const double shift = (cb - cm) * (cb - cm) - (ca - cm) * (ca - cm);
-              squared(a, m) = squared(m, a) = squared(a, m) + shift;
-              squared(b, m) = squared(m, b) = squared(b, m) - shift;
-            }
             std::swap(strata(a, k), strata(b, k));
-            sum += delta;
+            // Recomputed, not updated by differences: the terms span many orders of magnitude
+            // (d^-50), and a running sum would lose the small ones to cancellation.
+            for (const int row : {a, b}) {
+              for (int m = 0; m < n; ++m) {
+                if (m != row) squared(row, m) = squared(m, row) = centre_distance2(row, m);
+              }
+            }
+            sum = phi_sum();
             improved = true;
           }
         }
@@ -137,12 +144,7 @@ Eigen::MatrixXd latin_hypercube(int n, int axes, std::mt19937_64& engine, Sampli
     }
     if (!improved) break;
   }
-  // The sum was updated by differences; recompute it for the reported value.
-  double final_sum = 0.0;
-  for (int i = 0; i < n; ++i) {
-    for (int j = i + 1; j < n; ++j) final_sum += inverse_power(squared(i, j), half_power);
-  }
-  result.final_phi_p = n > 1 ? phi(final_sum) : 0.0;
+  result.final_phi_p = n > 1 ? phi(sum) : 0.0;
   Eigen::MatrixXd unit(n, axes);
   for (int i = 0; i < n; ++i) {
     for (int k = 0; k < axes; ++k) unit(i, k) = (strata(i, k) + uniform01(engine)) / n;

@@ -115,6 +115,47 @@ TEST(SpaceFillingDesign, LatinHypercubeMinimumDistanceBeatsRandomPoints) {
   }
 }
 
+// phi_p (p = 50) of the cell centres of a Latin hypercube's strata, computed directly.
+double centre_phi_p(const Eigen::MatrixXi& strata) {
+  const int n = static_cast<int>(strata.rows());
+  double sum = 0.0;
+  for (int i = 0; i < n; ++i) {
+    for (int j = i + 1; j < n; ++j) {
+      const double d2 = ((strata.row(i) - strata.row(j)).cast<double>() / n).squaredNorm();
+      sum += std::pow(d2, -25.0);
+    }
+  }
+  return std::pow(sum, 1.0 / 50.0);
+}
+
+// The exchange search ends at a local optimum: the reported phi_p is that of the result's cell
+// centres, and no single exchange of two rows' strata on one axis lowers it (checked by trying
+// them all).
+TEST(SpaceFillingDesign, LatinHypercubeEndsAtALocalOptimumOfPhiP) {
+  for (const auto& [n, axes] : std::vector<std::pair<int, int>>{{30, 2}, {40, 3}}) {
+    const std::vector<ParameterRange> box(kFourAxes.begin(), kFourAxes.begin() + axes);
+    const auto design = draw_design(request_of(SamplingDesign::kLatinHypercube, n, 9, box));
+    ASSERT_LT(design.passes, 50) << "stopped by the pass budget, not at an optimum";
+    Eigen::MatrixXi strata(n, axes);
+    for (int i = 0; i < n; ++i) {
+      for (int k = 0; k < axes; ++k) strata(i, k) = static_cast<int>(std::floor(design.unit_points(i, k) * n));
+    }
+    const double phi = centre_phi_p(strata);
+    EXPECT_NEAR(design.final_phi_p, phi, 1e-12 * phi);
+    double best = phi;
+    for (int k = 0; k < axes; ++k) {
+      for (int a = 0; a < n; ++a) {
+        for (int b = a + 1; b < n; ++b) {
+          std::swap(strata(a, k), strata(b, k));
+          best = std::min(best, centre_phi_p(strata));
+          std::swap(strata(a, k), strata(b, k));
+        }
+      }
+    }
+    EXPECT_GE(best, phi * (1.0 - 1e-9)) << "an exchange still lowers phi_p: n " << n << " axes " << axes;
+  }
+}
+
 // A low-discrepancy sequence fills the box evenly: its centred L2 discrepancy must beat the median
 // of uniform random sets of the same size.
 TEST(SpaceFillingDesign, SobolDiscrepancyBeatsRandomPoints) {
