@@ -8,6 +8,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 namespace hipfai::studies {
 
@@ -123,7 +124,10 @@ EstimatorHipError hip_error(const EstimatorValidateResult& result, const stats::
   error.impinging = impinging_within(result.model.hips[static_cast<std::size_t>(row.hip)], steps);
   std::vector<double> absolute;
   for (int j = 0; j < steps; ++j) {
-    const double estimate = row.result.steps[static_cast<std::size_t>(j)].estimate;
+    const stats::RegressionStep& step = row.result.steps[static_cast<std::size_t>(j)];
+    const double estimate = step.estimate;
+    error.low.push_back(step.defined ? step.low : std::numeric_limits<double>::quiet_NaN());
+    error.high.push_back(step.defined ? step.high : std::numeric_limits<double>::quiet_NaN());
     const double fe = result.model.estimator.values(row.hip, j);
     const double signed_error = 100.0 * (estimate - fe) / fe;
     error.estimate.push_back(estimate);

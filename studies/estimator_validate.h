@@ -28,6 +28,7 @@ struct EstimatorHipError {
   double mean_abs = std::numeric_limits<double>::quiet_NaN();
   std::vector<double> estimate;      // per step of the case, in the FE measure's unit
   std::vector<double> signed_error;  // per step of the case: 100 (estimate - FE) / FE
+  std::vector<double> low, high;     // per step of the case: the method's interval (NaN: undefined)
   // The estimator's own flag: the target's PCA scores leave the training range (thesis §4.5.4).
   bool bordering = false;
   double mahalanobis = 0;  // the target's distance over the significant components

@@ -4,6 +4,7 @@
 #include "core/atomic_file.h"
 #include "core/literature.h"
 #include "core/version.h"
+#include "stats/interval_coverage.h"
 #include "stats/pearson.h"
 #include "studies/estimator_model_file.h"
 #include "studies/reports/svg_plot.h"
@@ -377,6 +378,54 @@ void md_pca(std::ostringstream& md, const EstimatorValidateResult& r) {
   }
 }
 
+// How often each method's leave-one-out intervals hold the FE value, and how many of the steps
+// with an error above 10 % carry the bordering flag (stats/interval_coverage.h), at e' = max:
+// report.md's section and coverage.csv.
+void write_coverage(std::ostringstream& md, const EstimatorValidateResult& r, const std::filesystem::path& dir) {
+  constexpr double kLargeError = 0.10;
+  std::ostringstream csv;
+  csv << std::setprecision(10)
+      << "case,method,e_prime,steps,undefined_steps,covered,coverage,large_error_steps,large_error_flagged,flag_recall\n";
+  md << "\n## Intervals and the flag (leave-one-out, e' = " << r.max_e_prime << ")\n\n"
+     << "Share of the (hip, step) pairs whose FE value lies in the method's interval (pca_nn, knn: the range "
+        "of the hips the estimate came from; ridge: 95 % predictive; depth_nn: its bounds), and of the steps "
+        "whose error exceeds 10 %, how many the bordering flag marks. File: `coverage.csv`.\n\n"
+     << "| case | method | steps | FE inside the interval | steps with error > 10 % | flagged of them |\n"
+     << "|---|---|---|---|---|---|\n";
+  for (int c = 0; c < 2; ++c) {
+    const EstimatorValidateCase& one = r.cases[static_cast<std::size_t>(c)];
+    for (int m = 0; m < stats::kNumEstimatorMethods; ++m) {
+      std::vector<stats::IntervalRow> rows;
+      for (const int hip : one.eligible) {
+        const EstimatorHipError* e = one.find(hip, m, r.max_e_prime);
+        if (e == nullptr) continue;
+        for (int j = 0; j < one.steps; ++j) {
+          const auto s = static_cast<std::size_t>(j);
+          // A step the method leaves undefined (no interval) is skipped and counted.
+          const bool defined = std::isfinite(e->low[s]) && std::isfinite(e->high[s]);
+          rows.push_back({defined ? e->estimate[s] : std::nan(""), defined ? e->low[s] : 0.0,
+                          defined ? e->high[s] : 0.0, r.model.estimator.values(hip, j), e->bordering});
+        }
+      }
+      if (rows.empty()) continue;  // depth_nn without depths
+      const stats::CoverageResult cover = stats::interval_coverage(rows, kLargeError);
+      csv << c + 1 << ',' << method_name(m) << ',' << r.max_e_prime << ',' << cover.rows << ',' << cover.skipped << ','
+          << cover.covered << ','
+          << cover.coverage << ',' << cover.large_error << ',' << cover.large_error_flagged << ','
+          << cover.flag_recall << '\n';
+      md << "| " << c + 1 << " | " << method_name(m) << " | " << cover.rows
+         << (cover.skipped > 0 ? " (" + std::to_string(cover.skipped) + " undefined)" : std::string()) << " | "
+         << (cover.rows > 0 ? fixed(100.0 * cover.coverage, 1) + " %" : std::string("-")) << " | " << cover.large_error
+         << " | "
+         << (cover.large_error > 0 ? std::to_string(cover.large_error_flagged) + " (" +
+                                         fixed(100.0 * cover.flag_recall, 1) + " %)"
+                                   : std::string("-"))
+         << " |\n";
+    }
+  }
+  write_file_atomically(dir / "coverage.csv", csv.str());
+}
+
 // report.md: the times on this machine, and the files.
 void md_times(std::ostringstream& md, const EstimatorValidateResult& r) {
   std::vector<double> feature_ms, load_ms;
@@ -400,7 +449,7 @@ void md_times(std::ostringstream& md, const EstimatorValidateResult& r) {
      << "| leave-one-out, both cases, every method x e' 1.." << r.max_e_prime << " | " << fixed(r.loo_ms / 1000.0, 2)
      << " s |\n"
      << "| whole training pipeline (load, features, train) | " << fixed(r.pipeline_ms / 1000.0, 2) << " s |\n\n"
-     << "Files: `loo.csv`, `estimates.csv`, `hips.csv`, `model.h5` (trained on all " << m << " hips).\n";
+     << "Files: `loo.csv`, `estimates.csv`, `hips.csv`, `coverage.csv`, `model.h5` (trained on all " << m << " hips).\n";
 }
 
 }  // namespace
@@ -422,6 +471,7 @@ std::filesystem::path write_estimator_validate_report(const EstimatorValidateRes
   md_thesis_tables(md, result);
   md_per_hip(md, result);
   md_pca(md, result);
+  write_coverage(md, result, dir);
   md << "\n## Figures\n\n![Fig. 73](fig73_case1.svg)\n\n![Fig. 74](fig74_case2.svg)\n\n";
   if (!fig72_name.empty()) md << "![Fig. 72](" << fig72_name << ")\n\n";
   md_times(md, result);

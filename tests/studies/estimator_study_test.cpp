@@ -179,6 +179,26 @@ TEST(EstimatorStudy, LeaveOneOutOnSphereHipsAndModelFile) {
   std::getline(loo, row);
   EXPECT_EQ(row.back(), ',') << row;
   EXPECT_EQ(summary.impinging[0] + summary.impinging[1], 0);
+  // coverage.csv: one row per case and method with intervals (no depths: no depth_nn rows), each
+  // share the count over the steps counted.
+  std::ifstream coverage(dir / "out" / "coverage.csv");
+  std::getline(coverage, header);
+  EXPECT_EQ(header,
+            "case,method,e_prime,steps,undefined_steps,covered,coverage,large_error_steps,large_error_flagged,flag_recall");
+  int coverage_rows = 0;
+  for (std::string line; std::getline(coverage, line); ++coverage_rows) {
+    std::vector<std::string> cells;
+    std::stringstream cells_in(line);
+    for (std::string cell; std::getline(cells_in, cell, ',');) cells.push_back(cell);
+    ASSERT_EQ(cells.size(), 10u) << line;
+    EXPECT_NE(cells[1], "depth_nn");
+    const double steps = std::stod(cells[3]), covered = std::stod(cells[5]);
+    EXPECT_EQ(steps + std::stod(cells[4]), 7 * (cells[0] == "1" ? 2 : 4)) << line;  // 7 hips x the case's steps
+    if (steps > 0) {
+      EXPECT_NEAR(std::stod(cells[6]), covered / steps, 1e-9) << line;
+    }
+  }
+  EXPECT_EQ(coverage_rows, 6);
 
   // Round trip: a reloaded model predicts bit-identically.
   EstimatorTrainOptions train = options.train;
