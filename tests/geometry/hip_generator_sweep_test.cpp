@@ -24,6 +24,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <iomanip>
+#include <numbers>
 #include <random>
 #include <sstream>
 #include <string>
