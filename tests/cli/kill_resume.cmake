@@ -1,6 +1,6 @@
 # Kill-and-resume after an interruption: SIGKILL at a random point of a long command, then a re-run,
 # gives the uninterrupted run's results and no partial files. Seeds fixed (printed); slow tests.
-foreach(kind grid fai validate)
+foreach(kind grid fai validate sample)
   if(kind STREQUAL "validate" AND NOT TARGET hipfai_fem)
     continue()
   endif()

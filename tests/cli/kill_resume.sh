@@ -2,7 +2,8 @@
 # Kill-and-resume: a long command killed with SIGKILL at a random point, then run again, must give
 # the results of an uninterrupted run and leave no partial files.
 #   kill_resume.sh KIND SEED HIPFAI TMP
-# KIND: validate (study validate --quick), fai (study fai --quick), grid (generate --grid, 5 mm).
+# KIND: validate (study validate --quick), fai (study fai --quick), grid (generate --grid, 5 mm),
+# sample (estimator sample, 3 + 2 hips at 7 mm).
 # The kill comes at a random fraction (20-80 %, from SEED) of the uninterrupted run's time.
 set -u
 kind="$1"; seed="$2"; hipfai="$3"; tmp="$4"
@@ -12,6 +13,7 @@ run() {  # run DIR: the command writing into DIR/out with its cache in DIR/cache
     validate) "$hipfai" study validate --quick --out "$1/out" --cache "$1/cache" ;;
     fai) "$hipfai" study fai --quick --out "$1/out" --cache "$1/cache" ;;
     grid) "$hipfai" generate --grid --edge-mm 5 --out "$1/out" ;;
+    sample) "$hipfai" estimator sample --n 3 --held-out 2 --seed 12 --edge-mm 7 --out "$1/out" ;;
     *) echo "kill_resume: unknown kind $kind" >&2; exit 2 ;;
   esac
 }
@@ -25,7 +27,7 @@ results() {
   case "$kind" in
     validate) strip_timing "$1/out/steps.csv" ;;
     fai) strip_timing "$1/out/steps.csv"; strip_timing "$1/out/summary.csv" ;;
-    grid) (cd "$1/out" && find . -type f | sort | xargs md5sum) ;;
+    grid | sample) (cd "$1/out" && find . -type f | sort | xargs md5sum) ;;
   esac
 }
 start=$(date +%s%N)
