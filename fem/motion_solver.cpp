@@ -65,7 +65,7 @@ void add_effort(ContactResult& total, const ContactResult& attempt) {
 }
 
 // Steps whose contact is searched ahead (each holds its contact nodes, ~5 MB at default).
-constexpr std::size_t kStepsSearchedAhead = 16;
+constexpr std::size_t kStepsSearchedAhead = 32;
 
 struct State {
   dealii::Tensor<2, 3> rotation;
