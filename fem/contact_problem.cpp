@@ -116,6 +116,7 @@ void ContactProblem::Impl::setup_system() {
   system.place_bodies(model);
   system.setup(model);
   constraints.collect_fixed_dofs(system, model);
+  surfaces.update(system, model);
   if (substructured()) {
     // The cell matrices are needed only to factorise a body anew.
     compliance.begin_run(system, constraints, model);
@@ -124,7 +125,6 @@ void ContactProblem::Impl::setup_system() {
     if (compliance.needs_factorisation()) {
       // This run's own contact search goes ahead of the factorisation, beside it.
       if (searches_ahead()) {
-        surfaces.update(system, model);
         std::vector<ContactModel> runs{model};
         runs.insert(runs.end(), upcoming.begin(), upcoming.end());
         search_ahead.plan(system, surfaces, runs, constraints.fixed_dofs(),
@@ -147,10 +147,6 @@ void ContactProblem::Impl::setup_system() {
 }
 
 void ContactProblem::Impl::find_contact_nodes() {
-  {
-    dealii::TimerOutput::Scope scope(timer, "contact search");
-    surfaces.update(system, model);
-  }
   std::optional<std::vector<SlaveNode>> found;
   {
     // Waits only for a search of this run still in progress.

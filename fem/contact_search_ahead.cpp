@@ -74,15 +74,9 @@ void ContactSearchAhead::plan(const ElasticSystem& system, const ContactSurfaces
   if (!slaves_ && !upcoming.empty())
     slaves_ = std::make_shared<const std::vector<SlaveBoundaryNodes>>(
         slave_boundary_nodes(system, upcoming.front()));
-  const auto searchable = [&](const ContactModel& model) {
-    bool match = slaves_->size() == model.contact_pairs.size();
-    for (std::size_t p = 0; match && p < slaves_->size(); ++p)
-      match = (*slaves_)[p].boundary_id == model.contact_pairs[p].slave_boundary_id;
-    return match;
-  };
   std::list<std::shared_ptr<Search>> queue;
   for (const ContactModel& model : upcoming) {
-    if (!searchable(model)) continue;  // other slave boundaries: the run searches itself
+    if (!slave_boundaries_of(*slaves_, model)) continue;  // the run searches itself
     auto kept = queue_.begin();
     while (kept != queue_.end() && !same_search_geometry((*kept)->model, model)) ++kept;
     if (kept != queue_.end() && (*kept)->slaves == slaves_) {
@@ -161,13 +155,13 @@ std::optional<std::vector<SlaveNode>> ContactSearchAhead::take(const ElasticSyst
               search->settings.search_radius_mm == contact_search_radius(system.diameter()) &&
               search->settings.tangent_plane_cull == tangent_plane_cull &&
               search->n_dofs == system.dof_handler().n_dofs() && search->fixed_dof == fixed_dof;
-  // The slave nodes were read from the mesh before: they must not have moved, nor their dofs.
+  // The slave nodes were read from the mesh before: they must not have moved (their dofs are
+  // those of the faces, compared above).
+  const std::vector<dealii::Point<3>>& points = system.support_points();
   bool slaves_same = true;
-  for (std::size_t p = 0; same && p < search->slaves->size(); ++p) {
+  for (std::size_t p = 0; same && slaves_same && p < search->slaves->size(); ++p) {
     for (const SlaveNode& node : (*search->slaves)[p].nodes) {
-      for (unsigned int c = 0; slaves_same && c < 3; ++c)
-        slaves_same = node.dofs[c] < system.support_points().size();
-      slaves_same = slaves_same && node.position == system.support_points()[node.dofs[0]];
+      slaves_same = node.dofs[0] < points.size() && node.position == points[node.dofs[0]];
       if (!slaves_same) break;
     }
   }

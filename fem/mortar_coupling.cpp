@@ -270,6 +270,13 @@ std::vector<SlaveBoundaryNodes> slave_boundary_nodes(const ElasticSystem& system
   return out;
 }
 
+bool slave_boundaries_of(const std::vector<SlaveBoundaryNodes>& slaves, const ContactModel& model) {
+  if (slaves.size() != model.contact_pairs.size()) return false;
+  for (std::size_t p = 0; p < slaves.size(); ++p)
+    if (slaves[p].boundary_id != model.contact_pairs[p].slave_boundary_id) return false;
+  return true;
+}
+
 std::vector<SlaveNode> collect_slave_nodes(const ElasticSystem& system, const ContactModel& model,
                                            const ContactSurfaces& surfaces,
                                            const std::vector<bool>& fixed_dof,
@@ -283,10 +290,8 @@ std::vector<SlaveNode> collect_slave_nodes(const ElasticSystem& system, const Co
                                            const std::vector<SlaveBoundaryNodes>& slaves,
                                            const std::vector<bool>& fixed_dof,
                                            const ContactSearchSettings& settings) {
-  bool match = slaves.size() == model.contact_pairs.size();
-  for (std::size_t p = 0; match && p < slaves.size(); ++p)
-    match = slaves[p].boundary_id == model.contact_pairs[p].slave_boundary_id;
-  if (!match) throw_error("fem: the slave boundaries given are not the model's contact pairs'");
+  if (!slave_boundaries_of(slaves, model))
+    throw_error("fem: the slave boundaries given are not the model's contact pairs'");
   std::vector<SlaveNode> nodes;
   const double search_radius_mm = settings.search_radius_mm;
   for (unsigned int p = 0; p < model.contact_pairs.size(); ++p) {

@@ -94,6 +94,8 @@ struct SlaveBoundaryNodes {
 // hipfai::Error for a pair whose slave boundary has no faces.
 std::vector<SlaveBoundaryNodes> slave_boundary_nodes(const ElasticSystem& system,
                                                      const ContactModel& model);
+// True when `slaves` are those of `model`'s contact pairs: the same slave boundaries, in pair order.
+bool slave_boundaries_of(const std::vector<SlaveBoundaryNodes>& slaves, const ContactModel& model);
 // The same search from them (one per pair of `model`): of the system it reads only the finite
 // element's tables, never the mesh, its dofs or support points (the faces carry their dofs), so it
 // can run on another thread while the mesh is moved and its dofs renumbered.
