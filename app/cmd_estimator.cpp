@@ -3,10 +3,13 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/literature.h"
+#include "studies/estimator_holdout.h"
+#include "studies/estimator_holdout_report.h"
 #include "studies/estimator_model_file.h"
 #include "studies/estimator_refine.h"
 #include "studies/estimator_refine_report.h"
 #include "studies/estimator_sample.h"
+#include "studies/estimator_sample_fe.h"
 #include "studies/estimator_sample_report.h"
 #include "studies/estimator_study.h"
 
@@ -263,6 +266,8 @@ struct SampleArgs {
   std::string design = "lhs", out;
   std::vector<std::string> vary{"ce", "alpha"};
   double edge_mm = 2.0;
+  std::string fe_level, cache = "cache";
+  int steps = 30, jobs = 2, threads = 2;
 };
 
 void add_sample_command(CLI::App* estimator) {
@@ -287,6 +292,20 @@ void add_sample_command(CLI::App* estimator) {
   sample->add_option("--edge-mm", args->edge_mm, "Surface edge of the generated hips, mm")
       ->check(CLI::Range(0.2, 10.0))
       ->capture_default_str();
+  sample->add_option("--fe-level", args->fe_level,
+                     "Also the ground truth: each hip's penetration depths and FE at this level (coarse, default, fine), "
+                     "into steps.csv (training hips), held_out_steps.csv and timings.csv")
+      ->check(CLI::IsMember({"coarse", "default", "fine"}));
+  sample->add_option("--cache", args->cache, "FE cache folder (with --fe-level)")->capture_default_str();
+  sample->add_option("--steps", args->steps, "Sub-motions of standing to sitting (with --fe-level)")
+      ->check(CLI::Range(3, 1000))
+      ->capture_default_str();
+  sample->add_option("--jobs", args->jobs, "FE runs at once, one hip per process (with --fe-level)")
+      ->check(CLI::Range(1, 64))
+      ->capture_default_str();
+  sample->add_option("--threads", args->threads, "Threads of the penetration queries (with --fe-level)")
+      ->check(CLI::Range(1, 256))
+      ->capture_default_str();
   sample->callback([args] {
     studies::SampleOptions options;
     options.n = args->n;
@@ -304,10 +323,72 @@ void add_sample_command(CLI::App* estimator) {
           (failed ? std::cerr : std::cout) << studies::sample_hip_line(plan, index, outcome) << std::endl;
         });
     std::cout << studies::sample_summary(plan, outcomes, args->out) << '\n';
+    if (!args->fe_level.empty()) {
+      studies::SampleFeOptions fe;
+      fe.sample_dir = args->out;
+      fe.cache_dir = args->cache;
+      fe.level = parse_fe_level(args->fe_level, "--fe-level");
+      fe.steps = args->steps;
+      fe.jobs = args->jobs;
+      fe.threads = args->threads;
+      fe.program = std::filesystem::read_symlink("/proc/self/exe");
+      const studies::SampleFeResult result = studies::run_sample_fe(plan, fe);
+      studies::write_sample_fe_tables(plan, result, fe.level, args->out);
+      std::cout << studies::sample_fe_summary(plan, result, args->out) << '\n';
+      for (const auto& hip : result.hips) {
+        if (!hip.error.empty()) std::cerr << "estimator sample: " << plan.hips[hip.plan_index].name << ": " << hip.error << '\n';
+      }
+    }
     const auto failed = std::count_if(outcomes.begin(), outcomes.end(), [](const auto& outcome) {
       return outcome.status == studies::SampleHipOutcome::Status::kFailed;
     });
     if (failed > 0) throw_error("estimator sample: ", failed, " of ", outcomes.size(), " hips failed (named above)");
+  });
+}
+
+// What `estimator holdout` reads from its command line (names parsed into enums in the callback).
+struct HoldoutArgs {
+  studies::HoldoutOptions options;
+  std::string out, refine_method = "depth_nn";
+  std::vector<std::string> criteria{"width", "disagreement"};
+};
+
+void add_holdout_command(CLI::App* estimator) {
+  auto* holdout = estimator->add_subcommand(
+      "holdout", "Train on an `estimator sample`'s training hips and test on its held-out hips: error vs training-set "
+                 "size, calibrated intervals, the flag, refinement vs random sampling (report.md and CSVs)");
+  auto args = std::make_shared<HoldoutArgs>();
+  studies::HoldoutOptions& o = args->options;
+  holdout->add_option("--sample", o.sample_dir, "Folder of `estimator sample ... --fe-level L` (steps.csv, held_out_steps.csv)")
+      ->required();
+  holdout->add_option("--out", args->out, "Output folder")->required();
+  holdout->add_option("--sizes", o.sizes, "Training-set sizes: the first k training hips of the design")
+      ->delimiter(',')
+      ->capture_default_str();
+  holdout->add_option("--nominal", o.nominal, "Nominal coverage of the calibrated intervals")
+      ->check(CLI::Range(0.5, 0.999))
+      ->capture_default_str();
+  holdout->add_option("--refine-start", o.refine_start, "Refinement: the first k training hips to start from")
+      ->capture_default_str();
+  holdout->add_option("--refine-budget", o.refine_budget, "Refinement: hips added per round")->capture_default_str();
+  holdout->add_option("--refine-rounds", o.refine_rounds, "Refinement: rounds (0: none)")->capture_default_str();
+  holdout->add_option("--criteria", args->criteria, "Refinement: uncertainty criteria (width, disagreement)")
+      ->delimiter(',')
+      ->capture_default_str();
+  holdout->add_option("--refine-method", args->refine_method, "Refinement: the method whose interval `width` reads")
+      ->capture_default_str();
+  holdout->add_option("--random-repeats", o.random_repeats, "Refinement: random draws at the same budget")
+      ->capture_default_str();
+  holdout->add_option("--seed", o.seed, "Seed of the random draws")->capture_default_str();
+  holdout->add_option("--measure", o.measure, "FE measure (a _mpa column of the tables)")->capture_default_str();
+  holdout->callback([args] {
+    studies::HoldoutOptions options = args->options;
+    options.criteria.clear();
+    for (const auto& name : args->criteria) options.criteria.push_back(stats::parse_uncertainty_criterion(name));
+    options.refine_method = stats::parse_estimator_method(args->refine_method);
+    const studies::HoldoutResult result = studies::run_estimator_holdout(options);
+    studies::write_holdout_report(result, options, args->out);
+    std::cout << studies::holdout_summary(result, args->out) << '\n';
   });
 }
 
@@ -332,6 +413,21 @@ void add_refine_command(CLI::App* estimator) {
   refine->add_option("--method", *method, "Method whose interval `width` reads: pca_nn, knn, ridge, depth_nn")
       ->capture_default_str();
   refine->add_option("--csv", *csv, "Write hip, score, rank (0 = not picked) of every candidate to this file");
+  struct LoopArgs {
+    std::string fe_level, cache = "cache", held_out, out;
+    int rounds = 1, jobs = 2;
+  };
+  auto loop = std::make_shared<LoopArgs>();
+  refine->add_option("--fe-level", loop->fe_level,
+                     "Run the loop: each round pick --budget hips, run their FE at this level, retrain (needs --out)")
+      ->check(CLI::IsMember({"coarse", "default", "fine"}));
+  refine->add_option("--rounds", loop->rounds, "Rounds of the loop")->check(CLI::Range(1, 1000))->capture_default_str();
+  refine->add_option("--cache", loop->cache, "FE cache folder of the loop")->capture_default_str();
+  refine->add_option("--jobs", loop->jobs, "FE runs at once in the loop")->check(CLI::Range(1, 64))->capture_default_str();
+  refine->add_option("--held-out", loop->held_out,
+                     "An `estimator sample --fe-level` folder: its held-out hips measure the model after each round "
+                     "(and are never picked)");
+  refine->add_option("--out", loop->out, "Loop output folder: model.h5 (the retrained model) and rounds.csv");
   refine->callback([=] {
     studies::RefineOptions options;
     options.candidates = *candidates;
@@ -339,10 +435,28 @@ void add_refine_command(CLI::App* estimator) {
     options.criterion = stats::parse_uncertainty_criterion(*criterion);
     options.method = stats::parse_estimator_method(*method);
     if (options.budget < 1) throw_error("estimator refine: --budget ", options.budget, " must be at least 1");
-    const auto model = studies::read_estimator_model(*model_path);
-    const auto result = studies::pick_refine_candidates(model, options);
-    if (!csv->empty()) write_file_atomically(*csv, studies::refine_csv(result));
-    std::cout << studies::refine_summary(result, options);
+    auto model = studies::read_estimator_model(*model_path);
+    if (loop->fe_level.empty()) {
+      const auto result = studies::pick_refine_candidates(model, options);
+      if (!csv->empty()) write_file_atomically(*csv, studies::refine_csv(result));
+      std::cout << studies::refine_summary(result, options);
+      return;
+    }
+    if (loop->out.empty()) throw_error("estimator refine: --fe-level runs the loop and needs --out");
+    studies::RefineLoopOptions run;
+    run.pick = options;
+    run.rounds = loop->rounds;
+    run.fe.level = parse_fe_level(loop->fe_level, "--fe-level");
+    run.fe.cache_dir = loop->cache;
+    run.fe.jobs = loop->jobs;
+    run.fe.program = std::filesystem::read_symlink("/proc/self/exe");
+    run.held_out = loop->held_out;
+    const studies::RefineLoopResult result = studies::refine_estimator(std::move(model), run);
+    std::filesystem::create_directories(loop->out);
+    studies::write_estimator_model(result.model, std::filesystem::path(loop->out) / "model.h5");
+    write_file_atomically(std::filesystem::path(loop->out) / "rounds.csv", studies::refine_rounds_csv(result));
+    std::cout << studies::refine_rounds_summary(result) << "model: " << (std::filesystem::path(loop->out) / "model.h5").string()
+              << '\n';
   });
 }
 
@@ -355,6 +469,7 @@ const CommandRegistrar registrar("estimator", [](CLI::App& parent) {
   add_validate_command(estimator);
   add_sample_command(estimator);
   add_refine_command(estimator);
+  add_holdout_command(estimator);
 });
 
 }  // namespace

@@ -266,3 +266,20 @@ namespace hipfai::literature {
 // 134:268-287) and Damblin, Couplet & Iooss (2013, J Simulation 7:276-289; R DiceDesign's default).
 inline constexpr int kMaximinPhiPower = 50;
 }  // namespace hipfai::literature
+
+// ==== Estimator intervals on hips it has not seen (appended block, see stats/conformal_interval.h) ==
+namespace hipfai::literature {
+// Conformal prediction: an interval from the k-th smallest of n calibration scores, k =
+// ceil((n + 1) * nominal), holds a new exchangeable row's truth with probability >= nominal (Vovk,
+// Gammerman & Shafer 2005, "Algorithmic Learning in a Random World", Springer, ch. 2; the split /
+// inductive form: Papadopoulos, Proedrou, Vovk & Gammerman 2002, ECML, LNCS 2430:345-356; per group,
+// "Mondrian" conformal predictors: Vovk, Lindsay, Nouretdinov & Gammerman 2003, Mondrian confidence
+// machine, technical report, Royal Holloway). The nominal coverage reported by default is 90 %.
+inline constexpr double kEstimatorNominalCoverage = 0.90;
+// A step's estimate counts as in error when it is more than 10 % off the FE value: twice the
+// thesis' mean leave-one-out error (5.14 %, §4.5.4), the "large error" the flag is checked against.
+inline constexpr double kEstimatorLargeErrorFraction = 0.10;
+// Thesis Table 13 (§4.5.3.5): leave-one-out mean error over the whole motion (case 2) at e' = 10,
+// mean of its 20 hips: 4.85 %.
+inline constexpr double kEstimatorThesisCase2MeanErrorPercent = 4.85;
+}  // namespace hipfai::literature

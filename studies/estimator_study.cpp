@@ -465,6 +465,23 @@ EstimatorModel train_estimator_model(const EstimatorTrainOptions& options, std::
   }
   if (!sweeps.empty()) add_sweep_hips(model, sweeps, options, notes);
   for (const auto& [dir, table_file] : options.fe_hips) add_fe_hip(model, dir, table_file, options.measure, notes);
+  fit_estimator_model(model, settings);
+  return model;
+}
+
+TrainingHip training_hip_from_folder(const std::filesystem::path& dir, FeSweepHip fe, const FeatureGrid& grid) {
+  const std::set<std::string> tissues(grid.tissues.begin(), grid.tissues.end());
+  const auto start = std::chrono::steady_clock::now();
+  HipFolder folder{dir, geometry::load_hip_model(dir, tissues), 0};
+  folder.load_ms = elapsed_ms(start);
+  fe.ce_deg = folder.model.parameters.ce_deg;
+  fe.alpha_deg = folder.model.parameters.alpha_deg;
+  TrainingHip hip = training_hip(folder, fe, hip_content_hash(folder.model, grid), grid);
+  hip.name = dir.filename().string();
+  return hip;
+}
+
+void fit_estimator_model(EstimatorModel& model, const stats::EstimatorSettings& settings) {
   const auto rows = static_cast<Eigen::Index>(model.hips.size());
   if (rows < 3) throw_error("train: ", rows, " hips with FE results; the estimator needs at least 3");
   Eigen::MatrixXd features(rows, model.grid.num_features());
@@ -476,7 +493,6 @@ EstimatorModel train_estimator_model(const EstimatorTrainOptions& options, std::
   }
   model.estimator = stats::train_estimator(features, values, settings, training_depths(model.hips, values.cols()));
   model.code_version = std::string(kVersion) + " " + kGitSha;
-  return model;
 }
 
 namespace {

@@ -19,6 +19,7 @@
 
 #include "core/literature.h"
 #include "stats/pressure_estimator.h"
+#include "studies/pipeline/mpi_launch.h"
 #include "studies/pressure_features.h"
 
 #include <filesystem>
@@ -96,6 +97,14 @@ struct EstimatorModel {
 // Matches, extracts features and trains. Throws hipfai::Error (one line) on any mismatch.
 EstimatorModel train_estimator_model(const EstimatorTrainOptions& options, std::vector<std::string>* notes = nullptr);
 
+// A training hip from its model folder (features on `grid`, content hash) and its FE values and
+// depths (fe.ce_deg / alpha_deg are taken from the folder's model.json).
+TrainingHip training_hip_from_folder(const std::filesystem::path& dir, FeSweepHip fe, const FeatureGrid& grid);
+
+// Fits model.estimator to model.hips with `settings` (PCA, derived members, depths when every hip
+// has them). Throws hipfai::Error with fewer than 3 hips.
+void fit_estimator_model(EstimatorModel& model, const stats::EstimatorSettings& settings);
+
 // The model's HDF5 file: write_estimator_model and read_estimator_model in
 // studies/estimator_model_file.h.
 
@@ -133,6 +142,10 @@ struct EstimatorValidateOptions {
   // hips in quick_cache, and train.fe / train.hips point there.
   std::filesystem::path quick_program;
   std::filesystem::path quick_cache = "cache";
+  // kMpiRanks: the --quick FE's hips and the leave-one-out folds over the ranks of MPI_COMM_WORLD
+  // when there are two or more (every rank calls validate_estimator with the same options); with
+  // one rank, as kThisMachine.
+  UnitSpread spread = UnitSpread::kThisMachine;
 };
 
 struct EstimatorValidateSummary {
@@ -150,6 +163,9 @@ struct EstimatorValidateSummary {
   double chosen_e_prime_error[2] = {};
   double chosen_e_prime_interior_error[2] = {};
   std::filesystem::path report;
+  // False on the ranks other than 0 of a validation spread over MPI ranks: they wrote nothing and
+  // the fields above are empty.
+  bool wrote_report = true;
 };
 
 EstimatorValidateSummary validate_estimator(const EstimatorValidateOptions& options);
