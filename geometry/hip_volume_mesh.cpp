@@ -883,14 +883,129 @@ struct ColumnCaster {
   }
 };
 
+// A boundary node that only one quad uses lies between two boundary edges of that quad, so its
+// corner there is the outline's own: near 180 deg where the outline is smooth, more where it is
+// concave. The plane mesh keeps it below 180 deg, but the hexahedra's edges are the chords
+// between the columns' directions, not the plane's straight edges: far from the projection
+// centre (the horns of the horseshoe, ~110 deg away, scale ~3) chord and plane angles differ by
+// ~12 deg over one edge, and a boundary node of a subdivided mesh snapped onto a concave outline
+// (the labrum's tip) turns its quad the same way. Past 180 deg the node's hexahedra invert, and
+// a tapered edge's columns (inner face pushed out to the minimum thickness next to a full one)
+// tilt them further. A corner flatter than kFlatCornerRad is opened to kOpenedCornerRad. (The
+// study grid's flattest such corner is 177.9 deg, the labrum at coarse, CE 30: left as it is.)
+constexpr double kFlatCornerRad = 178.0 * std::numbers::pi / 180.0;
+constexpr double kOpenedCornerRad = 170.0 * std::numbers::pi / 180.0;
+
+// Corner angle of the spherical quad at direction `at`, from the chord towards `next` to the
+// chord towards `previous` counter-clockwise seen from outside, in [0, 2 pi).
+double sphere_corner_angle(const Vec3& at, const Vec3& next, const Vec3& previous) {
+  const Vec3 to_next = next - next.dot(at) * at;
+  const Vec3 to_previous = previous - previous.dot(at) * at;
+  const double angle = std::atan2(to_next.cross(to_previous).dot(at), to_next.dot(to_previous));
+  return angle < 0.0 ? angle + 2.0 * std::numbers::pi : angle;
+}
+
+// Turns the column of every boundary node used by one quad only whose corner on the sphere is
+// flatter than kFlatCornerRad away from the quad's opposite corner, just far enough to bring the
+// corner to kOpenedCornerRad (0.1-0.4 mm on the hips measured; never more than the diagonal).
+// The column keeps the extent found along its own ray, so the mesh stands that much out of the
+// tissue's outline there, as the minimum thickness already blunts the tapered edges it lies on.
+// The other columns are left as they are.
+void blunt_flat_boundary_corners(const PlanarQuadMesh& plane, std::vector<Column>& columns) {
+  std::vector<int> uses(plane.nodes.size(), 0);
+  for (const auto& quad : plane.quads) {
+    for (std::int32_t v : quad) ++uses[static_cast<std::size_t>(v)];
+  }
+  const auto direction_of = [&](const std::array<std::int32_t, 4>& quad, std::size_t c) {
+    return columns[static_cast<std::size_t>(quad[c % 4])].direction;
+  };
+  for (const auto& quad : plane.quads) {
+    for (std::size_t c = 0; c < 4; ++c) {
+      const auto node = static_cast<std::size_t>(quad[c]);
+      if (!plane.on_boundary[node] || uses[node] != 1) continue;
+      const Vec3 at = direction_of(quad, c);
+      const Vec3 next = direction_of(quad, c + 1);
+      const Vec3 previous = direction_of(quad, c + 3);
+      const Vec3 away = at - direction_of(quad, c + 2);
+      if (sphere_corner_angle(at, next, previous) <= kFlatCornerRad) continue;
+      const auto turned = [&](double s) { return Vec3((at + s * away).normalized()); };
+      if (sphere_corner_angle(turned(1.0), next, previous) > kOpenedCornerRad) continue;
+      // The angle falls as the column turns outwards: the smallest turn that brings it to the bound.
+      double low = 0.0, high = 1.0;
+      for (int k = 0; k < 50; ++k) {
+        const double middle = 0.5 * (low + high);
+        (sphere_corner_angle(turned(middle), next, previous) > kOpenedCornerRad ? low : high) = middle;
+      }
+      columns[node].direction = turned(high);
+    }
+  }
+}
+
+// The quads around each plane node, with the node's corner in each.
+using CornersOfNodes = std::vector<std::vector<std::pair<std::size_t, std::size_t>>>;
+
+// The node's own largest corner on the sphere (`own`) or the largest of every corner of its
+// quads, with the node's column along `at`.
+double largest_corner_around(const PlanarQuadMesh& plane, const CornersOfNodes& corners, const std::vector<Column>& columns,
+                             std::size_t node, const Vec3& at, bool own) {
+  double largest = 0.0;
+  for (const auto& [q, corner] : corners[node]) {
+    const auto& quad = plane.quads[q];
+    const auto direction = [&](std::size_t c) {
+      const auto v = static_cast<std::size_t>(quad[c % 4]);
+      return v == node ? at : columns[v].direction;
+    };
+    for (std::size_t c = own ? corner : 0; c < (own ? corner + 1 : 4); ++c) {
+      largest = std::max(largest, sphere_corner_angle(direction(c), direction(c + 1), direction(c + 3)));
+    }
+  }
+  return largest;
+}
+
+// An interior node with a corner flatter than kFlatCornerRad (a sliver beside the snapped outline
+// of a subdivided mesh, e.g. at the labrum's end) moves to the mean direction of its neighbours
+// along the quads' edges when that lowers the largest corner of its quads, and its column is
+// cast there. The other nodes are left as they are.
+void smooth_folded_interior_nodes(const ColumnCaster& caster, const PlanarQuadMesh& plane, std::vector<Column>& columns) {
+  CornersOfNodes corners(plane.nodes.size());
+  std::vector<std::set<std::size_t>> neighbours(plane.nodes.size());
+  for (std::size_t q = 0; q < plane.quads.size(); ++q) {
+    const auto& quad = plane.quads[q];
+    for (std::size_t c = 0; c < 4; ++c) {
+      const auto node = static_cast<std::size_t>(quad[c]);
+      corners[node].emplace_back(q, c);
+      neighbours[node].insert(static_cast<std::size_t>(quad[(c + 1) % 4]));
+      neighbours[node].insert(static_cast<std::size_t>(quad[(c + 3) % 4]));
+    }
+  }
+  for (std::size_t node = 0; node < plane.nodes.size(); ++node) {
+    if (plane.on_boundary[node] || corners[node].empty()) continue;
+    const Vec3 at = columns[node].direction;
+    if (largest_corner_around(plane, corners, columns, node, at, true) <= kFlatCornerRad) continue;
+    Vec3 mean = Vec3::Zero();
+    for (std::size_t v : neighbours[node]) mean += columns[v].direction;
+    const Vec3 moved = mean.normalized();
+    if (largest_corner_around(plane, corners, columns, node, moved, false) <
+        largest_corner_around(plane, corners, columns, node, at, false)) {
+      columns[node] = caster.column(moved, false);
+    }
+  }
+}
+
 // One column per plane node, layers + 1 vertices from the inner to the outer face appended to
 // out.vertices; per node, whether its column is articular.
-std::vector<bool> add_columns(const ColumnCaster& columns, const PlanarQuadMesh& plane, const Stereographic& projection,
+std::vector<bool> add_columns(const ColumnCaster& caster, const PlanarQuadMesh& plane, const Stereographic& projection,
                               const Vec3& hjc, std::size_t layers, HexMesh& out) {
+  std::vector<Column> columns;
+  columns.reserve(plane.nodes.size());
+  for (std::size_t node = 0; node < plane.nodes.size(); ++node) {
+    columns.push_back(caster.column(projection.unproject(plane.nodes[node]).normalized(), plane.on_boundary[node]));
+  }
+  blunt_flat_boundary_corners(plane, columns);
+  smooth_folded_interior_nodes(caster, plane, columns);
   std::vector<bool> articular_column(plane.nodes.size(), false);
   for (std::size_t node = 0; node < plane.nodes.size(); ++node) {
-    const Column column =
-        columns.column(projection.unproject(plane.nodes[node]).normalized(), plane.on_boundary[node]);
+    const Column& column = columns[node];
     articular_column[node] = column.articular;
     for (std::size_t layer = 0; layer <= layers; ++layer) {
       const double r = column.inner + (column.outer - column.inner) * static_cast<double>(layer) /

@@ -23,6 +23,11 @@
 //   - a column thinner than min_thickness_mm keeps its articular end and is lengthened at the
 //     far end (at a side wall seen from the joint, e.g. the fossa silhouette, the bonded end
 //     stays on the bone instead);
+//   - corners are checked on the sphere of directions, where the hexahedra's edges are chords:
+//     a boundary node used by one quad only, whose corner there is flatter than 178 deg (a plane
+//     angle far from the projection centre turns by ~12 deg), has its column turned out of the
+//     outline until the corner is 170 deg (0.1-0.4 mm), keeping its extent; an interior node
+//     with such a corner moves to the mean of its neighbours when that helps;
 //   - an articular-side quad is tagged articular only if all four of its columns hit a face
 //     within 45 deg of radial there; quads over a side wall (fossa, labral notch) are kFree;
 //   - side faces (the columns at the shadow's boundary) are kFree, except the labrum's side

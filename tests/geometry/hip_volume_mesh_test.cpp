@@ -639,5 +639,45 @@ TEST(HipVolumeMeshOptions, LabrumSizesRefineTheLabrumAlone) {
   EXPECT_GT(finer.min_scaled_jacobian, 0.0);
 }
 
+// Hips of a random sample (CE, alpha) whose hexahedra once inverted: the horseshoe's horns lie
+// ~110 deg from the projection centre, where a boundary node used by one quad only turned past
+// 180 deg on the sphere (acetabular cartilage, coarse and default), and a subdivided labrum
+// folded beside its snapped tip outline (default). Every hexahedron must come out valid at both
+// levels, corner by corner and through the trilinear map.
+TEST(HipVolumeMeshFlatCorners, SampledHipsMeshWithValidHexahedra) {
+  struct Level {
+    const char* name;
+    double edge_mm;
+    int layers;
+  };
+  constexpr std::array<Level, 2> kLevels{{{"coarse", 6.0, 1}, {"default", 4.0, 2}}};
+  constexpr std::array<Case, 3> kSampled{{{28.022534418851137, 73.78243003040552},
+                                          {27.319409418851137, 43.15743003040552},
+                                          {12.553784418851137, 75.03243003040552}}};
+  for (const Case& sampled : kSampled) {
+    for (const Level& level : kLevels) {
+      SCOPED_TRACE(::testing::Message() << "CE " << sampled.ce_deg << " alpha " << sampled.alpha_deg << ", "
+                                        << level.name);
+      HipVolumeOptions options;
+      options.edge_mm = level.edge_mm;
+      options.layers = level.layers;
+      options.min_thickness_mm = 0.25;
+      HipVolumeMesh result;
+      ASSERT_NO_THROW(result = build_hip_volume_mesh(hip(sampled.ce_deg, sampled.alpha_deg), options));
+      EXPECT_GT(result.min_scaled_jacobian, 0.0);
+      EXPECT_GT(min_scaled_jacobian(result.mesh), 0.0);
+      for (const auto& hex : result.mesh.hexes) {
+        for (double x : {-1.0, 1.0}) {
+          for (double y : {-1.0, 1.0}) {
+            for (double z : {-1.0, 1.0}) {
+              ASSERT_GT(trilinear_jacobian(result.mesh, hex, Vec3(x, y, z)).determinant(), 0.0);
+            }
+          }
+        }
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace hipfai::geometry
