@@ -117,7 +117,17 @@ void add_fai_command(CLI::App* study) {
              "results.h5, CSV tables and report.md with figures");
   auto arguments = std::make_shared<FaiArguments>();
   add_fai_options(fai, *arguments);
-  fai->callback([arguments] { print_fai_result(studies::run_fai_study(fai_options(*arguments))); });
+  fai->callback([arguments] {
+    studies::FaiStudyOptions run = fai_options(*arguments);
+    // Under mpirun / srun the hips are spread over the ranks, and rank 0 alone reports.
+    run.spread = studies::unit_spread_of_this_process();
+    const auto result = studies::run_fai_study(run);
+    if (!result.holds_results) return;
+    // A hip that failed is named in one line; the others' tables and report are kept.
+    if (result.models.empty()) studies::throw_if_units_failed("fai", result.failed, 0, "hips", run.out_dir);
+    print_fai_result(result);
+    studies::throw_if_units_failed("fai", result.failed, result.models.size(), "hips", run.out_dir);
+  });
 }
 
 void add_validate_command(CLI::App* study) {
@@ -159,20 +169,14 @@ void add_validate_command(CLI::App* study) {
     const auto result = studies::run_validation_study(run);
     if (!result.wrote_tables) return;
     // A hip that failed is named in one line; the others' tables and report are kept.
-    std::string failed_hips;
-    for (const auto& failed : result.failed) failed_hips += (failed_hips.empty() ? "" : "; ") + failed.hip + ": " + failed.message;
-    const auto fail = [&] {
-      throw_error("validate: ", result.failed.size(), " of ", result.failed.size() + result.hips.size(),
-                  " hips failed (the others are in ", run.out_dir.string(), "): ", failed_hips);
-    };
-    if (!result.failed.empty() && result.hips.empty()) fail();
+    if (result.hips.empty()) studies::throw_if_units_failed("validate", result.failed, 0, "hips", run.out_dir);
     const auto report = studies::write_correlation_report(run.out_dir);
     std::cout << std::fixed << std::setprecision(2) << "validate: " << result.hips.size() << " hips x " << result.steps
               << " steps, FE level " << to_string(result.fe_level) << ", " << std::setprecision(0) << result.seconds
               << " s; mean r (primary measure) " << std::setprecision(2) << report.mean_r_all << " all, "
               << report.mean_r_curvilinear << " curvilinear, " << report.mean_r_radial << " radial over "
               << report.ok_cells << " cells; report: " << report.report.string() << '\n';
-    if (!result.failed.empty()) fail();
+    studies::throw_if_units_failed("validate", result.failed, result.hips.size(), "hips", run.out_dir);
   });
 }
 

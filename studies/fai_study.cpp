@@ -4,18 +4,21 @@
 #include "core/error.h"
 #include "core/progress.h"
 #include "core/stopwatch.h"
-#include "geometry/mesh_io.h"
 #include "studies/fai_report.h"
-#include "studies/hip_sensitivity.h"
+#include "studies/fai_unit.h"
 #include "studies/pipeline/hip_source.h"
-#include "studies/pipeline/penetration_run.h"
+
+#ifdef HIPFAI_WITH_FEM
+#include "studies/fai_ranks.h"
+#endif
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <iomanip>
 #include <map>
-#include <sstream>
+#include <optional>
+#include <tuple>
 
 namespace hipfai::studies {
 
@@ -24,70 +27,6 @@ namespace {
 using Clock = SteadyClock;
 
 std::string model_id(double ce, double alpha) { return parametric_hip_id(ce, alpha); }
-
-// One model: generate (or reuse) the hip, run the penetration method over the motion.
-FaiModelRun run_model(double ce, double alpha, double edge_mm, const Motion& motion,
-                   const FaiStudyOptions& options, StageLog& log) {
-  Scene scene;
-  scene.name = model_id(ce, alpha);
-  scene.parametric = ParametricHip{ce, alpha, edge_mm, options.base_parameters};
-  scene.outputs = {Output::kCurvilinearDepth, Output::kRadialDepth};
-  for (Output o : scene.outputs) {
-    const auto t = tissues_for(o);
-    scene.tissues.insert(t.begin(), t.end());
-  }
-  FaiModelRun model;
-  const auto start = Clock::now();
-  model.hip = acquire_hip(scene, scene.tissues, options.cache_dir, log);
-  put_femur_at_neutral(model.hip, options.femoral_neutral);
-  model.summary.generate_s = seconds_since(start);
-  PenetrationOptions penetration;
-  penetration.mapping = options.mapping;
-  penetration.radial_rule = options.radial_rule;
-  penetration.table_size = options.table_size;
-  penetration.threads = options.threads;
-  penetration.cache_dir = options.cache_dir;
-  penetration.contact_tolerance_mm = options.contact_tolerance_mm;
-  penetration.sample_striking_boundary = options.sample_striking_boundary;
-  const auto compute_start = Clock::now();
-  const std::string id = model_id(ce, alpha);
-  const bool wants_vtp = edge_mm == options.edge_mm &&
-                         std::find(options.vtp_models.begin(), options.vtp_models.end(), id) != options.vtp_models.end();
-  auto write_step_vtp = [&](std::size_t step, const DepthFields& fields) {
-    bool wanted = false;
-    for (int s : options.vtp_steps) {
-      wanted = wanted || (s == 0 ? step + 1 == motion.steps.size() : step + 1 == static_cast<std::size_t>(s));
-    }
-    if (!wanted) return;
-    std::filesystem::create_directories(options.out_dir / "vtp");
-    std::map<std::string, geometry::TriMesh> coloured;
-    for (const auto& [key, values] : fields) {
-      const std::string tissue = key.substr(0, key.find('/'));
-      auto [it, inserted] = coloured.try_emplace(tissue, model.hip.tissues.at(tissue));
-      it->second.vertex_fields[key.substr(key.find('/') + 1)] = values;
-    }
-    for (const auto& [tissue, mesh] : coloured) {
-      std::ostringstream name;
-      name << id << '_' << tissue << "_step" << std::setw(3) << std::setfill('0') << (step + 1) << ".vtp";
-      geometry::write_mesh(mesh, options.out_dir / "vtp" / name.str());
-    }
-  };
-  model.run = wants_vtp ? compute_penetration(model.hip, motion, penetration, log, write_step_vtp)
-                        : compute_penetration(model.hip, motion, penetration, log);
-  model.summary.penetration_ms = 1e3 * seconds_since(compute_start);
-  model.summary.ce_deg = ce;
-  model.summary.alpha_deg = alpha;
-  model.summary.max_curvilinear_mm = model.run.max_curvilinear_mm();
-  model.summary.max_radial_mm = model.run.max_radial_mm();
-  model.summary.pathology = pathology_of(ce, alpha);
-  // Where impingement begins along the motion's single axis (exact, hip_sensitivity.h).
-  model.summary.first_contact_deg = first_striking_contact_deg(
-      model.hip.tissues.at("femur_bone"), model.hip.tissues.at("labrum"), model.hip.hjc_mm,
-      (model.hip.frame * motion.steps.front().axis).normalized(),
-      model.hip.articular_radius_mm + model.run.contact_tolerance_mm, options.threads,
-      options.sample_striking_boundary);
-  return model;
-}
 
 void normalise(std::vector<FaiModelSummary>& models) {
   double max_c = 0, max_r = 0;
@@ -98,7 +37,62 @@ void normalise(std::vector<FaiModelSummary>& models) {
   }
 }
 
+// Every unit in this process, one after the other.
+std::vector<std::optional<FaiModelRun>> run_units_here(const std::vector<FaiUnit>& units, const Motion& motion,
+                                                       const FaiStudyOptions& options) {
+  StageLog log;
+  ProgressBar progress("fai study: " + std::to_string(units.size()) + " hips", units.size(), options.progress);
+  std::vector<std::optional<FaiModelRun>> runs;
+  for (const FaiUnit& unit : units) {
+    runs.push_back(run_fai_unit(unit, motion, options, log));
+    progress.advance();
+  }
+  return runs;
+}
 
+// The grid's models and the resolution table from the units' runs (nullopt: the unit failed and
+// is left out, as a hip off the grid).
+void gather_models(FaiStudyResult& result, const std::vector<FaiUnit>& units,
+                   std::vector<std::optional<FaiModelRun>>& runs, const FaiStudyOptions& options) {
+  std::map<std::tuple<double, double, double>, const FaiModelRun*> other_edges;
+  for (std::size_t k = 0; k < units.size(); ++k) {
+    if (!runs[k]) continue;
+    if (units[k].edge_mm == options.edge_mm) {
+      result.models.push_back(runs[k]->summary);
+      result.runs.emplace(model_id(units[k].ce_deg, units[k].alpha_deg), std::move(*runs[k]));
+    } else {
+      other_edges[{units[k].ce_deg, units[k].alpha_deg, units[k].edge_mm}] = &*runs[k];
+    }
+  }
+  normalise(result.models);
+  // Accuracy vs resolution: the archetypes at each edge, coarsest first.
+  std::vector<double> edges = options.resolution_edges_mm;
+  if (std::find(edges.begin(), edges.end(), options.edge_mm) == edges.end()) edges.push_back(options.edge_mm);
+  std::sort(edges.rbegin(), edges.rend());
+  for (const double edge : edges) {
+    FaiResolutionRow row{edge, 0.0, 0.0, {}, 0};
+    double penetration_ms = 0;
+    int step_count = 0;
+    for (const auto& [name, angles] : fai_archetypes()) {
+      if (!find_fai_model(result.models, angles.first, angles.second)) continue;
+      const FaiModelRun* used = nullptr;
+      if (edge == options.edge_mm) {
+        used = &result.runs.at(model_id(angles.first, angles.second));
+      } else {
+        const auto it = other_edges.find({angles.first, angles.second, edge});
+        if (it == other_edges.end()) continue;  // its unit failed
+        used = it->second;
+      }
+      row.maxima[name] = {used->summary.max_curvilinear_mm, used->summary.max_radial_mm};
+      penetration_ms += used->summary.penetration_ms;
+      step_count += static_cast<int>(used->run.steps.size());
+      row.femur_vertices = used->hip.tissues.at("femur_bone").num_vertices();
+      row.seconds += used->seconds;
+    }
+    row.penetration_ms_per_step = step_count ? penetration_ms / step_count : 0.0;
+    result.resolution.push_back(row);
+  }
+}
 
 }  // namespace
 
@@ -152,51 +146,24 @@ FaiStudyResult compute_fai_study(const FaiStudyOptions& options) {
   const auto study_start = Clock::now();
   FaiStudyResult result;
   result.motion = standing_to_sitting(options.sub_motions, options.pose_sequence);
-  const Motion& motion = result.motion;
-  auto& runs = result.runs;
-  StageLog log;
-  {
-    ProgressBar progress("fai study: " + std::to_string(options.ce_deg.size() * options.alpha_deg.size()) +
-                             " hips",
-                         options.ce_deg.size() * options.alpha_deg.size(), options.progress);
-    for (double ce : options.ce_deg) {
-      for (double alpha : options.alpha_deg) {
-        FaiModelRun model = run_model(ce, alpha, options.edge_mm, motion, options, log);
-        result.models.push_back(model.summary);
-        runs.emplace(model_id(ce, alpha), std::move(model));
-        progress.advance();
-      }
+  const std::vector<FaiUnit> units = fai_study_units(options);
+  std::vector<std::optional<FaiModelRun>> runs;
+#ifdef HIPFAI_WITH_FEM
+  if (options.spread == UnitSpread::kMpiRanks && join_mpi_world().size > 1) {
+    FaiRankRun ranks = run_fai_units_over_ranks(units, result.motion, options);
+    if (!ranks.holds_results) {
+      result.holds_results = false;
+      return result;
     }
+    runs = std::move(ranks.runs);
+    result.failed = std::move(ranks.failed);
+  } else {
+    runs = run_units_here(units, result.motion, options);
   }
-  normalise(result.models);
-
-  // --- accuracy vs resolution --------------------------------------------------------------------
-  {
-    std::vector<double> edges = options.resolution_edges_mm;
-    if (std::find(edges.begin(), edges.end(), options.edge_mm) == edges.end()) edges.push_back(options.edge_mm);
-    std::sort(edges.rbegin(), edges.rend());
-    for (double edge : edges) {
-      FaiResolutionRow row{edge, 0.0, 0.0, {}, 0};
-      double penetration_ms = 0;
-      int step_count = 0;
-      const auto start = Clock::now();
-      for (const auto& [name, angles] : fai_archetypes()) {
-        if (!find_fai_model(result.models, angles.first, angles.second)) continue;
-        StageLog resolution_log;
-        const FaiModelRun model = edge == options.edge_mm ? FaiModelRun{}
-                                                       : run_model(angles.first, angles.second, edge, motion,
-                                                                   options, resolution_log);
-        const FaiModelRun& used = edge == options.edge_mm ? runs.at(model_id(angles.first, angles.second)) : model;
-        row.maxima[name] = {used.summary.max_curvilinear_mm, used.summary.max_radial_mm};
-        penetration_ms += used.summary.penetration_ms;
-        step_count += static_cast<int>(used.run.steps.size());
-        row.femur_vertices = used.hip.tissues.at("femur_bone").num_vertices();
-      }
-      row.seconds = seconds_since(start);
-      row.penetration_ms_per_step = step_count ? penetration_ms / step_count : 0.0;
-      result.resolution.push_back(row);
-    }
-  }
+#else
+  runs = run_units_here(units, result.motion, options);
+#endif
+  gather_models(result, units, runs, options);
   result.total_seconds = seconds_since(study_start);
   return result;
 }
@@ -204,6 +171,8 @@ FaiStudyResult compute_fai_study(const FaiStudyOptions& options) {
 FaiStudyResult run_fai_study(const FaiStudyOptions& options) {
   std::filesystem::create_directories(options.out_dir);
   FaiStudyResult result = compute_fai_study(options);
+  // Nothing to write on the ranks other than 0, nor when every hip of a spread study failed.
+  if (!result.holds_results || (result.models.empty() && !result.failed.empty())) return result;
   write_fai_study_outputs(result, options);
   return result;
 }

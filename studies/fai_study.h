@@ -15,6 +15,10 @@
 // per-step VTP files asked for, which are streamed as the motion runs), and
 // write_fai_study_outputs() (studies/fai_report.h) writes the files above from it. run_fai_study()
 // does both.
+//
+// The hips are independent units (studies/fai_unit.h). Started under an MPI launcher
+// (UnitSpread::kMpiRanks) with two ranks or more, they are spread over the ranks
+// (studies/fai_ranks.h, docs/cluster.md) with the same results, and rank 0 writes the files.
 #pragma once
 
 #include "contact/radial_mapping.h"
@@ -22,6 +26,7 @@
 #include "geometry/hip_parameters.h"
 #include "studies/pipeline/hip_source.h"
 #include "studies/pipeline/motion.h"
+#include "studies/pipeline/mpi_launch.h"
 #include "studies/pipeline/penetration_run.h"
 
 #include <filesystem>
@@ -64,6 +69,9 @@ struct FaiStudyOptions {
   // (1-based; 0 = the last step): <out>/vtp/<model>_<tissue>_stepNNN.vtp.
   std::vector<std::string> vtp_models{"ce40_alpha80", "ce20_alpha80", "ce40_alpha40"};
   std::vector<int> vtp_steps{0};
+  // kMpiRanks: the units over the ranks of MPI_COMM_WORLD when there are two or more (every rank
+  // calls run_fai_study with the same options); with one rank, as kThisMachine.
+  UnitSpread spread = UnitSpread::kThisMachine;
 };
 
 // Thesis Table 10 / Fig. 63 classification from the angles: acetabulum dysplastic (CE < 20),
@@ -91,6 +99,7 @@ struct FaiModelRun {
   FaiModelSummary summary;
   PenetrationRun run;
   LoadedHip hip;
+  double seconds = 0;  // wall time of the whole run (hip, penetration, first contact)
 };
 
 // The archetypes of thesis Table 10 at several surface resolutions (accuracy vs time).
@@ -103,6 +112,12 @@ struct FaiResolutionRow {
 };
 
 struct FaiStudyResult {
+  // False on the ranks other than 0 of a study spread over MPI ranks: they wrote nothing and the
+  // fields below are empty.
+  bool holds_results = true;
+  // Spread over MPI ranks, the units that failed (the others' results are kept); otherwise a
+  // failure throws.
+  std::vector<UnitFailure> failed;
   std::vector<FaiModelSummary> models;       // grid order (CE outer, alpha inner)
   std::map<std::string, FaiModelRun> runs;   // parametric_hip_id -> run
   Motion motion;

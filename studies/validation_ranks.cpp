@@ -8,91 +8,31 @@
 #include "studies/pipeline/hip_source.h"
 #include "studies/pipeline/mpi_launch.h"
 #include "studies/pipeline/rank_pool.h"
+#include "studies/pipeline/unit_reply.h"
 
 #include <algorithm>
 #include <cstdio>
-#include <cstdint>
-#include <cstring>
 #include <deque>
 #include <optional>
 #include <string>
-#include <type_traits>
 
 namespace hipfai::studies {
 namespace {
 
-// Replies as bytes: numbers as they are in memory (every rank runs the same build on the same
-// kind of machine, so they come back bit for bit), strings and vectors with their length first.
-class ReplyWriter {
- public:
-  template <typename T>
-  ReplyWriter& add(const T& value) {
-    static_assert(std::is_trivially_copyable_v<T>);
-    bytes_.append(reinterpret_cast<const char*>(&value), sizeof value);
-    return *this;
-  }
-  ReplyWriter& add(const std::string& text) {
-    add(static_cast<std::uint64_t>(text.size()));
-    bytes_ += text;
-    return *this;
-  }
-  ReplyWriter& add(const std::vector<double>& values) {
-    add(static_cast<std::uint64_t>(values.size()));
-    for (const double v : values) add(v);
-    return *this;
-  }
-  std::string take() { return std::move(bytes_); }
-
- private:
-  std::string bytes_;
-};
-
-class ReplyReader {
- public:
-  explicit ReplyReader(const std::string& bytes) : bytes_(bytes) {}
-  template <typename T>
-  T number() {
-    static_assert(std::is_trivially_copyable_v<T>);
-    if (bytes_.size() - at_ < sizeof(T)) throw_error("validate: a worker rank's reply is truncated");
-    T value;
-    std::memcpy(&value, bytes_.data() + at_, sizeof value);
-    at_ += sizeof value;
-    return value;
-  }
-  std::string text() {
-    const auto size = number<std::uint64_t>();
-    if (bytes_.size() - at_ < size) throw_error("validate: a worker rank's reply is truncated");
-    std::string value = bytes_.substr(at_, size);
-    at_ += size;
-    return value;
-  }
-  std::vector<double> numbers() {
-    std::vector<double> values(number<std::uint64_t>());
-    for (double& v : values) v = number<double>();
-    return values;
-  }
-
- private:
-  const std::string& bytes_;
-  std::size_t at_ = 0;
-};
-
 std::string encode_penetration(const ValidationHip& hip) {
-  ReplyWriter out;
+  UnitReplyWriter out;
   out.add(hip.id).add(hip.dir.string()).add(hip.curvilinear_max_mm).add(hip.radial_max_mm);
   out.add(hip.timing.generate_s).add(hip.timing.penetration_tables_ms).add(hip.timing.penetration_query_ms);
   return out.take();
 }
 
 void decode_penetration(const std::string& bytes, ValidationHip& hip) {
-  ReplyReader in(bytes);
-  hip.id = in.text();
-  hip.dir = in.text();
-  hip.curvilinear_max_mm = in.numbers();
-  hip.radial_max_mm = in.numbers();
-  hip.timing.generate_s = in.number<double>();
-  hip.timing.penetration_tables_ms = in.number<double>();
-  hip.timing.penetration_query_ms = in.number<double>();
+  UnitReplyReader in(bytes);
+  hip.id = in.get<std::string>();
+  hip.dir = in.get<std::string>();
+  in.read(hip.curvilinear_max_mm).read(hip.radial_max_mm);
+  in.read(hip.timing.generate_s).read(hip.timing.penetration_tables_ms).read(hip.timing.penetration_query_ms);
+  in.expect_end();
 }
 
 struct FeReply {
@@ -102,17 +42,18 @@ struct FeReply {
 };
 
 std::string encode_fe(const FeReply& reply) {
-  ReplyWriter out;
+  UnitReplyWriter out;
   out.add(reply.source).add(reply.entry.string()).add(reply.seconds);
   return out.take();
 }
 
 FeReply decode_fe(const std::string& bytes) {
-  ReplyReader in(bytes);
+  UnitReplyReader in(bytes);
   FeReply reply;
-  reply.source = in.number<EntrySource>();
-  reply.entry = in.text();
-  reply.seconds = in.number<double>();
+  reply.source = in.get<EntrySource>();
+  reply.entry = in.get<std::string>();
+  reply.seconds = in.get<double>();
+  in.expect_end();
   return reply;
 }
 

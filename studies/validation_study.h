@@ -84,11 +84,9 @@ struct ValidationHipTiming {
   double fe_dofs = 0;
 };
 
-// A hip whose unit failed when the hips were spread over MPI ranks (the others were kept).
-struct ValidationHipFailure {
-  std::string hip;      // "ce20_alpha40"
-  std::string message;  // why
-};
+// A hip whose unit failed when the hips were spread over MPI ranks (the others were kept): its
+// name ("ce20_alpha40") and why.
+using ValidationHipFailure = UnitFailure;
 
 struct ValidationResult {
   // False on the ranks other than 0 of a study spread over MPI ranks: they wrote nothing and the

@@ -1,5 +1,7 @@
 #include "studies/pipeline/mpi_launch.h"
 
+#include "core/error.h"
+
 #include <cstdlib>
 
 #ifdef HIPFAI_WITH_FEM
@@ -11,6 +13,15 @@
 #endif
 
 namespace hipfai::studies {
+
+void throw_if_units_failed(const std::string& study, const std::vector<UnitFailure>& failed, std::size_t kept,
+                           const std::string& what, const std::filesystem::path& out_dir) {
+  if (failed.empty()) return;
+  std::string units;
+  for (const UnitFailure& unit : failed) units += (units.empty() ? "" : "; ") + unit.unit + ": " + unit.message;
+  throw_error(study, ": ", failed.size(), " of ", failed.size() + kept, " ", what, " failed (the others are in ",
+              out_dir.string(), "): ", units);
+}
 
 bool started_by_mpi_launcher() {
   for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_SIZE", "PMI_RANK"}) {

@@ -7,59 +7,22 @@
 #include "studies/validation_study.h"
 
 #include "studies/pipeline/mpi_launch.h"
+#include "tests/mpi/mpi_test_util.h"
 
 #include <gtest/gtest.h>
-#include <mpi.h>
 
-#include <chrono>
+#include <algorithm>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
-#include <sstream>
 #include <string>
-#include <thread>
-#include <vector>
 
 namespace hipfai::studies {
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string read_text(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
-
-// A CSV without its timing columns (names ending in _s or _ms).
-std::string without_timings(const fs::path& file) {
-  std::istringstream lines(read_text(file));
-  std::string line, out;
-  std::vector<bool> keep;
-  while (std::getline(lines, line)) {
-    std::istringstream cells(line);
-    std::string cell;
-    std::size_t c = 0;
-    std::string row;
-    while (std::getline(cells, cell, ',')) {
-      if (keep.size() <= c) keep.push_back(!(cell.ends_with("_s") || cell.ends_with("_ms")));
-      if (keep[c]) row += cell + ',';
-      ++c;
-    }
-    out += row + '\n';
-  }
-  return out;
-}
-
-// A barrier the waiting ranks sleep through (MPI_Barrier would spin them on the cores rank 0
-// computes on).
-void sleeping_barrier() {
-  MPI_Request request;
-  MPI_Ibarrier(MPI_COMM_WORLD, &request);
-  for (int done = 0; !done;) {
-    MPI_Test(&request, &done, MPI_STATUS_IGNORE);
-    if (!done) std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
-}
+using mpi_test::read_text;
+using mpi_test::sleeping_barrier;
+using mpi_test::without_timings;
 
 const fs::path& scratch() {
   static const fs::path root = fs::path(HIPFAI_BINARY_DIR) / "test-scratch" / "validation_ranks";
@@ -129,7 +92,7 @@ TEST(ValidationRanks, AHipThatCannotBeGeneratedIsNamedAndTheOthersKept) {
   const ValidationResult result = run_validation_study(options);
   if (world.rank != 0) return;
   ASSERT_EQ(result.failed.size(), 1u);
-  EXPECT_EQ(result.failed[0].hip, "ce80_alpha40");
+  EXPECT_EQ(result.failed[0].unit, "ce80_alpha40");
   EXPECT_NE(result.failed[0].message.find("ce_deg"), std::string::npos) << result.failed[0].message;
   EXPECT_EQ(result.failed[0].message.find('\n'), std::string::npos) << "one line";
   ASSERT_EQ(result.hips.size(), 1u);
