@@ -72,8 +72,14 @@ const CommandRegistrar registrar("study.hjc", [](CLI::App& parent) {
     run.out_dir = common->out;
     if (run.femur.empty() != run.pelvis.empty()) throw_error("study hjc: give both --femur and --pelvis, or neither");
     if (common->quick) run = studies::quick_hjc_study_options(run);
+    // Under mpirun / srun the subjects are spread over the ranks, and rank 0 alone reports.
+    run.spread = studies::unit_spread_of_this_process();
     const auto result = studies::run_hjc_study(run);
+    if (!result.holds_results) return;
+    // A subject that failed is named in one line; the others' report is kept.
+    if (result.subjects.empty()) studies::throw_if_units_failed("study hjc", result.failed, 0, "hips", run.out_dir);
     print_report(result.report_path, result.seconds);
+    studies::throw_if_units_failed("study hjc", result.failed, result.subjects.size(), "hips", run.out_dir);
   });
 });
 

@@ -12,6 +12,10 @@
 #include "studies/pipeline/penetration_run.h"
 #include "studies/pipeline/segmented_hip.h"
 
+#ifdef HIPFAI_WITH_FEM
+#include "studies/hjc_ranks.h"
+#endif
+
 #include <Eigen/Dense>
 
 #include <algorithm>
@@ -173,7 +177,9 @@ void rotate_about_centres(HjcSubjectResult& subject, const geometry::HipModel& m
   }
 }
 
-HjcSubjectResult compute_subject(const HjcStudyOptions& options, std::size_t si, ProgressBar& progress) {
+}  // namespace
+
+HjcSubjectResult compute_hjc_subject(const HjcStudyOptions& options, std::size_t si, ProgressBar& progress) {
   const auto [ce, alpha] = options.subjects[si];
   geometry::HipParameters parameters;
   parameters.ce_deg = ce;
@@ -189,8 +195,6 @@ HjcSubjectResult compute_subject(const HjcStudyOptions& options, std::size_t si,
   rotate_about_centres(subject, model, labels, options, progress);
   return subject;
 }
-
-}  // namespace
 
 const std::vector<std::pair<std::string, double>>& hjc_study_rotations() {
   static const std::vector<std::pair<std::string, double>> rotations{
@@ -217,19 +221,41 @@ std::string hjc_offset_label(const char* direction, double offset_mm) {
 }
 
 HjcStudyResult compute_hjc_study(const HjcStudyOptions& options) {
+#ifdef HIPFAI_WITH_FEM
+  const bool over_ranks = options.spread == UnitSpread::kMpiRanks && join_mpi_world().size > 1;
+#else
+  const bool over_ranks = false;
+#endif
   if (!options.femur.empty() || !options.pelvis.empty()) {
     if (options.femur.empty() || options.pelvis.empty()) throw_error("study hjc: bones-only mode needs both a femur and a pelvis");
+#ifdef HIPFAI_WITH_FEM
+    // One hip: rank 0 computes it, the other ranks have nothing to do.
+    if (over_ranks && join_mpi_world().rank != 0) {
+      HjcStudyResult nothing;
+      nothing.holds_results = false;
+      return nothing;
+    }
+#endif
     return compute_bones(options);
   }
   if (options.subjects.empty()) throw_error("study hjc: no subjects");
   HjcStudyResult result;
   result.options = options;
+#ifdef HIPFAI_WITH_FEM
+  if (over_ranks) {
+    HjcRankRun ranks = run_hjc_subjects_over_ranks(options);
+    result.holds_results = ranks.holds_results;
+    result.subjects = std::move(ranks.subjects);
+    result.failed = std::move(ranks.failed);
+    return result;
+  }
+#endif
   const std::size_t centres_per_subject = geometry::hjc_method_names().size() + 1 +
                                           options.centre_offsets_mm.size() * hjc_offset_directions().size();
   ProgressBar progress("hjc study", options.subjects.size() * centres_per_subject * hjc_study_rotations().size(),
                        options.progress);
   for (std::size_t si = 0; si < options.subjects.size(); ++si) {
-    result.subjects.push_back(compute_subject(options, si, progress));
+    result.subjects.push_back(compute_hjc_subject(options, si, progress));
   }
   progress.finish();
   return result;
@@ -238,6 +264,8 @@ HjcStudyResult compute_hjc_study(const HjcStudyOptions& options) {
 HjcStudyResult run_hjc_study(const HjcStudyOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   HjcStudyResult result = compute_hjc_study(options);
+  // Nothing to write on the ranks other than 0, nor when every subject of a spread study failed.
+  if (!result.holds_results || (result.subjects.empty() && !result.failed.empty())) return result;
   result.report_path = write_hjc_study_report(result, options.out_dir);
   result.seconds = seconds_since(start);
   return result;

@@ -24,9 +24,16 @@
 // anatomical frame: an approximate hip frame is built from the bones (Z: the femur's principal axis
 // towards the head, X: from the pelvis centroid towards the head, made orthogonal to Z; Y = Z x X),
 // stated in the report.
+//
+// The generated subjects are independent units: started under an MPI launcher
+// (UnitSpread::kMpiRanks) with two ranks or more, they are spread over the ranks
+// (studies/hjc_ranks.h, docs/cluster.md) with the same results, and rank 0 writes the report. The
+// bones-only mode (one hip) runs on rank 0.
 #pragma once
 
+#include "core/progress.h"
 #include "geometry/hjc.h"
+#include "studies/pipeline/mpi_launch.h"
 
 #include <Eigen/Core>
 
@@ -51,6 +58,9 @@ struct HjcStudyOptions {
   std::vector<double> centre_offsets_mm{1.0, 2.0, 5.0};
   int threads = 2;
   bool progress = true;
+  // kMpiRanks: the subjects over the ranks of MPI_COMM_WORLD when there are two or more (every rank
+  // calls run_hjc_study with the same options); with one rank, as kThisMachine.
+  UnitSpread spread = UnitSpread::kThisMachine;
 };
 
 // The segmentation perturbation of every subject's articular surfaces (see above).
@@ -96,6 +106,12 @@ struct HjcBonesResult {
 };
 
 struct HjcStudyResult {
+  // False on the ranks other than 0 of a study spread over MPI ranks: they wrote nothing and the
+  // fields below are empty.
+  bool holds_results = true;
+  // Spread over MPI ranks, the subjects that failed (the others are kept); otherwise a failure
+  // throws.
+  std::vector<UnitFailure> failed;
   HjcStudyOptions options;                        // as run
   std::vector<HjcSubjectResult> subjects;
   std::vector<HjcRomRow> rom;                     // bones-only mode, head removed
@@ -112,6 +128,10 @@ const std::vector<std::pair<std::string, double>>& hjc_study_rotations();
 // centre label of the true centre displaced by offset_mm along one: "truth +X 2mm".
 const std::array<std::pair<const char*, Eigen::Vector3d>, 6>& hjc_offset_directions();
 std::string hjc_offset_label(const char* direction, double offset_mm);
+
+// One generated subject, options.subjects[subject] (the study's unit): its centres and the depths
+// about each; `progress` advances once per centre and rotation.
+HjcSubjectResult compute_hjc_subject(const HjcStudyOptions& options, std::size_t subject, ProgressBar& progress);
 
 // The subjects' centres and depths, or in bones-only mode the centres and ranges of motion.
 HjcStudyResult compute_hjc_study(const HjcStudyOptions& options);
