@@ -255,7 +255,10 @@ void add_validate_command(CLI::App* estimator) {
     } else if (options.train.fe.empty() || options.train.hips.empty()) {
       throw_error("estimator validate: --fe and --hips are required (or --quick)");
     }
-    print_validation(studies::validate_estimator(options), options.max_e_prime);
+    // Under mpirun / srun the --quick FE's hips and the folds are spread over the ranks; rank 0 reports.
+    options.spread = studies::unit_spread_of_this_process();
+    const auto summary = studies::validate_estimator(options);
+    if (summary.wrote_report) print_validation(summary, options.max_e_prime);
   });
 }
 

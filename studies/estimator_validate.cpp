@@ -3,12 +3,18 @@
 #include "studies/estimator_validate.h"
 
 #include "core/error.h"
+#include "studies/estimator_fold.h"
 #include "studies/estimator_validate_report.h"
 #include "studies/validation_study.h"
+
+#ifdef HIPFAI_WITH_FEM
+#include "studies/estimator_fold_ranks.h"
+#endif
 
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 namespace hipfai::studies {
 
@@ -63,8 +69,11 @@ double run_quick_fe(EstimatorValidateOptions& options) {
   fe.fe_level = FeLevel::kCoarse;
   fe.program = options.quick_program;
   fe.progress = options.train.progress;
+  fe.spread = options.spread;
   const auto start = std::chrono::steady_clock::now();
-  run_validation_study(fe);
+  const ValidationResult made = run_validation_study(fe);
+  // Spread over MPI ranks, a hip that failed is in `made.failed` (one process: it threw).
+  throw_if_units_failed("estimator validate: --quick FE", made.failed, made.hips.size(), "hips", fe.out_dir);
   options.train.fe = {fe.out_dir};
   options.train.hips = fe.cache_dir;
   return elapsed_ms(start) / 1000.0;
@@ -138,52 +147,50 @@ EstimatorHipError hip_error(const EstimatorValidateResult& result, const stats::
   return error;
 }
 
-// Leave-one-out of case c over its eligible hips, every method and e' = 1..max.
-void case_leave_one_out(EstimatorValidateResult& result, int c, const stats::PenetrationDepths& depths) {
-  EstimatorValidateCase& one = result.cases[static_cast<std::size_t>(c)];
+// The hips of case c with a finite, positive FE value at each of its steps.
+std::vector<int> eligible_hips(const EstimatorValidateResult& result, int c) {
   const Eigen::MatrixXd& values = result.model.estimator.values;
-  const int steps = one.steps;
+  std::vector<int> eligible;
   for (Eigen::Index i = 0; i < static_cast<Eigen::Index>(result.model.hips.size()); ++i) {
     bool complete = true;
-    for (int j = 0; j < steps; ++j) complete = complete && std::isfinite(values(i, j)) && values(i, j) > 0.0;
-    if (complete) one.eligible.push_back(static_cast<int>(i));
+    for (int j = 0; j < result.cases[static_cast<std::size_t>(c)].steps; ++j) {
+      complete = complete && std::isfinite(values(i, j)) && values(i, j) > 0.0;
+    }
+    if (complete) eligible.push_back(static_cast<int>(i));
   }
-  if (one.eligible.empty()) return;
-  const auto start = std::chrono::steady_clock::now();
-  const stats::PenetrationDepths case_depths =
-      depths.known() ? stats::PenetrationDepths{depths.curvilinear_mm.leftCols(steps), depths.radial_mm.leftCols(steps)}
-                     : stats::PenetrationDepths{};
-  const auto rows = stats::leave_one_out(result.model.estimator.features, values.leftCols(steps),
-                                         result.model.estimator.settings, result.max_e_prime, one.eligible, {},
-                                         case_depths);
-  result.loo_ms += elapsed_ms(start);
-  for (const auto& row : rows) {
-    one.index[{row.hip, static_cast<int>(row.method), row.e_prime}] = one.errors.size();
-    one.errors.push_back(hip_error(result, row, steps));
-  }
+  return eligible;
 }
 
-// pca_nn with e' chosen without the target (stats::select_e_prime on the other hips): the outer
-// leave-one-out already holds the estimate at every e', so the choice picks one of its rows.
-void case_choose_e_prime(EstimatorValidateResult& result, int c) {
-  EstimatorValidateCase& one = result.cases[static_cast<std::size_t>(c)];
-  const Eigen::MatrixXd& features = result.model.estimator.features;
-  const Eigen::MatrixXd case_values = result.model.estimator.values.leftCols(one.steps);
-  const auto m = static_cast<Eigen::Index>(result.model.hips.size());
-  const auto start = std::chrono::steady_clock::now();
-  for (const int target : one.eligible) {
-    Eigen::MatrixXd train_features(m - 1, features.cols()), train_values(m - 1, one.steps);
-    for (Eigen::Index i = 0, r = 0; i < m; ++i) {
-      if (i == target) continue;
-      train_features.row(r) = features.row(i);
-      train_values.row(r++) = case_values.row(i);
-    }
-    one.chosen_e_prime[target] =
-        stats::select_e_prime(train_features, train_values, result.model.estimator.settings,
-                              stats::EstimatorMethod::kPcaNn, result.max_e_prime)
-            .e_prime;
+// What the folds read, from the trained model.
+EstimatorFoldProblem fold_problem(const EstimatorValidateResult& result, const stats::PenetrationDepths& depths) {
+  EstimatorFoldProblem problem;
+  problem.features = result.model.estimator.features;
+  problem.values = result.model.estimator.values;
+  problem.depths = depths;
+  problem.settings = result.model.estimator.settings;
+  problem.max_e_prime = result.max_e_prime;
+  for (int c = 0; c < 2; ++c) {
+    problem.case_steps[static_cast<std::size_t>(c)] = result.cases[static_cast<std::size_t>(c)].steps;
+    problem.eligible[static_cast<std::size_t>(c)] = eligible_hips(result, c);
   }
-  result.selection_ms += elapsed_ms(start);
+  return problem;
+}
+
+// A fold's rows as its case's errors (leave-one-out order: hip, method, e') and its chosen e'.
+void add_fold(EstimatorValidateResult& result, const EstimatorFoldUnit& unit, const EstimatorFold& fold) {
+  EstimatorValidateCase& one = result.cases[static_cast<std::size_t>(unit.case_index)];
+  for (const auto& row : fold.rows) {
+    one.index[{row.hip, static_cast<int>(row.method), row.e_prime}] = one.errors.size();
+    one.errors.push_back(hip_error(result, row, one.steps));
+  }
+  one.chosen_e_prime[unit.hip] = fold.chosen_e_prime;
+  result.loo_ms += fold.loo_ms;
+  result.selection_ms += fold.selection_ms;
+}
+
+// "case 1 ce20_alpha40".
+std::string fold_name(const EstimatorValidateResult& result, const EstimatorFoldUnit& unit) {
+  return "case " + std::to_string(unit.case_index + 1) + " " + result.model.hips[static_cast<std::size_t>(unit.hip)].name;
 }
 
 // The group means of case c at e' = max (per method and for the chosen e'), and the summary's.
@@ -272,26 +279,61 @@ double finite_mean(const std::vector<double>& values) {
 
 EstimatorValidateResult compute_estimator_validation(const EstimatorValidateOptions& options_in) {
   EstimatorValidateOptions options = options_in;
+#ifdef HIPFAI_WITH_FEM
+  const bool over_ranks = options.spread == UnitSpread::kMpiRanks && join_mpi_world().size > 1;
+  const bool rank_zero = !over_ranks || join_mpi_world().rank == 0;
+#else
+  const bool over_ranks = false, rank_zero = true;
+#endif
   std::filesystem::create_directories(options.out_dir);
   EstimatorValidateResult result;
-  if (!options.quick_program.empty()) result.quick_fe_s = run_quick_fe(options);
+#ifdef HIPFAI_WITH_FEM
+  if (!rank_zero) {
+    if (!options.quick_program.empty()) run_quick_fe(options);
+    serve_estimator_folds();
+    result.holds_results = false;
+    return result;
+  }
+#endif
+  EstimatorFoldProblem problem;
+  try {
+    if (!options.quick_program.empty()) result.quick_fe_s = run_quick_fe(options);
+    const auto train_start = std::chrono::steady_clock::now();
+    result.model = train_estimator_model(options.train);
+    result.pipeline_ms = elapsed_ms(train_start);
+    result.steps = static_cast<int>(result.model.estimator.values.cols());
+    result.max_e_prime = options.max_e_prime;
 
-  const auto train_start = std::chrono::steady_clock::now();
-  result.model = train_estimator_model(options.train);
-  result.pipeline_ms = elapsed_ms(train_start);
-  result.steps = static_cast<int>(result.model.estimator.values.cols());
-  result.max_e_prime = options.max_e_prime;
-
-  const stats::PenetrationDepths depths = training_depths(result.model.hips, result.steps);
-  time_estimator(result, depths);
-  find_grid_border(result);
-  // Case 1: the first half of the motion (the middle step included when p is odd); case 2: all.
-  result.cases[0].steps = (result.steps + 1) / 2;
-  result.cases[1].steps = result.steps;
-  for (int c = 0; c < 2; ++c) {
-    case_leave_one_out(result, c, depths);
-    if (result.cases[static_cast<std::size_t>(c)].eligible.empty()) continue;
-    case_choose_e_prime(result, c);
+    const stats::PenetrationDepths depths = training_depths(result.model.hips, result.steps);
+    time_estimator(result, depths);
+    find_grid_border(result);
+    // Case 1: the first half of the motion (the middle step included when p is odd); case 2: all.
+    result.cases[0].steps = (result.steps + 1) / 2;
+    result.cases[1].steps = result.steps;
+    problem = fold_problem(result, depths);
+  } catch (...) {
+#ifdef HIPFAI_WITH_FEM
+    if (over_ranks) release_estimator_fold_workers();
+#endif
+    throw;
+  }
+  for (int c = 0; c < 2; ++c) result.cases[static_cast<std::size_t>(c)].eligible = problem.eligible[static_cast<std::size_t>(c)];
+  const std::vector<EstimatorFoldUnit> units = estimator_fold_units(problem);
+  std::vector<std::optional<EstimatorFold>> folds;
+#ifdef HIPFAI_WITH_FEM
+  if (over_ranks) {
+    std::vector<UnitResult<EstimatorFold>> spread = run_estimator_folds_over_ranks(problem);
+    for (std::size_t k = 0; k < units.size(); ++k) {
+      folds.push_back(std::move(spread[k].reply));
+      if (!folds.back()) result.failed.push_back({fold_name(result, units[k]), spread[k].error});
+    }
+  }
+#endif
+  if (!over_ranks) {
+    for (const EstimatorFoldUnit& unit : units) folds.push_back(run_estimator_fold(problem, unit));
+  }
+  for (std::size_t k = 0; k < units.size(); ++k) {
+    if (folds[k]) add_fold(result, units[k], *folds[k]);
   }
   for (int c = 0; c < 2; ++c) case_groups(result, c);
   return result;
@@ -300,7 +342,12 @@ EstimatorValidateResult compute_estimator_validation(const EstimatorValidateOpti
 EstimatorValidateSummary validate_estimator(const EstimatorValidateOptions& options) {
   const EstimatorValidateResult result = compute_estimator_validation(options);
   EstimatorValidateSummary summary = result.summary;
+  summary.wrote_report = result.holds_results;
+  if (!result.holds_results) return summary;
   summary.report = write_estimator_validate_report(result, options.out_dir);
+  // A fold that failed on a worker rank is named in one line, after the others' report.
+  const std::size_t folds = result.cases[0].eligible.size() + result.cases[1].eligible.size();
+  throw_if_units_failed("estimator validate", result.failed, folds - result.failed.size(), "folds", options.out_dir);
   return summary;
 }
 

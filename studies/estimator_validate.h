@@ -70,6 +70,12 @@ struct EstimatorValidateCase {
 };
 
 struct EstimatorValidateResult {
+  // False on the ranks other than 0 of a validation spread over MPI ranks: the fields below are
+  // empty.
+  bool holds_results = true;
+  // Spread over MPI ranks, the folds that failed ("case 1 ce20_alpha40"); their rows are missing
+  // and the other folds are kept. Otherwise a failure throws.
+  std::vector<UnitFailure> failed;
   // Trained on every hip of the run (the features, FE values and settings of the study).
   EstimatorModel model;
   // model's estimator trained again from its features, for the time of training alone; its PCA
@@ -96,6 +102,9 @@ struct EstimatorValidateResult {
 // Runs the --quick FE sweep when asked, trains, times, runs leave-one-out for both cases and
 // chooses e' per held-out hip. Writes nothing of its own but the --quick sweep (<out_dir>/fe).
 // Throws hipfai::Error as train_estimator_model does.
+// With options.spread kMpiRanks and two ranks or more (every rank calls it): the --quick FE's hips
+// (studies/validation_ranks.h) and then the leave-one-out folds (studies/estimator_fold_ranks.h)
+// are spread over the ranks; rank 0 trains and holds the result, with the same numbers.
 EstimatorValidateResult compute_estimator_validation(const EstimatorValidateOptions& options);
 
 // Thesis Tables 12 (table_case 0) and 13 (1): mean error (%) of the hip at CE/alpha, NaN when the
