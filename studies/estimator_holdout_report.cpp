@@ -150,7 +150,7 @@ std::vector<RefineCurve> refine_curves(const HoldoutResult& result, stats::Estim
   for (const auto& r : result.refine) {
     if (r.method != method || r.case_index != c) continue;
     const std::string name = r.strategy == RefineStrategy::kRandom ? std::string("random")
-                                                                   : std::string("least certain (") + stats::to_string(r.criterion) + ")";
+                                                                   : std::string("refine: ") + stats::to_string(r.criterion);
     by_name[name][r.training_hips].push_back(r.mean_error_percent);
   }
   std::vector<RefineCurve> curves;
@@ -174,10 +174,9 @@ void write_figures(const HoldoutResult& result, const HoldoutOptions& options, c
   sizes.title = "Held-out error vs training-set size (" + result.measure + ", whole motion)";
   sizes.x_label = "training hips";
   sizes.y_label = "mean error over held-out hips (%)";
-  sizes.log_x = true;
   for (const stats::EstimatorMethod method : stats::kEstimatorMethods) {
     Series held{std::string(stats::to_string(method)) + " held-out", {}, {}};
-    Series loo{std::string(stats::to_string(method)) + " leave-one-out", {}, {}, true};
+    Series loo{std::string(stats::to_string(method)) + " LOO", {}, {}, true};
     for (const int k : sizes_of(result)) {
       if (const auto* s = find_summary(result, k, method, 2, HipGroup::kAll)) {
         held.x.push_back(k);
@@ -189,7 +188,7 @@ void write_figures(const HoldoutResult& result, const HoldoutOptions& options, c
     sizes.series.push_back(held);
     sizes.series.push_back(loo);
   }
-  sizes.notes.push_back("thesis (leave-one-out, 25 grid hips): " + fixed(literature::kEstimatorThesisCase2MeanErrorPercent) + " %");
+  sizes.notes.push_back("thesis LOO: " + fixed(literature::kEstimatorThesisCase2MeanErrorPercent) + " %");
   write_svg(sizes, out_dir / "fig_error_vs_size.svg");
   if (result.refine.empty()) return;
   LineChart refine;
@@ -199,8 +198,8 @@ void write_figures(const HoldoutResult& result, const HoldoutOptions& options, c
   for (const auto& curve : refine_curves(result, options.refine_method, 2)) {
     refine.series.push_back({curve.name, curve.hips, curve.error});
     if (curve.name == "random") {
-      refine.series.push_back({"random, best draw", curve.hips, curve.low, true});
-      refine.series.push_back({"random, worst draw", curve.hips, curve.high, true});
+      refine.series.push_back({"random, best", curve.hips, curve.low, true});
+      refine.series.push_back({"random, worst", curve.hips, curve.high, true});
     }
   }
   write_svg(refine, out_dir / "fig_refine.svg");
