@@ -25,6 +25,7 @@
 #include <queue>
 #include <sstream>
 #include <string_view>
+#include <tuple>
 #include <unordered_map>
 #include <utility>
 
@@ -124,8 +125,40 @@ double circle_apart_from_cam(const HipParameters& p, double circle_deg) {
   return circle_deg;
 }
 
-// The cam (see build_solids): the cross-section circle swept over the clock arc, plus its end
-// balls, as OCC solids (new ones on every call: booleans consume their tools).
+// The cam (see femur_solids): every point within rc of the arc of section centres, i.e. the
+// section circle swept about the neck axis over the clock arc plus a half ball at each end, as one
+// OCC solid (a new one on every call: booleans consume their tools).
+//
+// The half balls meet the sweep along the end sections' circles, where their spheres and the swept
+// surface are tangent (the cam is smooth there). Built as three solids and fused, the fuse had to
+// intersect those tangent faces, and for isolated doubles alpha (4 of 1000 random alphas in
+// [40, 80]; 56.61436601558189 and 73.31368003040552 among them, their neighbours 1e-14 away fine)
+// OpenCASCADE returned a cam whose end-section vertices and arcs carried tolerances of 2.9-5.9 mm.
+// The femur's next boolean then threw ("BRep_Tool:: TopoDS_Vertex hasn't gp_Pnt") or gave the head
+// balls' seams parameter curves shifted by a period (gmsh: "Impossible to mesh periodic surface").
+// No boolean is used here: the cam's boundary is made of faces built on shared curves and sewn
+// into one shell (2000 random alphas: one valid solid each, tolerances 1e-7 mm).
+//   - The begin section is bounded by two sides running from its top T (its point farthest from
+//     the neck axis) towards +n and towards -n down to the section's axis u: the circle's arcs
+//     through the pole to its bottom B, or, where the section is clipped (below), an arc to the
+//     chord's end and the half chord to its middle M.
+//   - The swept surface is those curves revolved about the neck axis over the clock arc; their
+//     last positions bound the end section.
+//   - Each end's half ball is its section's +n side revolved by half a turn about the section's
+//     axis u (through T and B or M), away from the sweep: the arc makes the half sphere, the half
+//     chord a half disc. Its first curves are the sweep's own; its last ones land on the -n side,
+//     the same circles and lines, which sewing merges (no surface is intersected).
+// Near the neck axis the section would cross the axis of revolution (small alpha): everything
+// closer to the axis than `clip` (half the neck radius) is inside the neck cylinder anyway, so the
+// section is clipped there by a chord parallel to n (swept: a cylinder about n), and the half
+// balls by the plane through that chord normal to u (the half chord's half turn). What the plane
+// removes beyond the cylinder lies within sqrt(clip^2 + half chord^2) of the axis, inside the neck
+// (11.9 mm with the default cam, neck radius 13 mm; for larger cams `clip` is lowered to keep it
+// so): the femur and its cartilage are the same solids as with the cylinder (volumes and areas
+// equal to 1e-8, 12 alphas from 40.01 to 80). Where the section's centre is within 1 mm of `clip`
+// (alpha just above normal_alpha_deg with the default cam) the clip is taken 1 mm nearer the axis
+// than the centre, as before, when the cylinder ran through the former caps' poles there (at 2 mm,
+// alpha 40.0001-40.024 failed or looped: CE 3.8 / alpha 40.024).
 DimTags cam_solids(const HipParameters& p) {
   const double radius = p.articular_radius_mm;
   const double rc = p.cam_radius_mm;
@@ -139,76 +172,76 @@ DimTags cam_solids(const HipParameters& p) {
   };
   const double sweep = (p.cam_end_deg - p.cam_begin_deg) * kDegToRad;
   if (sweep <= 1e-9) return ball(centre_at(p.cam_begin_deg), rc);
-  // End caps: half balls whose flat faces are the sweep's end discs (shared faces, not tangent
-  // overlapping solids, which OpenCASCADE's booleans do not always resolve). Each is OCC's
-  // half sphere (azimuth 0..pi, flat face through its poles) turned so that its poles lie on the
-  // section circle at +-n and its dome faces away from the sweep: no seam crosses the cam.
-  // Near the neck axis the section would cross the axis of revolution (small alpha): everything
-  // closer to the axis than half the neck radius is inside the neck cylinder anyway, so the
-  // section (and the caps) are clipped there. The caps' poles lie as far from the axis as the
-  // section's centre: near the clipping cylinder (alpha just above normal_alpha_deg with the
-  // default cam) the cut runs through or by the poles, and OpenCASCADE returns the femur in
-  // pieces or faces gmsh cannot mesh (at 2 mm, alpha 40.0001-40.024 failed or looped, the poles
-  // up to 0.007 mm from the cylinder: CE 3.8 / alpha 40.024 of the random sweep). Where the
-  // centre is within 1 mm of that cylinder, the clip is taken 1 mm nearer the axis than the centre
-  // instead: still inside the neck, so the hip is the same solid, and every other hip (the study
-  // grid's among them) keeps its clip.
   constexpr double kPoleClearanceMm = 1.0;
-  const double centre_height = centre_at(p.cam_begin_deg).dot(clock_direction(p, p.cam_begin_deg));
-  const double clip = std::abs(centre_height - 0.5 * p.neck_radius_mm) < kPoleClearanceMm
-                          ? centre_height - kPoleClearanceMm
-                          : 0.5 * p.neck_radius_mm;
-  DimTags solids;
-  for (const auto& [clock_deg, outwards] : {std::pair{p.cam_begin_deg, -1.0}, std::pair{p.cam_end_deg, 1.0}}) {
-    const Vec3 c = centre_at(clock_deg);
+  const Vec3 u = clock_direction(p, p.cam_begin_deg);
+  const Vec3 c = centre_at(p.cam_begin_deg);
+  const double height = c.dot(u);  // distance of the section's centre from the neck axis
+  // The plane removes from a half ball, beyond the cylinder, points within
+  // sqrt(rc^2 - height^2 + 2 height clip) of the axis: the clip is lowered where that would leave
+  // the neck (a cam radius large for the neck: 15 mm on the 13 mm neck), never for the default cam.
+  const double within_neck = (p.neck_radius_mm * p.neck_radius_mm + height * height - rc * rc) / (2.0 * height);
+  const double clip = std::min(within_neck, std::abs(height - 0.5 * p.neck_radius_mm) < kPoleClearanceMm
+                                                ? height - kPoleClearanceMm
+                                                : 0.5 * p.neck_radius_mm);
+  if (clip < 0.5) {
+    throw_error("hip generator: cam_radius_mm = ", rc, " is too large for neck_radius_mm = ", p.neck_radius_mm,
+                " at alpha ", p.alpha_deg, " deg: the cam's end balls would reach outside the neck near its axis");
+  }
+  auto point = [](const Vec3& q) { return occ::addPoint(q.x(), q.y(), q.z()); };
+  const int centre_tag = point(c);
+  const int top = point(c + rc * u);
+  // The begin section's boundary as two sides from T, each ending on the section's axis u.
+  std::array<DimTags, 2> sides;  // +n side, -n side
+  if (height - rc >= clip) {
+    const int bottom = point(c - rc * u);
+    for (int k = 0; k < 2; ++k) {
+      const int pole = point(c + (k == 0 ? rc : -rc) * n);
+      sides[k] = {{1, occ::addCircleArc(top, centre_tag, pole)}, {1, occ::addCircleArc(pole, centre_tag, bottom)}};
+    }
+  } else {
+    const double below = clip - height;  // the chord's offset from the centre along u (negative)
+    const double half_chord = std::sqrt(rc * rc - below * below);
+    const int middle = point(c + below * u);
+    for (int k = 0; k < 2; ++k) {
+      const int end = point(c + below * u + (k == 0 ? half_chord : -half_chord) * n);
+      sides[k] = {{1, occ::addCircleArc(top, centre_tag, end)}, {1, occ::addLine(end, middle)}};
+    }
+  }
+  occ::remove({{0, centre_tag}});
+  // The swept surface.
+  const Vec3 turn = clock_direction(p, 0.0).cross(clock_direction(p, 90.0)).normalized();
+  DimTags section = sides[0];
+  section.insert(section.end(), sides[1].begin(), sides[1].end());
+  DimTags swept;
+  occ::revolve(section, 0, 0, 0, turn.x(), turn.y(), turn.z(), sweep, swept);
+  // revolve lists, per curve: its last position, the surface, the curves its ends swept.
+  std::vector<int> faces;
+  DimTags end_side;  // the end section's +n side, as the begin's
+  for (std::size_t k = 1; k < swept.size(); ++k) {
+    if (swept[k].first != 2) continue;
+    if (faces.size() < sides[0].size()) end_side.push_back(swept[k - 1]);
+    faces.push_back(swept[k].second);
+  }
+  // The half balls: each end's +n side turned half a turn about its section's axis u, away from
+  // the sweep (towards smaller clock angles at the begin, larger at the end).
+  for (const auto& [clock_deg, outwards, side] :
+       {std::tuple{p.cam_begin_deg, -1.0, sides[0]}, std::tuple{p.cam_end_deg, 1.0, end_side}}) {
+    const Vec3 axis = clock_direction(p, clock_deg);
     const Vec3 away = outwards * clock_direction(p, clock_deg + 90.0);
-    const Vec3 x_axis = clock_direction(p, clock_deg);
-    Eigen::Matrix3d frame;
-    frame.col(0) = x_axis;
-    frame.col(1) = away;
-    frame.col(2) = x_axis.cross(away);
-    const Eigen::AngleAxisd turn(frame);
-    DimTags cap = {{3, occ::addSphere(0, 0, 0, rc, -1, -0.5 * std::numbers::pi, 0.5 * std::numbers::pi, std::numbers::pi)}};
-    if (turn.angle() > 1e-12) {
-      occ::rotate(cap, 0, 0, 0, turn.axis().x(), turn.axis().y(), turn.axis().z(), turn.angle());
+    const Vec3 at = centre_at(clock_deg);
+    const double half_turn = axis.cross(n).dot(away) > 0.0 ? std::numbers::pi : -std::numbers::pi;
+    DimTags capped;
+    occ::revolve(side, at.x(), at.y(), at.z(), axis.x(), axis.y(), axis.z(), half_turn, capped);
+    for (const auto& [dim, tag] : capped) {
+      if (dim == 2) faces.push_back(tag);
     }
-    occ::translate(cap, c.x(), c.y(), c.z());
-    cap = cut(cap, cylinder(Vec3::Zero(), p.neck_length_mm * n, clip));
-    solids.insert(solids.end(), cap.begin(), cap.end());
   }
-  {
-    // Section in the plane spanned by n and u (the begin plane): the disc, or its part at least
-    // `clip` from the axis (arcs of less than a half turn each, then the chord).
-    const Vec3 u = clock_direction(p, p.cam_begin_deg);
-    const Vec3 c = centre_at(p.cam_begin_deg);
-    const double height = c.dot(u);  // distance of the section's centre from the neck axis
-    const int centre_tag = occ::addPoint(c.x(), c.y(), c.z());
-    auto point = [](const Vec3& q) { return occ::addPoint(q.x(), q.y(), q.z()); };
-    std::vector<int> curves;
-    if (height - rc >= clip) {
-      std::vector<int> points;
-      for (const Vec3& d : {Vec3(n), Vec3(u), Vec3(-n), Vec3(-u)}) points.push_back(point(c + rc * d));
-      for (int k = 0; k < 4; ++k) curves.push_back(occ::addCircleArc(points[k], centre_tag, points[(k + 1) % 4]));
-    } else {
-      const double half_chord = std::sqrt(rc * rc - (height - clip) * (height - clip));
-      const int right = point(c + (clip - height) * u + half_chord * n);
-      const int top = point(c + rc * u);
-      const int left = point(c + (clip - height) * u - half_chord * n);
-      curves = {occ::addCircleArc(right, centre_tag, top), occ::addCircleArc(top, centre_tag, left),
-                occ::addLine(left, right)};
-    }
-    const int section = occ::addPlaneSurface({occ::addCurveLoop(curves)});
-    // Positive rotation about `turn` takes anterior to superior (clock angles grow).
-    const Vec3 turn = clock_direction(p, 0.0).cross(clock_direction(p, 90.0)).normalized();
-    DimTags revolved;
-    occ::revolve({{2, section}}, 0, 0, 0, turn.x(), turn.y(), turn.z(), sweep, revolved);
-    occ::remove({{0, centre_tag}});
-    for (const auto& dim_tag : revolved) {
-      if (dim_tag.first == 3) solids.push_back(dim_tag);
-    }
-    occ::remove({{2, section}}, true);
-  }
-  return fuse(DimTags{solids.front()}, DimTags(solids.begin() + 1, solids.end()));
+  const int shell = occ::addSurfaceLoop(faces, -1, true);
+  const int cam = occ::addVolume({shell});
+  DimTags leftovers;
+  for (const int face : faces) leftovers.emplace_back(2, face);
+  occ::remove(leftovers, true);  // the faces (and their curves and points) sewn into the shell
+  return {{3, cam}};
 }
 
 // Directions at least `opening` (rad) from the axis a, i.e. the socket side of the rim cone, as a

@@ -8,7 +8,9 @@
 //                        (min(alpha, normal_alpha) from n), fused with a neck cylinder along n, a
 //                        shaft stub along -Z at the end of the neck, and, when alpha exceeds
 //                        normal_alpha, the cam: a ball in the anterosuperior cam plane whose
-//                        intersection with the R sphere passes through the point at alpha from n.
+//                        intersection with the R sphere passes through the point at alpha from n,
+//                        swept about n over the cam's clock arc (one solid sewn from faces that
+//                        share their edges: no boolean between its tangent parts).
 //   femoral_cartilage    R ball minus the head ball (and the cam): a lens, t_f thick at the pole,
 //                        zero at its edge.
 //   acetabular_bone      pelvis block intersected with the socket half-space x . a <= 0, minus the
@@ -23,8 +25,9 @@
 // closed manifold surface; triangles are re-oriented outward.
 // Coincidences the B-rep cannot carry are kept out of every (CE, alpha) of the range: a circle of
 // the head (margin, junction) on a foot of the cam is moved 0.01 deg off it, the cam's clip is
-// kept 1 mm off its end balls' poles, and a rim cone within 1e-4 rad of a plane is built as the
-// plane (hip_generator.cpp says why each; the study grid's hips are unchanged).
+// kept 1 mm off its section's centre, a rim cone within 1e-4 rad of a plane is built as the plane,
+// and the cam's end balls are sewn to its sweep along their tangent circles instead of fused with
+// it (hip_generator.cpp says why each).
 #pragma once
 
 #include "geometry/hip_model.h"
