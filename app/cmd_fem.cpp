@@ -270,7 +270,8 @@ void add_run_command(CLI::App* fem_command) {
       ->check(CLI::Range(0, 1000))
       ->needs(vtu_prefix);
   run->add_option("--threads", run_options->threads,
-                  "Threads of the FE stages (0: every hardware thread); the results do not depend on it")
+                  "Threads of the FE stages (0: every hardware thread; under mpirun rank 0 takes them, "
+                  "the other ranks solve compliance columns on one each); the results do not depend on it")
       ->capture_default_str()
       ->check(CLI::Range(0, 256));
   run->add_flag_callback("--no-search-ahead", [run_options] { run_options->search_ahead = false; },

@@ -1,6 +1,7 @@
 #include "fem/body_compliance.h"
 
 #include "core/error.h"
+#include "fem/rank_team.h"
 
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/lac/sparse_matrix.h>
@@ -418,49 +419,134 @@ bool BodyCompliance::solve_block(Body& body, std::vector<double>& rhs, std::size
 }
 
 bool BodyCompliance::ensure_columns(const std::vector<int>& nodes, dealii::ConditionalOStream& log) {
-  std::vector<std::vector<int>> missing(bodies_.size());
+  return solve_columns(missing_columns(nodes), log);
+}
+
+std::vector<int> BodyCompliance::missing_columns(const std::vector<int>& nodes) const {
+  std::vector<int> missing;
   for (const int node : nodes) {
     if (surface_index_[node] < 0)
       throw_error("fem: a contact constraint names a node off every contact surface");
-    if (!columns(node)) missing[body_of_node_[node]].push_back(node);
+    if (!columns(node)) missing.push_back(node);
   }
-  for (std::vector<int>& list : missing) {
-    std::sort(list.begin(), list.end());
-    list.erase(std::unique(list.begin(), list.end()), list.end());
-  }
+  std::sort(missing.begin(), missing.end());
+  missing.erase(std::unique(missing.begin(), missing.end()), missing.end());
+  return missing;
+}
+
+bool BodyCompliance::solve_columns(const std::vector<int>& missing,
+                                   dealii::ConditionalOStream& log) {
+  // Per body in ascending node order, cut into blocks of kNodesPerBlock: the blocks of a
+  // one-rank run, whoever solves them.
+  std::vector<std::vector<int>> nodes(bodies_.size());
+  for (const int node : missing) nodes[body_of_node_[node]].push_back(node);
+  std::vector<ColumnBlock> blocks;
   for (std::size_t b = 0; b < bodies_.size(); ++b) {
-    Body& body = bodies_[b];
-    const std::size_t n_surface = body.surface_nodes.size();
-    for (std::size_t first = 0; first < missing[b].size(); first += kNodesPerBlock) {
-      const std::size_t last = std::min(missing[b].size(), first + kNodesPerBlock);
-      const std::size_t k = 3 * (last - first);
-      std::vector<double> rhs(k * static_cast<std::size_t>(body.n_free), 0.0);
-      for (std::size_t q = first; q < last; ++q) {
-        for (unsigned int c = 0; c < 3; ++c) {
-          const PetscInt r = body.free_index[body_index_of_dof_[node_dofs_[missing[b][q]][c]]];
-          if (r >= 0) rhs[(3 * (q - first) + c) * body.n_free + r] = 1.0;
-        }
-      }
-      if (!solve_block(body, rhs, k, log)) return false;
-      solved_columns_ += static_cast<unsigned int>(k);
-      for (std::size_t q = first; q < last; ++q) {
-        std::vector<double>& out = body.node_columns[surface_index_[missing[b][q]]];
-        out.assign(9 * n_surface, 0.0);
-        for (unsigned int c = 0; c < 3; ++c) {
-          const double* x = rhs.data() + (3 * (q - first) + c) * body.n_free;
-          double* column = out.data() + c * 3 * n_surface;
-          for (std::size_t s = 0; s < n_surface; ++s) {
-            for (unsigned int d = 0; d < 3; ++d) {
-              const PetscInt r =
-                  body.free_index[body_index_of_dof_[node_dofs_[body.surface_nodes[s]][d]]];
-              column[3 * s + d] = r >= 0 ? x[r] : 0.0;
-            }
-          }
+    for (std::size_t first = 0; first < nodes[b].size(); first += kNodesPerBlock)
+      blocks.push_back({b, first, std::min(kNodesPerBlock, nodes[b].size() - first)});
+  }
+  int rank = 0, n_ranks = 1;
+  MPI_Comm_rank(communicator_, &rank);
+  MPI_Comm_size(communicator_, &n_ranks);
+  bool solved = true;
+  for (std::size_t g = static_cast<std::size_t>(rank); g < blocks.size() && solved;
+       g += static_cast<std::size_t>(n_ranks)) {
+    solved = solve_column_block(blocks[g], nodes[blocks[g].body], log);
+    if (solved) columns_solved_here_ += static_cast<unsigned int>(3 * blocks[g].count);
+  }
+  if (n_ranks > 1) {
+    // Every rank learns whether all solved; the ranks done first sleep through the wait instead
+    // of spinning on the cores the others still solve on.
+    int mine = solved ? 1 : 0, all = 0;
+    MPI_Request request;
+    MPI_Iallreduce(&mine, &all, 1, MPI_INT, MPI_MIN, communicator_, &request);
+    wait_without_spinning(request);
+    solved = all == 1;
+    if (solved) gather_columns(blocks, nodes, rank, n_ranks);
+  }
+  if (!solved) return false;
+  for (const ColumnBlock& block : blocks) solved_columns_ += static_cast<unsigned int>(3 * block.count);
+  return true;
+}
+
+bool BodyCompliance::solve_column_block(const ColumnBlock& block, const std::vector<int>& nodes,
+                                        dealii::ConditionalOStream& log) {
+  Body& body = bodies_[block.body];
+  const std::size_t n_surface = body.surface_nodes.size();
+  const std::size_t k = 3 * block.count;
+  std::vector<double> rhs(k * static_cast<std::size_t>(body.n_free), 0.0);
+  for (std::size_t q = 0; q < block.count; ++q) {
+    for (unsigned int c = 0; c < 3; ++c) {
+      const PetscInt r =
+          body.free_index[body_index_of_dof_[node_dofs_[nodes[block.first + q]][c]]];
+      if (r >= 0) rhs[(3 * q + c) * body.n_free + r] = 1.0;
+    }
+  }
+  if (!solve_block(body, rhs, k, log)) return false;
+  for (std::size_t q = 0; q < block.count; ++q) {
+    std::vector<double>& out = body.node_columns[surface_index_[nodes[block.first + q]]];
+    out.assign(9 * n_surface, 0.0);
+    for (unsigned int c = 0; c < 3; ++c) {
+      const double* x = rhs.data() + (3 * q + c) * body.n_free;
+      double* column = out.data() + c * 3 * n_surface;
+      for (std::size_t s = 0; s < n_surface; ++s) {
+        for (unsigned int d = 0; d < 3; ++d) {
+          const PetscInt r =
+              body.free_index[body_index_of_dof_[node_dofs_[body.surface_nodes[s]][d]]];
+          column[3 * s + d] = r >= 0 ? x[r] : 0.0;
         }
       }
     }
   }
   return true;
+}
+
+void BodyCompliance::gather_columns(const std::vector<ColumnBlock>& blocks,
+                                    const std::vector<std::vector<int>>& nodes, int rank,
+                                    int n_ranks) {
+  // A block's columns travel as its nodes' node_columns one after the other (9 per surface
+  // node of the body each).
+  const auto block_size = [&](std::size_t g) {
+    return blocks[g].count * 9 * bodies_[blocks[g].body].surface_nodes.size();
+  };
+  const auto node_columns_of = [&](std::size_t g, std::size_t q) -> std::vector<double>& {
+    const int node = nodes[blocks[g].body][blocks[g].first + q];
+    return bodies_[blocks[g].body].node_columns[surface_index_[node]];
+  };
+  const std::size_t ranks = static_cast<std::size_t>(n_ranks);
+  std::vector<double> send, receive;
+  std::vector<int> counts(ranks), offsets(ranks);
+  for (std::size_t round = 0; round * ranks < blocks.size(); ++round) {
+    const std::size_t own = round * ranks + static_cast<std::size_t>(rank);
+    send.clear();
+    if (rank != 0 && own < blocks.size()) {
+      send.reserve(block_size(own));
+      for (std::size_t q = 0; q < blocks[own].count; ++q) {
+        std::vector<double>& columns = node_columns_of(own, q);
+        send.insert(send.end(), columns.begin(), columns.end());
+        std::vector<double>().swap(columns);  // rank 0 keeps them
+      }
+    }
+    int total = 0;
+    for (std::size_t r = 0; r < ranks; ++r) {
+      const std::size_t g = round * ranks + r;
+      counts[r] = r == 0 || g >= blocks.size() ? 0 : static_cast<int>(block_size(g));
+      offsets[r] = total;
+      total += counts[r];
+    }
+    if (rank == 0) receive.resize(static_cast<std::size_t>(total));
+    MPI_Gatherv(send.data(), static_cast<int>(send.size()), MPI_DOUBLE, receive.data(),
+                counts.data(), offsets.data(), MPI_DOUBLE, 0, communicator_);
+    if (rank != 0) continue;
+    for (std::size_t r = 1; r < ranks; ++r) {
+      const std::size_t g = round * ranks + r;
+      if (g >= blocks.size()) continue;
+      const std::size_t per_node = 9 * bodies_[blocks[g].body].surface_nodes.size();
+      const double* data = receive.data() + offsets[r];
+      for (std::size_t q = 0; q < blocks[g].count; ++q)
+        node_columns_of(g, q).assign(data + q * per_node, data + (q + 1) * per_node);
+    }
+  }
 }
 
 const double* BodyCompliance::columns(int node) const {

@@ -13,8 +13,9 @@
 // What the contact solve needs from a body (fem/condensed_contact.h):
 //  - compliance columns: K0^-1 e_j for the dofs j of a contact-surface node, kept only at the
 //    body's contact-surface dofs (the rows any contact constraint can read). Computed when a
-//    node first carries an active constraint (one block solve for all nodes new to an
-//    iteration) and kept for every later run;
+//    node first carries an active constraint (block solves of 48 nodes for the nodes new to an
+//    iteration; on several ranks the blocks are dealt to the ranks, solve_columns) and kept for
+//    every later run;
 //  - liftings: the displacement of the whole body for a unit translation of each rigid body it
 //    is bonded to (bonded dofs at the translation, the rest at equilibrium), and for the extra
 //    prescribed displacement of its bonded boundaries; with their reactions (the translation
@@ -38,6 +39,8 @@
 
 #include <petscmat.h>
 
+#include <mpi.h>
+
 #include <array>
 #include <memory>
 #include <vector>
@@ -49,7 +52,9 @@ using NodeDofs = std::array<dealii::types::global_dof_index, 3>;
 
 class BodyCompliance {
  public:
-  BodyCompliance() = default;
+  // `communicator`: the ranks that share the column solves (solve_columns); every rank
+  // factorises every body.
+  explicit BodyCompliance(MPI_Comm communicator = MPI_COMM_SELF) : communicator_(communicator) {}
   ~BodyCompliance();
   BodyCompliance(const BodyCompliance&) = delete;
   BodyCompliance& operator=(const BodyCompliance&) = delete;
@@ -82,8 +87,21 @@ class BodyCompliance {
   const dealii::Tensor<2, 3>& rotation(std::size_t b) const { return bodies_[b].rotation; }
 
   // Makes sure the compliance columns of these nodes exist (one block solve per body for the
-  // missing ones). False when a solve failed.
+  // missing ones). One rank only (a communicator of one); several ranks: missing_columns and
+  // solve_columns. False when a solve failed.
   bool ensure_columns(const std::vector<int>& nodes, dealii::ConditionalOStream& log);
+  // The nodes among `nodes` whose columns are not computed yet, ascending, each once. Throws
+  // hipfai::Error for a node off every contact surface.
+  std::vector<int> missing_columns(const std::vector<int>& nodes) const;
+  // Collective over the communicator: every rank calls it with the same `missing` (from
+  // missing_columns on rank 0). The missing nodes of each body are cut into blocks of 48 in
+  // ascending order, as on one rank, and the blocks of all bodies, numbered body after body, are
+  // dealt to the ranks in turn (block g to rank g mod ranks). Each block is one MUMPS block solve
+  // of the rank's own factor, the same right-hand sides as on one rank, so its columns are bit
+  // for bit those of a one-rank run. Rank 0 gathers every block's columns and keeps them (it
+  // solves the condensed problem); the other ranks keep none. False on every rank when a solve
+  // failed on any.
+  bool solve_columns(const std::vector<int>& missing, dealii::ConditionalOStream& log);
   // Body frame: the 3 columns of node `node` at body b's surface dofs, laid out as
   // [component c of the unit force][surface node][component of the displacement]; null when the
   // node's columns were not computed.
@@ -114,9 +132,11 @@ class BodyCompliance {
                const std::vector<dealii::Tensor<1, 3>>& node_force,
                dealii::Vector<double>& displacement, dealii::ConditionalOStream& log);
 
-  // Counts since construction.
+  // Counts since construction: factorisations, compliance columns solved by all ranks together,
+  // and by this rank (the same on one rank).
   unsigned int factorisations() const { return factorisations_; }
   unsigned int solved_columns() const { return solved_columns_; }
+  unsigned int columns_solved_here() const { return columns_solved_here_; }
 
  private:
   struct Body {
@@ -185,6 +205,19 @@ class BodyCompliance {
                              const BondedData& bonded);
   bool solve_block(Body& body, std::vector<double>& rhs, std::size_t k,
                    dealii::ConditionalOStream& log);
+  // A block of missing columns: `count` nodes of body b from `first` in the missing list.
+  struct ColumnBlock {
+    std::size_t body;
+    std::size_t first;
+    std::size_t count;
+  };
+  // Solves a block's columns and keeps them at the body's surface dofs (node_columns).
+  bool solve_column_block(const ColumnBlock& block, const std::vector<int>& nodes,
+                          dealii::ConditionalOStream& log);
+  // Rank 0 gets the columns of the blocks the other ranks solved, a round of one block per rank
+  // at a time (so the buffer stays a few blocks large); the other ranks drop theirs.
+  void gather_columns(const std::vector<ColumnBlock>& blocks,
+                      const std::vector<std::vector<int>>& nodes, int rank, int n_ranks);
 
   std::vector<int> node_of_dof_;
   std::vector<NodeDofs> node_dofs_;
@@ -192,8 +225,10 @@ class BodyCompliance {
   std::vector<int> body_index_of_dof_;  // index into the body's dofs, -1 for none
   std::vector<Body> bodies_;
   std::size_t layout_key_ = 0;
+  MPI_Comm communicator_;
   unsigned int factorisations_ = 0;
   unsigned int solved_columns_ = 0;
+  unsigned int columns_solved_here_ = 0;
 };
 
 }  // namespace hipfai::fem

@@ -11,6 +11,8 @@
 #include "fem/elastic_system.h"
 #include "fem/load_control.h"
 #include "fem/mortar_coupling.h"
+#include "fem/rank_team.h"
+#include "fem/run_state_bytes.h"
 #include "fem/thread_chunks.h"
 
 #include <deal.II/base/conditional_ostream.h>
@@ -18,6 +20,9 @@
 #include <deal.II/base/timer.h>
 #include <deal.II/grid/grid_tools.h>
 
+#include <sched.h>
+
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <optional>
@@ -48,10 +53,13 @@ class ContactProblem::Impl {
  public:
   Impl(MPI_Comm communicator, ContactOptions options_in)
       : options(std::move(options_in)),
-        system(communicator, options.fe_degree, options.mapping_degree),
+        system(communicator, options.fe_degree, options.mapping_degree,
+               options.linear_solver == LinearSolver::kSubstructured),
         pcout(std::cout,
               options.verbose && dealii::Utilities::MPI::this_mpi_process(communicator) == 0),
-        timer(pcout, dealii::TimerOutput::never, dealii::TimerOutput::wall_times) {}
+        timer(pcout, dealii::TimerOutput::never, dealii::TimerOutput::wall_times),
+        team(communicator),
+        compliance(communicator) {}
 
   ContactResult run();
   void output_results(const std::string& file) const;
@@ -62,8 +70,20 @@ class ContactProblem::Impl {
 
  private:
   friend class ContactProblem;  // displacement_at reads the solved state
+  // The substructured path on several ranks (fem/rank_team.h): rank 0 solves, the others help
+  // it with the compliance columns.
+  bool team_run() const { return substructured() && team.has_helpers(); }
+  void share_threads();
   void setup_system();
+  // Rank 0's part of a run (all of it on one rank), after setup_system: the contact nodes, the
+  // active sets and the results.
+  ContactResult solve();
+  // A helper's part of a team run: column solves until rank 0 sends the run's state.
+  ContactResult help_rank_0();
   void find_contact_nodes();
+  // The compliance columns of these nodes; on a team run rank 0 first tells the helpers which
+  // are missing, and all ranks solve them together.
+  bool ensure_columns(const std::vector<int>& column_nodes);
   std::vector<Linearization> solve_active_set(
       const std::vector<std::vector<dealii::Tensor<1, 3>>>& translation_sets);
   // The active-set loop's shared steps: the starting set (and the log line naming the path),
@@ -80,6 +100,7 @@ class ContactProblem::Impl {
 
   dealii::ConditionalOStream pcout;
   dealii::TimerOutput timer;
+  RankTeam team;
   ContactConstraints constraints;
   ActiveSetStrategy strategy;
   std::unique_ptr<ContactLinearSolver> solver;
@@ -99,7 +120,7 @@ class ContactProblem::Impl {
   // The searches ahead take a thread of their own: only when the caller expects more runs and
   // this one may use two threads.
   bool searches_ahead() const {
-    return !upcoming.empty() && threads_per_rank(system.communicator()) >= 2;
+    return !upcoming.empty() && system.threads() >= 2;
   }
   std::vector<SlaveNode> nodes;
   std::vector<bool> active;
@@ -110,6 +131,27 @@ class ContactProblem::Impl {
   ContactFields fields;
   dealii::Vector<float> cell_von_mises;
 };
+
+void ContactProblem::Impl::share_threads() {
+  // A team run's rank 0 does all but the column solves, so it takes the threads a one-rank run
+  // has (with the searches ahead), but no more than the CPUs the launcher bound it to (Open MPI
+  // binds each of 2 ranks to one core unless started with --bind-to none); the helpers solve
+  // their columns on one thread (MUMPS runs serially here) and sleep otherwise. Other runs share
+  // the threads among the ranks.
+  if (!team_run()) {
+    system.set_threads(0);
+    return;
+  }
+  if (!team.leads()) {
+    system.set_threads(1);
+    return;
+  }
+  std::size_t threads = threads_per_rank(MPI_COMM_SELF);
+  cpu_set_t cpus;
+  if (sched_getaffinity(0, sizeof(cpus), &cpus) == 0)
+    threads = std::min<std::size_t>(threads, std::max(1, CPU_COUNT(&cpus)));
+  system.set_threads(threads);
+}
 
 void ContactProblem::Impl::setup_system() {
   dealii::TimerOutput::Scope scope(timer, "setup");
@@ -255,7 +297,7 @@ void ContactProblem::Impl::solve_contact_condensed(std::vector<dealii::Tensor<1,
   {
     dealii::TimerOutput::Scope scope(timer, "condensation");
     condensed.begin_run(compliance, model, nodes, translations,
-                        threads_per_rank(system.communicator()));
+                        system.threads());
   }
   result.status = compliance_failed ? ContactStatus::kLinearSolverFailed
                                     : ContactStatus::kActiveSetNotConverged;
@@ -267,7 +309,7 @@ void ContactProblem::Impl::solve_contact_condensed(std::vector<dealii::Tensor<1,
     bool columns = false;
     {
       dealii::TimerOutput::Scope scope(timer, "compliance columns");
-      columns = compliance.ensure_columns(condensed.column_nodes(active), pcout);
+      columns = ensure_columns(condensed.column_nodes(active));
     }
     if (columns) {
       dealii::TimerOutput::Scope scope(timer, "active set (condensed)");
@@ -303,6 +345,16 @@ void ContactProblem::Impl::solve_contact_condensed(std::vector<dealii::Tensor<1,
   result.statistics.linear_solves = compliance.solved_columns() - columns_before + 1;
 }
 
+bool ContactProblem::Impl::ensure_columns(const std::vector<int>& column_nodes) {
+  if (!team_run()) return compliance.ensure_columns(column_nodes, pcout);
+  const std::vector<int> missing = compliance.missing_columns(column_nodes);
+  if (missing.empty()) return true;  // the helpers sleep on
+  ByteWriter message;
+  message.io(missing);
+  team.send(RankTeam::Message::kColumns, message.bytes());
+  return compliance.solve_columns(missing, pcout);
+}
+
 void ContactProblem::Impl::postprocess(ContactResult& result) {
   {
     dealii::TimerOutput::Scope scope(timer, "results");
@@ -313,7 +365,7 @@ void ContactProblem::Impl::postprocess(ContactResult& result) {
     dealii::TimerOutput::Scope scope(timer, "stresses");
     VonMisesField field = system.von_mises(state.displacement, model);
     summarize_stress(field, options.peak_average_radius_mm, result,
-                     threads_per_rank(system.communicator()));
+                     system.threads());
     cell_von_mises = std::move(field.cell_max);
   }
   // Every rank holds the same replicated numbers, so all ranks reach the same verdict.
@@ -336,7 +388,45 @@ ContactResult ContactProblem::Impl::run() {
   const dealii::Timer wall_clock;
   timer.reset();
   check_references(model);
-  setup_system();
+  share_threads();
+  const unsigned int columns_before = compliance.columns_solved_here();
+  setup_system();  // every rank: the mesh is shared, and each rank factorises its own bodies
+  ContactResult result;
+  if (team_run() && !team.leads()) {
+    result = help_rank_0();
+  } else if (team_run()) {
+    // The helpers wait for rank 0's messages until the run's state: an error here must reach
+    // them too, or they would wait for ever.
+    try {
+      result = solve();
+    } catch (const std::exception& error) {
+      const std::string what = error.what();
+      team.send(RankTeam::Message::kRunFailed, std::vector<char>(what.begin(), what.end()));
+      throw;
+    }
+    ByteWriter message;
+    write_run_state({result, state.displacement, cell_von_mises, nodes, fields}, message);
+    team.send(RankTeam::Message::kRunDone, message.bytes());
+  } else {
+    result = solve();
+  }
+  result.statistics.rank_columns = compliance.columns_solved_here() - columns_before;
+  if (!options.vtu_file.empty()) {
+    dealii::TimerOutput::Scope scope(timer, "output");
+    output_results(options.vtu_file);
+  }
+  result.statistics.wall_time_s = wall_clock.wall_time();
+  const SolveStatistics& counts = result.statistics;
+  pcout << "fem: " << to_string(result.status) << " after " << counts.active_set_iterations
+        << " active-set iterations, " << counts.linear_solves << " linear solves, "
+        << counts.linear_iterations << " CG iterations, " << counts.factorisations
+        << " factorisations, " << counts.low_rank_updates << " low-rank updates, "
+        << counts.wall_time_s << " s\n";
+  timer.print_summary();
+  return result;
+}
+
+ContactResult ContactProblem::Impl::solve() {
   find_contact_nodes();
 
   ContactResult result;
@@ -363,19 +453,35 @@ ContactResult ContactProblem::Impl::run() {
   }
   result.rigid_translation_mm = translations;
   postprocess(result);
-  if (!options.vtu_file.empty()) {
-    dealii::TimerOutput::Scope scope(timer, "output");
-    output_results(options.vtu_file);
-  }
-  result.statistics.wall_time_s = wall_clock.wall_time();
-  const SolveStatistics& counts = result.statistics;
-  pcout << "fem: " << to_string(result.status) << " after " << counts.active_set_iterations
-        << " active-set iterations, " << counts.linear_solves << " linear solves, "
-        << counts.linear_iterations << " CG iterations, " << counts.factorisations
-        << " factorisations, " << counts.low_rank_updates << " low-rank updates, "
-        << counts.wall_time_s << " s\n";
-  timer.print_summary();
   return result;
+}
+
+ContactResult ContactProblem::Impl::help_rank_0() {
+  std::vector<char> payload;
+  while (true) {
+    switch (team.receive(payload)) {
+      case RankTeam::Message::kColumns: {
+        ByteReader message(payload);
+        std::vector<int> missing;
+        message.io(missing);
+        // A failed solve is every rank's verdict (solve_columns agrees on it); rank 0 acts on it.
+        compliance.solve_columns(missing, pcout);
+        break;
+      }
+      case RankTeam::Message::kRunFailed:
+        throw_error("fem: rank 0 failed: ", std::string(payload.begin(), payload.end()));
+      case RankTeam::Message::kRunDone: {
+        ByteReader message(payload);
+        RunState run = read_run_state(message);
+        state = Linearization();
+        state.displacement = std::move(run.displacement);
+        cell_von_mises = std::move(run.cell_von_mises);
+        nodes = std::move(run.nodes);
+        fields = std::move(run.fields);
+        return run.result;
+      }
+    }
+  }
 }
 
 void ContactProblem::Impl::output_results(const std::string& file) const {

@@ -25,7 +25,10 @@
 // Each stage is timed by a deal.II TimerOutput section (printed with ContactOptions::verbose).
 //
 // Units: mm, N, MPa. Runs on any number of MPI ranks (parallel::shared::Triangulation: every rank
-// keeps the whole mesh, which makes the contact search on non-matching meshes local).
+// keeps the whole mesh, which makes the contact search on non-matching meshes local). The direct
+// and CG solvers distribute the system over the ranks; the substructured solver deals its
+// compliance-column solves to them and solves the rest on rank 0 (fem/rank_team.h), so every
+// rank returns the numbers of a one-rank run.
 #pragma once
 
 #include "core/literature.h"

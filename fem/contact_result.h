@@ -41,6 +41,9 @@ struct SolveStatistics {
   unsigned int n_ranks = 1;                // MPI ranks
   unsigned int active_set_iterations = 0;  // active sets solved
   unsigned int linear_solves = 0;          // right-hand sides solved
+  // Substructured: compliance columns this rank solved (on several ranks a share of the columns
+  // in linear_solves; with the wall time, what differs between the ranks).
+  unsigned int rank_columns = 0;
   unsigned int linear_iterations = 0;      // CG iterations (direct: nonzero right-hand sides)
   unsigned int factorisations = 0;         // direct solver: Cholesky factorisations
   unsigned int low_rank_updates = 0;  // direct solver: active sets solved by a bordered correction

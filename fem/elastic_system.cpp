@@ -23,9 +23,13 @@ geometry::Vec3 to_vec3(const dealii::Point<3>& point) { return {point[0], point[
 }  // namespace
 
 ElasticSystem::ElasticSystem(MPI_Comm communicator, unsigned int fe_degree,
-                             unsigned int mapping_degree)
+                             unsigned int mapping_degree, bool cells_on_rank_0)
     : comm_(communicator),
-      triangulation_(communicator),
+      // A custom partition with nothing connected to set it leaves every cell in subdomain 0.
+      triangulation_(communicator, dealii::Triangulation<3>::none, false,
+                     cells_on_rank_0
+                         ? dealii::parallel::shared::Triangulation<3>::partition_custom_signal
+                         : dealii::parallel::shared::Triangulation<3>::partition_auto),
       fe_(dealii::FE_Q<3>(fe_degree), 3),
       mapping_(mapping_degree),
       dof_handler_(triangulation_) {
@@ -76,6 +80,10 @@ const std::vector<bool>& ElasticSystem::boundary_vertices() const {
     }
   }
   return boundary_vertices_;
+}
+
+std::size_t ElasticSystem::threads() const {
+  return threads_ > 0 ? threads_ : threads_per_rank(comm_);
 }
 
 double ElasticSystem::diameter() const {
@@ -204,7 +212,7 @@ void ElasticSystem::compute_cell_matrices(bool every_cell) {
       cell_stiffness(cells[k], fe_values, matrix);
     }
   };
-  run_in_chunks(cells.size(), threads_per_rank(comm_), compute);
+  run_in_chunks(cells.size(), threads(), compute);
 }
 
 std::size_t ElasticSystem::dof_layout_key() const {
@@ -274,7 +282,7 @@ VonMisesField ElasticSystem::von_mises(const dealii::Vector<double>& displacemen
   std::vector<dealii::DoFHandler<3>::active_cell_iterator> cells;
   for (const auto& cell : dof_handler_.active_cell_iterators()) cells.push_back(cell);
   std::vector<std::vector<FieldSample>> cell_samples(cells.size());
-  run_in_chunks(cells.size(), threads_per_rank(comm_), [&](std::size_t first, std::size_t last) {
+  run_in_chunks(cells.size(), threads(), [&](std::size_t first, std::size_t last) {
     dealii::FEValues<3> fe_values(
         mapping_, fe_, dealii::QGauss<3>(fe_.degree + 1),
         dealii::update_gradients | dealii::update_quadrature_points | dealii::update_JxW_values);

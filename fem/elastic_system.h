@@ -47,7 +47,12 @@ struct VonMisesField {
 
 class ElasticSystem {
  public:
-  ElasticSystem(MPI_Comm communicator, unsigned int fe_degree, unsigned int mapping_degree);
+  // cells_on_rank_0: every cell owned by the communicator's rank 0 instead of partitioned over
+  // the ranks (every rank still holds the whole mesh). The dofs are then numbered as on one rank,
+  // so every loop over them sums in the one-rank order: the substructured solver, which solves
+  // on rank 0 (fem/rank_team.h), gives a one-rank run's numbers bit for bit.
+  ElasticSystem(MPI_Comm communicator, unsigned int fe_degree, unsigned int mapping_degree,
+                bool cells_on_rank_0 = false);
 
   // Moves the mesh to the model's pose: the cells of a body bonded to a rigid body rotated with
   // it from the reference vertices (saved on the first call, so rotations do not accumulate).
@@ -83,6 +88,12 @@ class ElasticSystem {
                                    const dealii::Point<3>& point) const;
 
   MPI_Comm communicator() const { return comm_; }
+  // Threads of this rank's FE stages (cell matrices, von Mises, the contact search, the condensed
+  // contact problem): threads_per_rank(communicator) (fem/thread_chunks.h) unless set_threads
+  // gave another count. The substructured solver on several ranks gives its leading rank the
+  // machine's threads and its helpers one (fem/contact_problem.cpp). 0 restores the default.
+  std::size_t threads() const;
+  void set_threads(std::size_t n_threads) { threads_ = n_threads; }
   dealii::parallel::shared::Triangulation<3>& triangulation() { return triangulation_; }
   const dealii::parallel::shared::Triangulation<3>& triangulation() const { return triangulation_; }
   const dealii::FESystem<3>& fe() const { return fe_; }
@@ -116,6 +127,7 @@ class ElasticSystem {
   const std::vector<bool>& boundary_vertices() const;
 
   MPI_Comm comm_;
+  std::size_t threads_ = 0;  // 0: threads_per_rank(comm_)
   dealii::parallel::shared::Triangulation<3> triangulation_;
   dealii::FESystem<3> fe_;
   dealii::MappingQ<3> mapping_;

@@ -253,7 +253,7 @@ std::vector<SlaveNode> collect_slave_nodes(const ElasticSystem& system, const Co
                                            bool tangent_plane_cull) {
   return collect_slave_nodes(system, model, surfaces, fixed_dof,
                              {contact_search_radius(system.diameter()),
-                              threads_per_rank(system.communicator()), tangent_plane_cull});
+                              system.threads(), tangent_plane_cull});
 }
 
 std::vector<SlaveBoundaryNodes> slave_boundary_nodes(const ElasticSystem& system,

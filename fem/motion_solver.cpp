@@ -58,6 +58,7 @@ std::array<double, 4> to_quaternion(const dealii::Tensor<2, 3>& r) {
 void add_effort(ContactResult& total, const ContactResult& attempt) {
   total.statistics.active_set_iterations += attempt.statistics.active_set_iterations;
   total.statistics.linear_solves += attempt.statistics.linear_solves;
+  total.statistics.rank_columns += attempt.statistics.rank_columns;
   total.statistics.linear_iterations += attempt.statistics.linear_iterations;
   total.statistics.factorisations += attempt.statistics.factorisations;
   total.statistics.low_rank_updates += attempt.statistics.low_rank_updates;
@@ -87,6 +88,7 @@ class CutbackSolver {
     ContactResult last = attempt(from, target, 0, effort, next);
     last.statistics.active_set_iterations = effort.statistics.active_set_iterations;
     last.statistics.linear_solves = effort.statistics.linear_solves;
+    last.statistics.rank_columns = effort.statistics.rank_columns;
     last.statistics.linear_iterations = effort.statistics.linear_iterations;
     last.statistics.factorisations = effort.statistics.factorisations;
     last.statistics.low_rank_updates = effort.statistics.low_rank_updates;

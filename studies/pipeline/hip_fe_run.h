@@ -37,7 +37,8 @@ namespace hipfai::studies {
 
 // The MPI ranks that solve one run.
 enum class FeRanks {
-  kAll,       // every rank of MPI_COMM_WORLD (`mpirun -np N hipfai fem run`)
+  kAll,       // every rank of MPI_COMM_WORLD (`mpirun -np N hipfai fem run`): substructured,
+              // the column solves dealt to the ranks (fem/rank_team.h)
   kThisRank,  // this rank alone (MPI_COMM_SELF): one unit of a study spread over the ranks
 };
 
@@ -60,8 +61,11 @@ struct HipFeRunOptions {
   FeSolver solver = FeSolver::kSubstructured;  // core/fe_choices.h
   unsigned int vtu_every = 0;     // fields to <vtu_prefix>_<step>.vtu every n steps and the last
   std::string vtu_prefix;
-  // Threads of this process's FE stages (0: every hardware thread, shared among MPI ranks); the
-  // results do not depend on it (fem::limit_threads), so it is not part of the cache key.
+  // Threads of this process's FE stages (0: every hardware thread); the results do not depend on
+  // it (fem::limit_threads), so it is not part of the cache key. The substructured solver on
+  // several ranks (kAll under mpirun) gives rank 0 all of them and the other ranks, which only
+  // solve compliance columns, one each (fem/rank_team.h); the other solvers share them among the
+  // ranks.
   unsigned int threads = 0;
   // Search each step's contact while the steps before are solved (fem::MotionOptions); the
   // results do not depend on it either.

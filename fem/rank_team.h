@@ -1,0 +1,116 @@
+// hipfai — the ranks of one substructured FE run as a team: rank 0 leads, the others help it
+// with the compliance columns.
+//
+// The substructured solver's long serial part is the compliance columns' MUMPS solves
+// (fem/body_compliance.h); the rest of a run (contact search, condensed active sets, recovery,
+// stresses) is short and threaded. So on several ranks every rank factorises the bodies (each
+// its own copy of the factors, in parallel), the column blocks are dealt to all ranks
+// (BodyCompliance::solve_columns), and everything else is done by rank 0 alone with the threads
+// a one-rank run has. Replicating that rest on every rank would give each rank only its share of
+// the machine's threads when the ranks share a machine (2 ranks on 2 cores: one each, and no
+// thread for the searches ahead), which costs more than the columns save.
+//
+// What flows: before a set of columns rank 0 sends the helpers the missing nodes (kColumns);
+// after the run it sends what the callers of ContactProblem read on every rank (kRunDone: the
+// result and the fields, fem/run_state_bytes.h), or the reason it failed (kRunFailed). A helper
+// waits for these messages asleep (wait_without_spinning), so it leaves its core to rank 0's
+// threads: Open MPI's blocking calls poll without sleeping.
+#pragma once
+
+#include <mpi.h>
+
+#include <cstddef>
+#include <cstring>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+namespace hipfai::fem {
+
+// Waits for `request` with short sleeps between tests (20 us growing to 1 ms), so that a waiting
+// rank leaves its core to the ranks and threads that compute.
+void wait_without_spinning(MPI_Request& request);
+
+class RankTeam {
+ public:
+  enum class Message : int {
+    kColumns,    // payload: the missing nodes (int), for BodyCompliance::solve_columns
+    kRunDone,    // payload: the run's result and fields (fem/run_state_bytes.h)
+    kRunFailed,  // payload: the leader's error message
+  };
+
+  explicit RankTeam(MPI_Comm communicator);
+
+  // True on rank 0, which solves the run; the other ranks are its helpers.
+  bool leads() const { return rank_ == 0; }
+  // More than one rank: the leader has helpers to send to.
+  bool has_helpers() const { return size_ > 1; }
+
+  // Leader: sends every helper the next message and its payload (collective with receive()).
+  void send(Message message, const std::vector<char>& payload) const;
+  // Helper: waits, asleep, for the leader's next message; its payload into `payload`.
+  Message receive(std::vector<char>& payload) const;
+
+ private:
+  MPI_Comm communicator_;
+  int rank_ = 0;
+  int size_ = 1;
+};
+
+// Values to bytes and back, for the leader's messages: trivially copyable values, arrays and
+// vectors of them, in the order written. Both ends run the same build (docs/cluster.md). Both
+// classes have the same io() calls, so one function template can list a structure's fields for
+// writing and reading alike (fem/run_state_bytes.cpp).
+class ByteWriter {
+ public:
+  template <class T>
+  void io(const T& value) {
+    io_array(&value, 1);
+  }
+  template <class T>
+  void io(const std::vector<T>& values) {
+    const std::size_t n = values.size();
+    io(n);
+    io_array(values.data(), n);
+  }
+  template <class T>
+  void io_array(const T* values, std::size_t n) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    const char* data = reinterpret_cast<const char*>(values);
+    bytes_.insert(bytes_.end(), data, data + n * sizeof(T));
+  }
+  const std::vector<char>& bytes() const { return bytes_; }
+
+ private:
+  std::vector<char> bytes_;
+};
+
+class ByteReader {
+ public:
+  explicit ByteReader(const std::vector<char>& bytes) : bytes_(bytes) {}
+  template <class T>
+  void io(T& value) {
+    io_array(&value, 1);
+  }
+  template <class T>
+  void io(std::vector<T>& values) {
+    std::size_t n = 0;
+    io(n);
+    values.resize(n);
+    io_array(values.data(), n);
+  }
+  template <class T>
+  void io_array(T* values, std::size_t n) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    if (n > 0) std::memcpy(values, take(n * sizeof(T)), n * sizeof(T));
+  }
+
+ private:
+  // The next n bytes; throws hipfai::Error past the end.
+  const char* take(std::size_t n);
+
+  const std::vector<char>& bytes_;
+  std::size_t position_ = 0;
+};
+
+}  // namespace hipfai::fem
