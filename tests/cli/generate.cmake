@@ -7,12 +7,13 @@ hipfai_cli_test(NAME generate_bad_format EXIT nonzero STDERR "format"
                 COMMAND generate --format xyz --out @TMP@/hip)
 hipfai_cli_test(NAME generate_needs_out EXIT nonzero STDERR "out"
                 COMMAND generate --ce-deg 20)
-# A hip whose surfaces crash gmsh's mesher (Debian's gmsh 4.8: a double free after "Impossible to
-# mesh periodic surface" at CCD 136, CE 0 / alpha 80): every algorithm is tried in its own child
-# process and the command ends with one line naming each failure, instead of dying with gmsh.
+# A hip whose surfaces crashed Debian's gmsh 4.8 mesher while the cam was fused from three solids (a
+# double free after "Impossible to mesh periodic surface" at CCD 136, CE 0 / alpha 80) generates since
+# the cam is sewn from faces on shared curves (docs/generator-sweep.md). The crash handling itself,
+# each meshing algorithm in a child process whose death is reported while this one goes on, is
+# tested in tests/core/child_process_test.cpp; no input that still crashes gmsh is known.
 file(WRITE ${CMAKE_BINARY_DIR}/cli-tmp/ccd136_hip_parameters.json "{\"neck_shaft_angle_deg\": 136}\n")
-hipfai_cli_test(NAME generate_mesher_crash_is_an_error EXIT nonzero
-                STDERR "hip generator \\(ce 0, alpha 80\\): gmsh failed: algorithm 6: gmsh .* \\| algorithm 1: gmsh .* \\| algorithm 5: gmsh"
+hipfai_cli_test(NAME generate_ccd136_hip_that_crashed_gmsh EXIT 0
                 COMMAND generate --ce-deg 0 --alpha-deg 80 --edge-mm 3
                         --hip-parameters ${CMAKE_BINARY_DIR}/cli-tmp/ccd136_hip_parameters.json --out @TMP@/hip)
 hipfai_cli_test(NAME generate_missing_hip_parameters EXIT nonzero STDERR "none.json: no such file"
