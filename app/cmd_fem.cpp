@@ -274,6 +274,10 @@ void add_run_command(CLI::App* fem_command) {
                   "the other ranks solve compliance columns on one each); the results do not depend on it")
       ->capture_default_str()
       ->check(CLI::Range(0, 256));
+  add_enum_option(run, "--team-columns", run_options->team_columns, fem::kTeamColumns,
+                  "Under mpirun: which ranks solve compliance columns: spare-cores (rank 0, and another "
+                  "rank while it has a core no thread of rank 0 uses and its share ends sooner; default) "
+                  "or every-rank (every set shared evenly); the results do not depend on it");
   run->add_flag_callback("--no-search-ahead", [run_options] { run_options->search_ahead = false; },
                 "Search each step's contact when it starts, not while the steps before are solved "
                 "(the same results, more wall time)");

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <numeric>
 #include <set>
 
 namespace hipfai::fem {
@@ -203,12 +204,16 @@ bool BodyCompliance::needs_factorisation() const {
   return std::any_of(bodies_.begin(), bodies_.end(), [](const Body& body) { return body.stale; });
 }
 
+bool BodyCompliance::needs_every_factorisation() const {
+  return std::all_of(bodies_.begin(), bodies_.end(), [](const Body& body) { return body.stale; });
+}
+
 bool BodyCompliance::factorise(const ElasticSystem& system, const ContactConstraints& constraints,
                                const ContactModel& model, dealii::TimerOutput& timer,
-                               dealii::ConditionalOStream& log) {
+                               dealii::ConditionalOStream& log, bool every_body) {
   dealii::TimerOutput::Scope scope(timer, "factorisation");
   for (std::size_t b = 0; b < bodies_.size(); ++b) {
-    if (!bodies_[b].stale) continue;
+    if (!bodies_[b].stale && !every_body) continue;
     if (!factorise_body(b, system, constraints, model, log)) return false;
   }
   return true;
@@ -419,7 +424,11 @@ bool BodyCompliance::solve_block(Body& body, std::vector<double>& rhs, std::size
 }
 
 bool BodyCompliance::ensure_columns(const std::vector<int>& nodes, dealii::ConditionalOStream& log) {
-  return solve_columns(missing_columns(nodes), log);
+  const ColumnBlocks blocks = column_blocks(missing_columns(nodes));
+  for (std::size_t g = 0; g < blocks.blocks.size(); ++g) {
+    if (!solve_column_block(blocks, g, log)) return false;
+  }
+  return true;
 }
 
 std::vector<int> BodyCompliance::missing_columns(const std::vector<int>& nodes) const {
@@ -434,25 +443,31 @@ std::vector<int> BodyCompliance::missing_columns(const std::vector<int>& nodes) 
   return missing;
 }
 
-bool BodyCompliance::solve_columns(const std::vector<int>& missing,
-                                   dealii::ConditionalOStream& log) {
-  // Per body in ascending node order, cut into blocks of kNodesPerBlock: the blocks of a
-  // one-rank run, whoever solves them.
-  std::vector<std::vector<int>> nodes(bodies_.size());
-  for (const int node : missing) nodes[body_of_node_[node]].push_back(node);
-  std::vector<ColumnBlock> blocks;
+BodyCompliance::ColumnBlocks BodyCompliance::column_blocks(const std::vector<int>& missing) const {
+  ColumnBlocks out;
+  out.nodes.resize(bodies_.size());
+  for (const int node : missing) out.nodes[body_of_node_[node]].push_back(node);
   for (std::size_t b = 0; b < bodies_.size(); ++b) {
-    for (std::size_t first = 0; first < nodes[b].size(); first += kNodesPerBlock)
-      blocks.push_back({b, first, std::min(kNodesPerBlock, nodes[b].size() - first)});
+    for (std::size_t first = 0; first < out.nodes[b].size(); first += kNodesPerBlock)
+      out.blocks.push_back({b, first, std::min(kNodesPerBlock, out.nodes[b].size() - first)});
   }
+  return out;
+}
+
+bool BodyCompliance::share_column_blocks(const ColumnBlocks& blocks, std::size_t first,
+                                         const std::vector<std::size_t>& counts, bool ready,
+                                         dealii::ConditionalOStream& log) {
   int rank = 0, n_ranks = 1;
   MPI_Comm_rank(communicator_, &rank);
   MPI_Comm_size(communicator_, &n_ranks);
-  bool solved = true;
-  for (std::size_t g = static_cast<std::size_t>(rank); g < blocks.size() && solved;
-       g += static_cast<std::size_t>(n_ranks)) {
-    solved = solve_column_block(blocks[g], nodes[blocks[g].body], log);
-    if (solved) columns_solved_here_ += static_cast<unsigned int>(3 * blocks[g].count);
+  if (counts.size() != static_cast<std::size_t>(n_ranks) ||
+      first + std::accumulate(counts.begin(), counts.end(), std::size_t{0}) != blocks.blocks.size())
+    throw_error("fem: a deal of column blocks does not fit the blocks or the ranks");
+  std::vector<int> owner;
+  for (std::size_t r = 0; r < counts.size(); ++r) owner.insert(owner.end(), counts[r], static_cast<int>(r));
+  bool solved = ready;
+  for (std::size_t g = first; g < blocks.blocks.size() && solved; ++g) {
+    if (owner[g - first] == rank) solved = solve_column_block(blocks, g, log);
   }
   if (n_ranks > 1) {
     // Every rank learns whether all solved; the ranks done first sleep through the wait instead
@@ -462,15 +477,19 @@ bool BodyCompliance::solve_columns(const std::vector<int>& missing,
     MPI_Iallreduce(&mine, &all, 1, MPI_INT, MPI_MIN, communicator_, &request);
     wait_without_spinning(request);
     solved = all == 1;
-    if (solved) gather_columns(blocks, nodes, rank, n_ranks);
+    if (solved) gather_columns(blocks, first, owner);
   }
-  if (!solved) return false;
-  for (const ColumnBlock& block : blocks) solved_columns_ += static_cast<unsigned int>(3 * block.count);
+  if (!solved || rank != 0) return solved;
+  for (std::size_t g = first; g < blocks.blocks.size(); ++g) {
+    if (owner[g - first] != 0) solved_columns_ += static_cast<unsigned int>(3 * blocks.blocks[g].count);
+  }
   return true;
 }
 
-bool BodyCompliance::solve_column_block(const ColumnBlock& block, const std::vector<int>& nodes,
+bool BodyCompliance::solve_column_block(const ColumnBlocks& blocks, std::size_t g,
                                         dealii::ConditionalOStream& log) {
+  const ColumnBlocks::Block& block = blocks.blocks[g];
+  const std::vector<int>& nodes = blocks.nodes[block.body];
   Body& body = bodies_[block.body];
   const std::size_t n_surface = body.surface_nodes.size();
   const std::size_t k = 3 * block.count;
@@ -498,39 +517,48 @@ bool BodyCompliance::solve_column_block(const ColumnBlock& block, const std::vec
       }
     }
   }
+  columns_solved_here_ += static_cast<unsigned int>(k);
+  solved_columns_ += static_cast<unsigned int>(k);
   return true;
 }
 
-void BodyCompliance::gather_columns(const std::vector<ColumnBlock>& blocks,
-                                    const std::vector<std::vector<int>>& nodes, int rank,
-                                    int n_ranks) {
+void BodyCompliance::gather_columns(const ColumnBlocks& blocks, std::size_t first,
+                                    const std::vector<int>& owner) {
   // A block's columns travel as its nodes' node_columns one after the other (9 per surface
-  // node of the body each).
+  // node of the body each). Round j carries each rank's j-th block.
+  int rank = 0, n_ranks = 1;
+  MPI_Comm_rank(communicator_, &rank);
+  MPI_Comm_size(communicator_, &n_ranks);
+  const std::size_t ranks = static_cast<std::size_t>(n_ranks);
+  std::vector<std::vector<std::size_t>> owned(ranks);
+  for (std::size_t i = 0; i < owner.size(); ++i) owned[static_cast<std::size_t>(owner[i])].push_back(first + i);
+  std::size_t rounds = 0;
+  for (std::size_t r = 1; r < ranks; ++r) rounds = std::max(rounds, owned[r].size());
   const auto block_size = [&](std::size_t g) {
-    return blocks[g].count * 9 * bodies_[blocks[g].body].surface_nodes.size();
+    return blocks.blocks[g].count * 9 * bodies_[blocks.blocks[g].body].surface_nodes.size();
   };
   const auto node_columns_of = [&](std::size_t g, std::size_t q) -> std::vector<double>& {
-    const int node = nodes[blocks[g].body][blocks[g].first + q];
-    return bodies_[blocks[g].body].node_columns[surface_index_[node]];
+    const ColumnBlocks::Block& block = blocks.blocks[g];
+    const int node = blocks.nodes[block.body][block.first + q];
+    return bodies_[block.body].node_columns[surface_index_[node]];
   };
-  const std::size_t ranks = static_cast<std::size_t>(n_ranks);
   std::vector<double> send, receive;
   std::vector<int> counts(ranks), offsets(ranks);
-  for (std::size_t round = 0; round * ranks < blocks.size(); ++round) {
-    const std::size_t own = round * ranks + static_cast<std::size_t>(rank);
+  for (std::size_t round = 0; round < rounds; ++round) {
     send.clear();
-    if (rank != 0 && own < blocks.size()) {
-      send.reserve(block_size(own));
-      for (std::size_t q = 0; q < blocks[own].count; ++q) {
-        std::vector<double>& columns = node_columns_of(own, q);
+    const std::vector<std::size_t>& mine = owned[static_cast<std::size_t>(rank)];
+    if (rank != 0 && round < mine.size()) {
+      const std::size_t g = mine[round];
+      send.reserve(block_size(g));
+      for (std::size_t q = 0; q < blocks.blocks[g].count; ++q) {
+        std::vector<double>& columns = node_columns_of(g, q);
         send.insert(send.end(), columns.begin(), columns.end());
         std::vector<double>().swap(columns);  // rank 0 keeps them
       }
     }
     int total = 0;
     for (std::size_t r = 0; r < ranks; ++r) {
-      const std::size_t g = round * ranks + r;
-      counts[r] = r == 0 || g >= blocks.size() ? 0 : static_cast<int>(block_size(g));
+      counts[r] = r == 0 || round >= owned[r].size() ? 0 : static_cast<int>(block_size(owned[r][round]));
       offsets[r] = total;
       total += counts[r];
     }
@@ -539,11 +567,11 @@ void BodyCompliance::gather_columns(const std::vector<ColumnBlock>& blocks,
                 counts.data(), offsets.data(), MPI_DOUBLE, 0, communicator_);
     if (rank != 0) continue;
     for (std::size_t r = 1; r < ranks; ++r) {
-      const std::size_t g = round * ranks + r;
-      if (g >= blocks.size()) continue;
-      const std::size_t per_node = 9 * bodies_[blocks[g].body].surface_nodes.size();
+      if (round >= owned[r].size()) continue;
+      const std::size_t g = owned[r][round];
+      const std::size_t per_node = 9 * bodies_[blocks.blocks[g].body].surface_nodes.size();
       const double* data = receive.data() + offsets[r];
-      for (std::size_t q = 0; q < blocks[g].count; ++q)
+      for (std::size_t q = 0; q < blocks.blocks[g].count; ++q)
         node_columns_of(g, q).assign(data + q * per_node, data + (q + 1) * per_node);
     }
   }

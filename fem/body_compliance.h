@@ -14,7 +14,7 @@
 //  - compliance columns: K0^-1 e_j for the dofs j of a contact-surface node, kept only at the
 //    body's contact-surface dofs (the rows any contact constraint can read). Computed when a
 //    node first carries an active constraint (block solves of 48 nodes for the nodes new to an
-//    iteration; on several ranks the blocks are dealt to the ranks, solve_columns) and kept for
+//    iteration; on several ranks blocks may be dealt to the ranks, share_column_blocks) and kept for
 //    every later run;
 //  - liftings: the displacement of the whole body for a unit translation of each rigid body it
 //    is bonded to (bonded dofs at the translation, the rest at equilibrium), and for the extra
@@ -52,8 +52,8 @@ using NodeDofs = std::array<dealii::types::global_dof_index, 3>;
 
 class BodyCompliance {
  public:
-  // `communicator`: the ranks that share the column solves (solve_columns); every rank
-  // factorises every body.
+  // `communicator`: the ranks that share the column solves (share_column_blocks); a rank that
+  // solves columns factorises every body in the same run as rank 0 (the same frame).
   explicit BodyCompliance(MPI_Comm communicator = MPI_COMM_SELF) : communicator_(communicator) {}
   ~BodyCompliance();
   BodyCompliance(const BodyCompliance&) = delete;
@@ -66,11 +66,14 @@ class BodyCompliance {
                  const ContactModel& model);
   // True when a body must be factorised in this run: the cell matrices must then be current.
   bool needs_factorisation() const;
-  // Factorises the bodies that need it (reads the system's cell matrices). False, with the
-  // reason on `log`, when a factorisation failed.
+  // True when every body must be factorised in this run (the first run, for one).
+  bool needs_every_factorisation() const;
+  // Factorises the bodies that need it, or with `every_body` all of them (reads the system's
+  // cell matrices): a rank that solves columns for rank 0 needs its factors in rank 0's frames.
+  // False, with the reason on `log`, when a factorisation failed.
   bool factorise(const ElasticSystem& system, const ContactConstraints& constraints,
                  const ContactModel& model, dealii::TimerOutput& timer,
-                 dealii::ConditionalOStream& log);
+                 dealii::ConditionalOStream& log, bool every_body = false);
 
   // The node of a dof (index into node_dofs), -1 for none.
   int node_of_dof(dealii::types::global_dof_index dof) const { return node_of_dof_[dof]; }
@@ -86,22 +89,37 @@ class BodyCompliance {
   // Rotation from body b's factorisation frame to this run's frame.
   const dealii::Tensor<2, 3>& rotation(std::size_t b) const { return bodies_[b].rotation; }
 
-  // Makes sure the compliance columns of these nodes exist (one block solve per body for the
-  // missing ones). One rank only (a communicator of one); several ranks: missing_columns and
-  // solve_columns. False when a solve failed.
+  // Makes sure the compliance columns of these nodes exist (one block solve per block of the
+  // missing ones, column_blocks), all on this rank. False when a solve failed.
   bool ensure_columns(const std::vector<int>& nodes, dealii::ConditionalOStream& log);
   // The nodes among `nodes` whose columns are not computed yet, ascending, each once. Throws
   // hipfai::Error for a node off every contact surface.
   std::vector<int> missing_columns(const std::vector<int>& nodes) const;
-  // Collective over the communicator: every rank calls it with the same `missing` (from
-  // missing_columns on rank 0). The missing nodes of each body are cut into blocks of 48 in
-  // ascending order, as on one rank, and the blocks of all bodies, numbered body after body, are
-  // dealt to the ranks in turn (block g to rank g mod ranks). Each block is one MUMPS block solve
-  // of the rank's own factor, the same right-hand sides as on one rank, so its columns are bit
-  // for bit those of a one-rank run. Rank 0 gathers every block's columns and keeps them (it
-  // solves the condensed problem); the other ranks keep none. False on every rank when a solve
-  // failed on any.
-  bool solve_columns(const std::vector<int>& missing, dealii::ConditionalOStream& log);
+
+  // The missing nodes (from missing_columns) in blocks of 48: each body's in ascending order,
+  // the blocks numbered body after body. A block is one MUMPS block solve of the body's factor;
+  // its columns are the same bit for bit whichever rank solves it, in whichever order.
+  struct ColumnBlocks {
+    std::vector<std::vector<int>> nodes;  // per body, ascending
+    struct Block {
+      std::size_t body = 0;
+      std::size_t first = 0;  // into nodes[body]
+      std::size_t count = 0;
+    };
+    std::vector<Block> blocks;
+  };
+  ColumnBlocks column_blocks(const std::vector<int>& missing) const;
+  // Solves block g on this rank and keeps its columns. False when the solve failed.
+  bool solve_column_block(const ColumnBlocks& blocks, std::size_t g, dealii::ConditionalOStream& log);
+  // Collective over the communicator (every rank with the same blocks, `first` and `counts`,
+  // fem/column_deal.h): blocks first, first + 1, ... are dealt in contiguous runs, counts[r] of
+  // them to rank r in rank order; each rank solves its own, and rank 0 gathers the others'
+  // columns and keeps them (it solves the condensed problem); the other ranks keep none. False
+  // on every rank when a solve failed on any, or a rank was not `ready` (its factorisation
+  // failed). Throws hipfai::Error when the counts do not fit the blocks and the ranks.
+  bool share_column_blocks(const ColumnBlocks& blocks, std::size_t first,
+                           const std::vector<std::size_t>& counts, bool ready,
+                           dealii::ConditionalOStream& log);
   // Body frame: the 3 columns of node `node` at body b's surface dofs, laid out as
   // [component c of the unit force][surface node][component of the displacement]; null when the
   // node's columns were not computed.
@@ -132,8 +150,9 @@ class BodyCompliance {
                const std::vector<dealii::Tensor<1, 3>>& node_force,
                dealii::Vector<double>& displacement, dealii::ConditionalOStream& log);
 
-  // Counts since construction: factorisations, compliance columns solved by all ranks together,
-  // and by this rank (the same on one rank).
+  // Counts since construction: factorisations, compliance columns solved by all ranks together
+  // (as rank 0 counts them; another rank counts its own), and by this rank (the same on one
+  // rank).
   unsigned int factorisations() const { return factorisations_; }
   unsigned int solved_columns() const { return solved_columns_; }
   unsigned int columns_solved_here() const { return columns_solved_here_; }
@@ -205,19 +224,10 @@ class BodyCompliance {
                              const BondedData& bonded);
   bool solve_block(Body& body, std::vector<double>& rhs, std::size_t k,
                    dealii::ConditionalOStream& log);
-  // A block of missing columns: `count` nodes of body b from `first` in the missing list.
-  struct ColumnBlock {
-    std::size_t body;
-    std::size_t first;
-    std::size_t count;
-  };
-  // Solves a block's columns and keeps them at the body's surface dofs (node_columns).
-  bool solve_column_block(const ColumnBlock& block, const std::vector<int>& nodes,
-                          dealii::ConditionalOStream& log);
-  // Rank 0 gets the columns of the blocks the other ranks solved, a round of one block per rank
-  // at a time (so the buffer stays a few blocks large); the other ranks drop theirs.
-  void gather_columns(const std::vector<ColumnBlock>& blocks,
-                      const std::vector<std::vector<int>>& nodes, int rank, int n_ranks);
+  // Rank 0 gets the columns of the blocks the other ranks solved (owner[g], for g from `first`),
+  // a round of at most one block per rank at a time (so the buffer stays a few blocks large);
+  // the other ranks drop theirs.
+  void gather_columns(const ColumnBlocks& blocks, std::size_t first, const std::vector<int>& owner);
 
   std::vector<int> node_of_dof_;
   std::vector<NodeDofs> node_dofs_;

@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "fem/active_set_strategy.h"
 #include "fem/body_compliance.h"
+#include "fem/column_deal.h"
 #include "fem/condensed_contact.h"
 #include "fem/contact_constraints.h"
 #include "fem/contact_output.h"
@@ -44,6 +45,14 @@ void ensure_mpi_initialized() {
   static dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, dealii::numbers::invalid_unsigned_int);
 }
 
+const char* to_string(TeamColumns team_columns) {
+  switch (team_columns) {
+    case TeamColumns::kSpareCores: return "spare-cores";
+    case TeamColumns::kEveryRank: return "every-rank";
+  }
+  return "?";
+}
+
 void limit_threads(unsigned int threads) {
   ensure_mpi_initialized();
   dealii::MultithreadInfo::set_thread_limit(threads == 0 ? dealii::numbers::invalid_unsigned_int : threads);
@@ -81,9 +90,12 @@ class ContactProblem::Impl {
   // A helper's part of a team run: column solves until rank 0 sends the run's state.
   ContactResult help_rank_0();
   void find_contact_nodes();
-  // The compliance columns of these nodes; on a team run rank 0 first tells the helpers which
-  // are missing, and all ranks solve them together.
+  // The compliance columns of these nodes; on a team run rank 0 solves blocks of them until a
+  // deal with its helpers pays (fem/column_deal.h), then tells them the missing nodes and the
+  // deal, and the ranks solve the rest together.
   bool ensure_columns(const std::vector<int>& column_nodes);
+  // Rank 0 of a team run: what each helper could take now (fem/column_deal.h).
+  std::vector<ColumnDealHelper> deal_helpers();
   std::vector<Linearization> solve_active_set(
       const std::vector<std::vector<dealii::Tensor<1, 3>>>& translation_sets);
   // The active-set loop's shared steps: the starting set (and the log line naming the path),
@@ -109,6 +121,13 @@ class ContactProblem::Impl {
   CondensedContact condensed;
   bool compliance_failed = false;
   unsigned int factorisations_before_run = 0;
+  // Team runs, rank 0: whether this run factorises every body (a helper may then factorise),
+  // how long the last factorisation took and one block's solve (measured; 0: none yet), and per
+  // helper whether it holds the factors of rank 0's bodies in rank 0's frames.
+  bool helpers_may_factorise = false;
+  double factorisation_seconds = 0.0;
+  double block_seconds = 0.0;
+  std::vector<bool> helper_factorised;
   LinearSolver solver_kind = LinearSolver::kCgAmg;
   // The contact surfaces' faces, made once and turned with their bodies on later runs.
   ContactSurfaces surfaces;
@@ -172,10 +191,21 @@ void ContactProblem::Impl::setup_system() {
         search_ahead.plan(system, surfaces, runs, constraints.fixed_dofs(),
                           options.tangent_plane_cull);
       }
-      // Every rank factorises the whole bodies (the substructured path is replicated, not
-      // distributed, on several ranks), so it needs every cell's matrix.
-      system.compute_cell_matrices(true);
-      compliance_failed = !compliance.factorise(system, constraints, model, timer, pcout);
+      // The factorisation is of the whole bodies (the substructured path is replicated, not
+      // distributed, on several ranks), so it needs every cell's matrix. A helper factorises
+      // only when it is first given columns, in a run where rank 0 factorises every body (so
+      // that all its factors are in rank 0's frames; help_rank_0).
+      helpers_may_factorise = compliance.needs_every_factorisation();
+      if (!team_run() || team.leads()) {
+        system.compute_cell_matrices(true);
+        const dealii::Timer clock;
+        compliance_failed = !compliance.factorise(system, constraints, model, timer, pcout);
+        factorisation_seconds = clock.wall_time();
+      }
+      if (team_run() && team.leads())
+        helper_factorised.assign(static_cast<std::size_t>(team.size() - 1), false);
+    } else {
+      helpers_may_factorise = false;
     }
     return;
   }
@@ -349,10 +379,51 @@ bool ContactProblem::Impl::ensure_columns(const std::vector<int>& column_nodes) 
   if (!team_run()) return compliance.ensure_columns(column_nodes, pcout);
   const std::vector<int> missing = compliance.missing_columns(column_nodes);
   if (missing.empty()) return true;  // the helpers sleep on
+  const BodyCompliance::ColumnBlocks blocks = compliance.column_blocks(missing);
+  const std::size_t n = blocks.blocks.size();
+  // Rank 0 solves blocks alone until the rest is worth dealing (each block timed for the deal).
+  std::size_t first = 0;
+  ColumnDeal deal;
+  for (; first < n; ++first) {
+    if (options.team_columns == TeamColumns::kEveryRank) {
+      deal = deal_columns_evenly(n - first, deal_helpers());
+      break;
+    }
+    if (block_seconds > 0.0) {
+      deal = deal_columns({n - first, block_seconds, factorisation_seconds, deal_helpers()});
+      if (deal.dealt()) break;
+    }
+    const dealii::Timer clock;
+    if (!compliance.solve_column_block(blocks, first, pcout)) return false;
+    block_seconds = clock.wall_time();
+  }
+  if (first == n) return true;
+  std::vector<char> factorise(deal.factorise.begin(), deal.factorise.end());
   ByteWriter message;
   message.io(missing);
+  message.io(first);
+  message.io(deal.counts);
+  message.io(factorise);
   team.send(RankTeam::Message::kColumns, message.bytes());
-  return compliance.solve_columns(missing, pcout);
+  pcout << "fem: column blocks " << first + 1 << "-" << n << " dealt to the ranks:";
+  for (const std::size_t count : deal.counts) pcout << " " << count;
+  pcout << std::endl;
+  if (!compliance.share_column_blocks(blocks, first, deal.counts, true, pcout)) return false;
+  for (std::size_t h = 0; h < helper_factorised.size(); ++h) {
+    if (deal.factorise[h + 1]) helper_factorised[h] = true;
+  }
+  return true;
+}
+
+std::vector<ColumnDealHelper> ContactProblem::Impl::deal_helpers() {
+  const std::vector<bool> with_core = team.helpers_with_a_core(!search_ahead.idle());
+  std::vector<ColumnDealHelper> helpers(helper_factorised.size());
+  for (std::size_t h = 0; h < helpers.size(); ++h) {
+    helpers[h].has_core = with_core[h];
+    helpers[h].factorised = helper_factorised[h];
+    helpers[h].may_factorise = helpers_may_factorise;
+  }
+  return helpers;
 }
 
 void ContactProblem::Impl::postprocess(ContactResult& result) {
@@ -463,9 +534,22 @@ ContactResult ContactProblem::Impl::help_rank_0() {
       case RankTeam::Message::kColumns: {
         ByteReader message(payload);
         std::vector<int> missing;
+        std::size_t first = 0;
+        std::vector<std::size_t> counts;
+        std::vector<char> factorise;
         message.io(missing);
-        // A failed solve is every rank's verdict (solve_columns agrees on it); rank 0 acts on it.
-        compliance.solve_columns(missing, pcout);
+        message.io(first);
+        message.io(counts);
+        message.io(factorise);
+        bool ready = true;
+        if (factorise.at(static_cast<std::size_t>(team.rank()))) {
+          // This run's placement is the frame rank 0 factorised every body in.
+          system.compute_cell_matrices(true);
+          ready = compliance.factorise(system, constraints, model, timer, pcout, true);
+        }
+        // A failed solve is every rank's verdict (share_column_blocks agrees on it); rank 0 acts
+        // on it.
+        compliance.share_column_blocks(compliance.column_blocks(missing), first, counts, ready, pcout);
         break;
       }
       case RankTeam::Message::kRunFailed:

@@ -42,11 +42,26 @@
 
 #include <mpi.h>
 
+#include <array>
 #include <limits>
 #include <memory>
 #include <string>
 
 namespace hipfai::fem {
+
+// Which ranks of a substructured run on several ranks solve compliance columns (fem/rank_team.h).
+enum class TeamColumns {
+  // Rank 0 solves them; another rank takes blocks while it has a core to itself and only as
+  // many as finish sooner than rank 0 alone, its own factorisation counted (fem/column_deal.h).
+  kSpareCores,
+  // Every rank takes an equal share of every set of columns (the helpers factorise when first
+  // given one, as with kSpareCores).
+  kEveryRank,
+};
+inline constexpr std::array<TeamColumns, 2> kTeamColumns{TeamColumns::kSpareCores,
+                                                         TeamColumns::kEveryRank};
+// "spare-cores", "every-rank".
+const char* to_string(TeamColumns team_columns);
 
 struct ContactOptions {
   unsigned int fe_degree = 2;                         // Q2: no volumetric locking at nu = 0.45
@@ -75,6 +90,9 @@ struct ContactOptions {
   // Contact search: skip master faces clear of a slave face's tangent-plane extent
   // (MortarSegmentOptions::tangent_plane_cull); off only to check that it changes nothing.
   bool tangent_plane_cull = true;
+  // The substructured solver on several ranks: which ranks solve the compliance columns. Either
+  // way the numbers are those of one rank, bit for bit; only the time differs.
+  TeamColumns team_columns = TeamColumns::kSpareCores;
   std::string vtu_file;  // written after the solve when not empty
   bool verbose = false;  // per-iteration statistics and the stage timings on rank 0
   // Radius (mm) of the balls of the mesh-objective peaks (fem/peak_measures.h; ContactPeaks::

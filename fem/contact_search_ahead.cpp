@@ -4,6 +4,8 @@
 #include <sys/syscall.h>
 #include <unistd.h>
 
+#include <algorithm>
+
 
 namespace hipfai::fem {
 
@@ -133,6 +135,13 @@ void ContactSearchAhead::work() {
     next->state = Search::State::kDone;
     changed_.notify_all();
   }
+}
+
+bool ContactSearchAhead::idle() {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  return std::none_of(queue_.begin(), queue_.end(), [](const std::shared_ptr<Search>& search) {
+    return search->state != Search::State::kDone;
+  });
 }
 
 std::optional<std::vector<SlaveNode>> ContactSearchAhead::take(const ElasticSystem& system,

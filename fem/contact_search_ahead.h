@@ -61,6 +61,8 @@ class ContactSearchAhead {
                                              const ContactModel& model,
                                              const std::vector<bool>& fixed_dof,
                                              bool tangent_plane_cull);
+  // No search queued or in progress: the thread is asleep.
+  bool idle();
 
  private:
   struct Search;

@@ -2,6 +2,8 @@
 
 #include "core/error.h"
 
+#include <sched.h>
+
 #include <algorithm>
 #include <chrono>
 #include <climits>
@@ -42,6 +44,54 @@ void broadcast_bytes(char* bytes, std::size_t size, MPI_Comm communicator) {
 RankTeam::RankTeam(MPI_Comm communicator) : communicator_(communicator) {
   MPI_Comm_rank(communicator_, &rank_);
   MPI_Comm_size(communicator_, &size_);
+  if (size_ == 1) return;
+  // Is the leader on this rank's node? Then its affinity says which of the node's CPUs it may
+  // share with the leader.
+  MPI_Comm node;
+  MPI_Comm_split_type(communicator_, MPI_COMM_TYPE_SHARED, rank_, MPI_INFO_NULL, &node);
+  MPI_Group team_group, node_group;
+  MPI_Comm_group(communicator_, &team_group);
+  MPI_Comm_group(node, &node_group);
+  const int leader = 0;
+  int leader_in_node = MPI_UNDEFINED;
+  MPI_Group_translate_ranks(team_group, 1, &leader, node_group, &leader_in_node);
+  MPI_Group_free(&team_group);
+  MPI_Group_free(&node_group);
+  MPI_Comm_free(&node);
+  cpu_set_t cpus;
+  CPU_ZERO(&cpus);
+  if (sched_getaffinity(0, sizeof(cpus), &cpus) != 0) {
+    for (int c = 0; c < CPU_SETSIZE; ++c) CPU_SET(c, &cpus);  // unknown: any CPU
+  }
+  struct Placement {
+    int with_leader = 0;
+    cpu_set_t cpus;
+  } mine{leader_in_node != MPI_UNDEFINED ? 1 : 0, cpus};
+  std::vector<Placement> all(rank_ == 0 ? static_cast<std::size_t>(size_) : 0);
+  MPI_Gather(&mine, sizeof(Placement), MPI_BYTE, all.data(), sizeof(Placement), MPI_BYTE, 0,
+             communicator_);
+  if (rank_ != 0) return;
+  leader_cpus_ = std::max(1, CPU_COUNT(&cpus));
+  shares_leader_cpus_.assign(static_cast<std::size_t>(size_), false);
+  for (std::size_t r = 1; r < all.size(); ++r) {
+    cpu_set_t both;
+    CPU_AND(&both, &all[r].cpus, &cpus);
+    shares_leader_cpus_[r] = all[r].with_leader && CPU_COUNT(&both) > 0;
+  }
+}
+
+std::vector<bool> RankTeam::helpers_with_a_core(bool leader_searching) const {
+  int free = leader_cpus_ - 1 - (leader_searching && leader_cpus_ > 1 ? 1 : 0);
+  std::vector<bool> out;
+  for (std::size_t r = 1; r < shares_leader_cpus_.size(); ++r) {
+    if (!shares_leader_cpus_[r]) {
+      out.push_back(true);
+    } else {
+      out.push_back(free > 0);
+      --free;
+    }
+  }
+  return out;
 }
 
 void RankTeam::send(Message message, const std::vector<char>& payload) const {

@@ -3,14 +3,22 @@
 //
 // The substructured solver's long serial part is the compliance columns' MUMPS solves
 // (fem/body_compliance.h); the rest of a run (contact search, condensed active sets, recovery,
-// stresses) is short and threaded. So on several ranks every rank factorises the bodies (each
-// its own copy of the factors, in parallel), the column blocks are dealt to all ranks
-// (BodyCompliance::solve_columns), and everything else is done by rank 0 alone with the threads
-// a one-rank run has. Replicating that rest on every rank would give each rank only its share of
-// the machine's threads when the ranks share a machine (2 ranks on 2 cores: one each, and no
-// thread for the searches ahead), which costs more than the columns save.
+// stresses) is short and threaded. So rank 0 solves the run with the threads a one-rank run has,
+// and the other ranks help it with column blocks (BodyCompliance::share_column_blocks), each
+// with its own copy of the bodies' factors. Replicating the rest on every rank would give each
+// rank only its share of the machine's threads when the ranks share a machine (2 ranks on 2
+// cores: one each, and no thread for the searches ahead), which costs more than the columns save.
 //
-// What flows: before a set of columns rank 0 sends the helpers the missing nodes (kColumns);
+// When helpers take blocks (TeamColumns, fem/contact_problem.h): with kSpareCores, rank 0 deals
+// blocks to a helper only while it has a core to itself (helpers_with_a_core: on another node,
+// on cores rank 0 may not use, or on a core of rank 0's that none of its threads is using), and
+// only as many as end sooner than rank 0 alone, the helper's own factorisation counted
+// (fem/column_deal.h); a helper factorises only when first given blocks, in a run where rank 0
+// factorises every body (so that its factors are in rank 0's frames). On a node whose cores rank 0's threads already keep busy, a helper would only
+// move work from one core's thread to another. With kEveryRank every set of columns is shared
+// evenly.
+//
+// What flows: before a deal rank 0 sends the helpers the missing nodes and the deal (kColumns);
 // after the run it sends what the callers of ContactProblem read on every rank (kRunDone: the
 // result and the fields, fem/run_state_bytes.h), or the reason it failed (kRunFailed). A helper
 // waits for these messages asleep (wait_without_spinning), so it leaves its core to rank 0's
@@ -34,7 +42,7 @@ void wait_without_spinning(MPI_Request& request);
 class RankTeam {
  public:
   enum class Message : int {
-    kColumns,    // payload: the missing nodes (int), for BodyCompliance::solve_columns
+    kColumns,    // payload: the missing nodes, the first block dealt and the deal (fem/column_deal.h)
     kRunDone,    // payload: the run's result and fields (fem/run_state_bytes.h)
     kRunFailed,  // payload: the leader's error message
   };
@@ -45,6 +53,15 @@ class RankTeam {
   bool leads() const { return rank_ == 0; }
   // More than one rank: the leader has helpers to send to.
   bool has_helpers() const { return size_ > 1; }
+  int size() const { return size_; }
+  int rank() const { return rank_; }
+
+  // Leader: per helper (ranks 1, 2, ...), whether it has a core to itself now. Helpers on
+  // other nodes, or whose CPUs (their affinity) do not overlap the leader's, always do; helpers
+  // whose CPUs overlap the leader's share the leader's CPUs not taken by its solving thread and,
+  // when `leader_searching` (its thread of searches ahead is at work), that thread too, in rank
+  // order.
+  std::vector<bool> helpers_with_a_core(bool leader_searching) const;
 
   // Leader: sends every helper the next message and its payload (collective with receive()).
   void send(Message message, const std::vector<char>& payload) const;
@@ -55,6 +72,10 @@ class RankTeam {
   MPI_Comm communicator_;
   int rank_ = 0;
   int size_ = 1;
+  // Leader: the CPUs it may run on, and per rank whether that rank may run on any of them
+  // (on the leader's node, with an overlapping affinity).
+  int leader_cpus_ = 1;
+  std::vector<bool> shares_leader_cpus_;
 };
 
 // Values to bytes and back, for the leader's messages: trivially copyable values, arrays and

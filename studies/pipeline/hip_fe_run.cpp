@@ -92,6 +92,7 @@ HipFeRunSummary run_hip_fe(const HipFeRunOptions& options, bool throw_on_failure
   fem::ContactOptions solver;
   solver.verbose = options.verbose;
   solver.peak_average_radius_mm = options.peak_radius_mm;
+  solver.team_columns = options.team_columns;
   // Direct (MUMPS) by default: the hip meshes have 15-150 k DOFs with thin, nearly incompressible
   // layers, where CG + GAMG needs ~600 iterations per solve (127 s vs 13 s per coarse step).
   switch (options.solver) {

@@ -73,6 +73,9 @@ struct HipFeRunOptions {
   // The results do not depend on it either where the run is on one rank (kThisRank, or kAll
   // without mpirun); not part of the cache key.
   FeRanks ranks = FeRanks::kAll;
+  // kAll on several ranks: which ranks solve compliance columns (fem/contact_problem.h); the
+  // results do not depend on it; not part of the cache key.
+  fem::TeamColumns team_columns = fem::TeamColumns::kSpareCores;
   bool verbose = false;   // active-set iterations on stdout
   bool progress = true;   // progress bar on stderr (rank 0)
   std::string label = "fem run";  // prefix of the progress and summary lines
