@@ -552,7 +552,8 @@ Patches find_patches(const SoftTissueRequest& request, double band, SoftTissueRe
 // --- layers ---------------------------------------------------------------------------------
 
 // The femoral lens: the literature maximum where the head is farthest (in angle about c) from its
-// patch's edge, thinning to 0 at the edge.
+// patch's edge, thinning to 0 at the edge. It only says where the femoral cartilage is thickest
+// (where the articular sphere's radius is taken); the layer itself reaches the sphere everywhere.
 std::vector<double> nominal_femoral_thickness(const TriMesh& femur, const Patches& patches, const Vec3& c,
                                               const SoftTissueOptions& o) {
   const PatchVertices& head = patches.head;
@@ -581,19 +582,16 @@ std::vector<double> nominal_femoral_thickness(const TriMesh& femur, const Patche
 // The common articular sphere about c (see the header): its radius splits the bone-to-bone gap
 // in the ratio of the two literature thicknesses where the femoral lens is thickest (within 10 %
 // of its maximum) and the ray meets the lunate surface; where that gap is wider than both
-// thicknesses the acetabular layer keeps its own and the femoral layer takes the rest. Marks the
-// head vertices whose ray meets the lunate surface in `faces_lunate`.
+// thicknesses the acetabular layer keeps its own and the femoral layer takes the rest.
 double articular_radius(const SoftTissueRequest& request, const Patches& patches, const MeshQueries& pelvis_queries,
-                        const std::vector<double>& t_f_nominal, const Vec3& c, std::vector<char>& faces_lunate) {
+                        const std::vector<double>& t_f_nominal, const Vec3& c) {
   const TriMesh& femur = *request.femur;
   const double t_f_max = request.options.femoral_max_thickness_mm, t_a_lit = request.options.acetabular_thickness_mm;
-  faces_lunate.assign(patches.head.mesh_index.size(), 0);
   std::vector<double> split, split_all;
   for (std::size_t i = 0; i < patches.head.mesh_index.size(); ++i) {
     const Vec3& x = femur.vertices[static_cast<std::size_t>(patches.head.mesh_index[i])];
     const auto hit = pelvis_queries.first_hit(c, ray_direction(c, x));
     if (!hit || !patches.lunate_in[hit->triangle]) continue;
-    faces_lunate[i] = 1;
     const double r = (x - c).norm(), gap = hit->distance - r;
     const double meet = gap >= t_f_max + t_a_lit ? hit->distance - t_a_lit : r + std::max(0.0, gap) * t_f_max / (t_f_max + t_a_lit);
     split_all.push_back(meet);
@@ -610,21 +608,21 @@ struct LayerRadii {
   std::vector<double> thickness, r_in, r_out;
 };
 
-// Femoral layer: up to the sphere where it faces the lunate surface (congruent), elsewhere the
-// lens profile under the sphere; never thinner than the minimum.
-LayerRadii femoral_layer(const TriMesh& femur, const PatchVertices& head, const std::vector<char>& faces_lunate,
-                         const std::vector<double>& t_f_nominal, const std::vector<double>& head_area, double r_art,
-                         const Vec3& c, const SoftTissueOptions& o, LayerReport& report) {
+// Femoral layer: from the head up to the sphere over the whole head region, never thinner than the
+// minimum. Not only where it faces the lunate surface in the neutral pose: the head turns under the
+// socket (in flexion its anterior part comes under the dome), so every part of it must stay
+// congruent, as the generator's does (its lens lies between an eccentric head and the R sphere).
+LayerRadii femoral_layer(const TriMesh& femur, const PatchVertices& head, const std::vector<double>& head_area,
+                         double r_art, const Vec3& c, const SoftTissueOptions& o, LayerReport& report) {
   const std::size_t n = head.mesh_index.size();
   LayerRadii layer{std::vector<double>(n), std::vector<double>(n), std::vector<double>(n)};
   for (std::size_t i = 0; i < n; ++i) {
     const Vec3& x = femur.vertices[static_cast<std::size_t>(head.mesh_index[i])];
     const double r = (x - c).norm();
     const double to_sphere = r_art - r;
-    const double wanted = faces_lunate[i] ? to_sphere : std::min(to_sphere, t_f_nominal[i]);
-    if (wanted >= to_sphere) report.articular_area_mm2 += head_area[i];
+    report.articular_area_mm2 += head_area[i];
     if (to_sphere < o.min_thickness_mm) report.overlap_area_mm2 += head_area[i];
-    layer.thickness[i] = std::max(o.min_thickness_mm, wanted);
+    layer.thickness[i] = std::max(o.min_thickness_mm, to_sphere);
     layer.r_in[i] = r;
     layer.r_out[i] = r + layer.thickness[i];
   }
@@ -859,11 +857,10 @@ SoftTissues synthesise_soft_tissues(const SoftTissueRequest& request) {
   const MeshQueries femur_queries(femur), pelvis_queries(pelvis);
   const std::vector<double> head_area = vertex_areas(femur, patches.head_in, patches.head);
   const std::vector<double> socket_area = vertex_areas(pelvis, patches.lunate_in, patches.socket);
-  std::vector<char> faces_lunate;
-  const double r_art = articular_radius(request, patches, pelvis_queries, t_f_nominal, c, faces_lunate);
+  const double r_art = articular_radius(request, patches, pelvis_queries, t_f_nominal, c);
   report.articular_radius_mm = r_art;
   const LayerRadii femoral =
-      femoral_layer(femur, patches.head, faces_lunate, t_f_nominal, head_area, r_art, c, o, report.femoral);
+      femoral_layer(femur, patches.head, head_area, r_art, c, o, report.femoral);
   LayerRadii acetabular = acetabular_layer(pelvis, patches.socket, socket_area, r_art, c, o, report.acetabular);
   out.femoral_cartilage = layer_solid(femur, patches.head_in, patches.head, patches.head_boundary, c, femoral.r_in,
                                       femoral.r_out, femoral.thickness);

@@ -33,14 +33,19 @@
 //             (t_f,max + t_a) when g < t_f,max + t_a (the literature ratio), else r_p - t_a (the
 //             acetabular cartilage keeps its constant thickness, the femoral takes the rest).
 //   thickness acetabular: from the lunate bone to the sphere, t_a(y) = |y - c| - r_art. Femoral:
-//             to the sphere where its ray meets the lunate surface, t_f(x) = r_art - |x - c|;
-//             elsewhere (facing the fossa, beyond the rim) min(r_art - |x - c|, lens(x)), the lens
-//             being the generator's (geometry/hip_generator.cpp): t_f,max at the patch point
-//             farthest from its edge, zero at the edge, t_max (cos(b_max - b) - cos b_max) /
-//             (1 - cos b_max), b the angle (seen from c) to the nearest edge vertex, b_max its
-//             largest value. The cartilage thus evens out the bone's own departures from the
-//             sphere. The acetabular joint side is also kept on or above the femoral layer's outer
-//             surface along its own ray (both are piecewise linear over different meshes).
+//             from the head to the sphere over the whole head region, t_f(x) = r_art - |x - c|,
+//             also where the ray meets no lunate surface in this pose (facing the fossa, beyond
+//             the rim): the head turns under the socket (in flexion its anterior part, beside a
+//             cam, comes under the loaded dome), and a congruent joint stays congruent only if
+//             all of its head is on the sphere, as the generator's is (its lens lies between an
+//             eccentric head ball and the R sphere: it thins to its edge because the bone rises
+//             to the sphere there, not because its surface drops below it). The cartilage thus
+//             evens out the bone's own departures from the sphere. The lens (t_f,max at the
+//             patch point farthest from its edge, zero at the edge, t_max (cos(b_max - b) -
+//             cos b_max) / (1 - cos b_max), b the angle seen from c to the nearest edge vertex,
+//             b_max its largest value) only selects where r_art is measured. The acetabular joint
+//             side is also kept on or above the femoral layer's outer surface along its own ray
+//             (both are piecewise linear over different meshes).
 //   minimum   no layer is thinner than min_thickness_mm (the articular sphericity tolerance, 0.1 mm:
 //             surfaces that close are touching, not penetrating, for the study): where a bone
 //             stands within it of the sphere (a bump), its layer stands proud of the sphere by up to

@@ -167,8 +167,8 @@ void write_soft_tissue_model(const SoftTissueModel& result, const std::string& f
      << t.articular_radius_mm << " mm: it splits the bone-to-bone gap in the ratio of the literature thicknesses ("
      << defaults.femoral_max_thickness_mm << " mm femoral at its thickest, " << defaults.acetabular_thickness_mm
      << " mm acetabular) where the femoral cartilage is thickest. The acetabular cartilage fills the lunate bone to "
-        "the sphere; the femoral cartilage fills the head to the sphere where it faces the lunate surface and "
-        "thins to the region's edge elsewhere (lens profile); no layer under "
+        "the sphere, the femoral cartilage the whole head region to the sphere (congruent in every pose); no layer "
+        "under "
      << defaults.min_thickness_mm << " mm. Labrum: base " << defaults.labrum_base_mm << " mm on the rim, tip "
      << defaults.labrum_height_mm << " mm above it, swept along the rim.\n\n"
      << "Time: " << result.total_seconds << " s (assessment " << result.assessment_seconds << " s, tissues "
