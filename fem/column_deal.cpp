@@ -27,11 +27,11 @@ ColumnDeal deal_columns(const ColumnDealRequest& request) {
   std::vector<std::pair<double, std::size_t>> candidates;  // (delay, rank)
   for (std::size_t h = 0; h < request.helpers.size(); ++h) {
     const ColumnDealHelper& helper = request.helpers[h];
-    if (!helper.has_core) continue;
+    if (!helper.has_core || !(helper.busy_seconds >= 0.0) || !std::isfinite(helper.busy_seconds)) continue;
     if (helper.factorised)
-      candidates.emplace_back(0.0, h + 1);
+      candidates.emplace_back(helper.busy_seconds, h + 1);
     else if (helper.may_factorise)
-      candidates.emplace_back(request.factorisation_seconds, h + 1);
+      candidates.emplace_back(helper.busy_seconds + request.factorisation_seconds, h + 1);
   }
   std::stable_sort(candidates.begin(), candidates.end());
   const double t = request.block_seconds;
@@ -52,7 +52,7 @@ ColumnDeal deal_columns(const ColumnDealRequest& request) {
     const std::size_t n = static_cast<std::size_t>(std::floor((finish - delay) / t + 1e-9));
     deal.counts[rank] = std::min(n, request.blocks - given);
     given += deal.counts[rank];
-    deal.factorise[rank] = deal.counts[rank] > 0 && delay > 0.0;
+    deal.factorise[rank] = deal.counts[rank] > 0 && !request.helpers[rank - 1].factorised;
   }
   deal.counts[0] = request.blocks - given;
   return deal;

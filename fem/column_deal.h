@@ -3,19 +3,22 @@
 //
 // Rank 0 solves a set of column blocks one after the other and, before each block after the
 // first, asks deal_columns() whether handing part of the rest to its helpers finishes the set
-// sooner. A helper counts only while it has a core to itself (RankTeam::helpers_with_a_core): on
-// the leader's node the leader's own threads come first, so a helper that would take the core of
-// the leader's contact searches ahead only moves work from one to the other. A helper that does
-// not hold the bodies' current factors factorises them first, which costs it what the leader's
-// factorisation cost (the same matrices): it is given blocks only when that delay and its share
-// still end before the leader would have ended alone.
+// sooner. A helper counts only with a core to solve on (RankTeam::helper_cores). On the leader's
+// node the leader's own threads come first: its solving thread keeps its core, and its thread of
+// searches ahead (fem/contact_search_ahead.h) needs its work done on the core it shares with a
+// helper, so that helper's blocks come after that work (busy seconds); a deal that took the
+// searches' core would only move their work to the steps after, which on a full machine have
+// no core free for it either. A helper that does not hold the bodies' current factors
+// factorises them first, which costs it what the leader's factorisation cost (the same
+// matrices).
 //
 // The deal balances the finishing times from measured times, not from counts: the leader solves
-// n_0 blocks in n_0 * t; helper i, after its delay d_i (0, or the factorisation), solves n_i in
-// d_i + n_i * t; all end together at T = (R t + sum d_i) / (1 + k) for the k helpers whose delay
-// is below T. Helpers' counts are rounded down (the leader takes the remainder), so a deal never
-// promises a helper more than it can finish by T. Which rank solves a block does not change its
-// numbers (each block is one block solve of the same right-hand sides), only the time.
+// n_0 blocks in n_0 * t; helper i, after its delay d_i (busy seconds, plus the factorisation if
+// it must factorise), solves n_i in d_i + n_i * t; all end together at
+// T = (R t + sum d_i) / (1 + k) for the k helpers whose delay is below T. Helpers' counts are
+// rounded down (the leader takes the remainder), so a deal never promises a helper more than it
+// can finish by T. Which rank solves a block does not change its numbers (each block is one
+// block solve of the same right-hand sides), only the time.
 #pragma once
 
 #include <cstddef>
@@ -24,7 +27,9 @@
 namespace hipfai::fem {
 
 struct ColumnDealHelper {
-  bool has_core = false;    // a core of its own now (RankTeam::helpers_with_a_core)
+  bool has_core = false;    // a core to solve on (RankTeam::helper_cores)
+  // Work that core has to do first (the leader's searches ahead left on it), seconds.
+  double busy_seconds = 0.0;
   bool factorised = false;  // holds the factors of the leader's bodies in their current frame
   // May factorise in this run: the leader factorises every body in this run, so the bodies'
   // frames are this run's placement, which the helper has too. Helpers that are not factorised

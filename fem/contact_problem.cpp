@@ -416,10 +416,11 @@ bool ContactProblem::Impl::ensure_columns(const std::vector<int>& column_nodes) 
 }
 
 std::vector<ColumnDealHelper> ContactProblem::Impl::deal_helpers() {
-  const std::vector<bool> with_core = team.helpers_with_a_core(!search_ahead.idle());
+  const std::vector<RankTeam::HelperCore> cores = team.helper_cores(search_ahead.remaining_seconds());
   std::vector<ColumnDealHelper> helpers(helper_factorised.size());
   for (std::size_t h = 0; h < helpers.size(); ++h) {
-    helpers[h].has_core = with_core[h];
+    helpers[h].has_core = cores[h].has_core;
+    helpers[h].busy_seconds = cores[h].busy_seconds;
     helpers[h].factorised = helper_factorised[h];
     helpers[h].may_factorise = helpers_may_factorise;
   }
@@ -461,12 +462,12 @@ ContactResult ContactProblem::Impl::run() {
   check_references(model);
   share_threads();
   const unsigned int columns_before = compliance.columns_solved_here();
-  setup_system();  // every rank: the mesh is shared, and each rank factorises its own bodies
+  setup_system();  // every rank: the mesh is shared (its dof numbering is collective)
   ContactResult result;
   if (team_run() && !team.leads()) {
     result = help_rank_0();
   } else if (team_run()) {
-    // The helpers wait for rank 0's messages until the run's state: an error here must reach
+    // The helpers wait for rank 0's messages until the run's result: an error here must reach
     // them too, or they would wait for ever.
     try {
       result = solve();
@@ -475,8 +476,9 @@ ContactResult ContactProblem::Impl::run() {
       team.send(RankTeam::Message::kRunFailed, std::vector<char>(what.begin(), what.end()));
       throw;
     }
+    dealii::TimerOutput::Scope scope(timer, "result to the other ranks");
     ByteWriter message;
-    write_run_state({result, state.displacement, cell_von_mises, nodes, fields}, message);
+    write_run_state({result}, message);
     team.send(RankTeam::Message::kRunDone, message.bytes());
   } else {
     result = solve();
@@ -543,9 +545,14 @@ ContactResult ContactProblem::Impl::help_rank_0() {
         message.io(factorise);
         bool ready = true;
         if (factorise.at(static_cast<std::size_t>(team.rank()))) {
-          // This run's placement is the frame rank 0 factorised every body in.
-          system.compute_cell_matrices(true);
-          ready = compliance.factorise(system, constraints, model, timer, pcout, true);
+          // This run's placement is the frame rank 0 factorised every body in. An error here
+          // is this rank's failed share: the others wait for its verdict in the collectives.
+          try {
+            system.compute_cell_matrices(true);
+            ready = compliance.factorise(system, constraints, model, timer, pcout, true);
+          } catch (const std::exception&) {
+            ready = false;
+          }
         }
         // A failed solve is every rank's verdict (share_column_blocks agrees on it); rank 0 acts
         // on it.
@@ -557,11 +564,13 @@ ContactResult ContactProblem::Impl::help_rank_0() {
       case RankTeam::Message::kRunDone: {
         ByteReader message(payload);
         RunState run = read_run_state(message);
+        // The fields stay on rank 0, which owns every cell (write_vtu writes each rank's own);
+        // this rank writes none, with vectors of the sizes the output expects.
         state = Linearization();
-        state.displacement = std::move(run.displacement);
-        cell_von_mises = std::move(run.cell_von_mises);
-        nodes = std::move(run.nodes);
-        fields = std::move(run.fields);
+        state.displacement.reinit(system.dof_handler().n_dofs());
+        cell_von_mises.reinit(system.triangulation().n_active_cells());
+        nodes.clear();
+        fields = ContactFields();
         return run.result;
       }
     }
@@ -593,6 +602,8 @@ ContactResult ContactProblem::run() {
 }
 
 dealii::Tensor<1, 3> ContactProblem::displacement_at(const dealii::Point<3>& point_mm) const {
+  if (impl_->team_run() && !impl_->team.leads())
+    throw_error("fem: on a substructured run over several ranks only rank 0 holds the displacement");
   return impl_->system.point_value(impl_->state.displacement, point_mm);
 }
 

@@ -132,7 +132,8 @@ class ContactProblem {
   // The searches take a thread of their own: ignored when the process has one thread per rank.
   void expect_next(std::vector<ContactModel> upcoming);
 
-  // Displacement at a point of the reference configuration (after run()), for checks.
+  // Displacement at a point of the reference configuration (after run()), for checks. On a
+  // substructured run over several ranks only rank 0 holds it (hipfai::Error on the others).
   dealii::Tensor<1, 3> displacement_at(const dealii::Point<3>& point_mm) const;
 
   // Fields of the last run() to one .vtu file (collective: every rank calls it); see

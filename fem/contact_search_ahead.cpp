@@ -2,6 +2,7 @@
 
 #include <sys/resource.h>
 #include <sys/syscall.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -37,6 +38,13 @@ bool same_search_geometry(const ContactModel& a, const ContactModel& b) {
       return false;
   }
   return true;
+}
+
+// CPU time of the calling thread, seconds.
+double thread_seconds() {
+  timespec now{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
+  return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
 }
 
 // The searching thread's nice value: the solve's threads (nice 0) get about nine tenths of a
@@ -124,24 +132,31 @@ void ContactSearchAhead::work() {
     next->state = Search::State::kRunning;
     lock.unlock();
     std::optional<std::vector<SlaveNode>> nodes;
+    const double started = thread_seconds();
     try {
       nodes = collect_slave_nodes(*next->system, next->model, next->surfaces, *next->slaves,
                                   next->fixed_dof, next->settings);
     } catch (...) {
       // The run that needs this placement searches it again and reports the error itself.
     }
+    const double spent = thread_seconds() - started;
     lock.lock();
+    ++searched_;
+    search_seconds_ += spent;
     next->nodes = std::move(nodes);
     next->state = Search::State::kDone;
     changed_.notify_all();
   }
 }
 
-bool ContactSearchAhead::idle() {
+std::optional<double> ContactSearchAhead::remaining_seconds() {
   const std::lock_guard<std::mutex> lock(mutex_);
-  return std::none_of(queue_.begin(), queue_.end(), [](const std::shared_ptr<Search>& search) {
+  const auto left = std::count_if(queue_.begin(), queue_.end(), [](const std::shared_ptr<Search>& search) {
     return search->state != Search::State::kDone;
   });
+  if (left == 0) return 0.0;
+  if (searched_ == 0) return std::nullopt;
+  return static_cast<double>(left) * search_seconds_ / static_cast<double>(searched_);
 }
 
 std::optional<std::vector<SlaveNode>> ContactSearchAhead::take(const ElasticSystem& system,

@@ -61,8 +61,11 @@ class ContactSearchAhead {
                                              const ContactModel& model,
                                              const std::vector<bool>& fixed_dof,
                                              bool tangent_plane_cull);
-  // No search queued or in progress: the thread is asleep.
-  bool idle();
+  // The work left to the searching thread: the searches queued or in progress times the mean
+  // CPU time of the searches it has finished (its own thread's clock, so a search slowed by the
+  // solves beside it counts only its own work), in seconds; 0 when none is left, and
+  // std::nullopt while searches are left but none has finished yet.
+  std::optional<double> remaining_seconds();
 
  private:
   struct Search;
@@ -77,6 +80,9 @@ class ContactSearchAhead {
   std::mutex mutex_;
   std::condition_variable changed_;
   bool stop_ = false;
+  // The searches finished and their CPU time, seconds.
+  std::size_t searched_ = 0;
+  double search_seconds_ = 0.0;
   std::thread thread_;  // started by the first plan()
 };
 

@@ -80,16 +80,28 @@ RankTeam::RankTeam(MPI_Comm communicator) : communicator_(communicator) {
   }
 }
 
-std::vector<bool> RankTeam::helpers_with_a_core(bool leader_searching) const {
-  int free = leader_cpus_ - 1 - (leader_searching && leader_cpus_ > 1 ? 1 : 0);
-  std::vector<bool> out;
+std::vector<RankTeam::HelperCore> RankTeam::helper_cores(
+    std::optional<double> leader_search_seconds) const {
+  const bool searching = !leader_search_seconds || *leader_search_seconds > 0.0;
+  // The leader's CPUs besides its solving thread's; with the searches, the last of them is
+  // shared with their work.
+  const int spare = leader_cpus_ - 1;
+  const int free = searching ? spare - 1 : spare;
+  int shared = 0;
+  std::vector<HelperCore> out;
   for (std::size_t r = 1; r < shares_leader_cpus_.size(); ++r) {
+    HelperCore core;
     if (!shares_leader_cpus_[r]) {
-      out.push_back(true);
-    } else {
-      out.push_back(free > 0);
-      --free;
+      core.has_core = true;
+    } else if (shared < free) {
+      core.has_core = true;
+      ++shared;
+    } else if (shared == free && searching && spare > 0) {
+      core.has_core = leader_search_seconds.has_value();
+      core.busy_seconds = leader_search_seconds.value_or(0.0);
+      ++shared;
     }
+    out.push_back(core);
   }
   return out;
 }

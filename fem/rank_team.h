@@ -10,10 +10,10 @@
 // cores: one each, and no thread for the searches ahead), which costs more than the columns save.
 //
 // When helpers take blocks (TeamColumns, fem/contact_problem.h): with kSpareCores, rank 0 deals
-// blocks to a helper only while it has a core to itself (helpers_with_a_core: on another node,
-// on cores rank 0 may not use, or on a core of rank 0's that none of its threads is using), and
-// only as many as end sooner than rank 0 alone, the helper's own factorisation counted
-// (fem/column_deal.h); a helper factorises only when first given blocks, in a run where rank 0
+// blocks to a helper only on a core of its own (helper_cores: on another node, on cores rank 0
+// may not use, or on a core of rank 0's that its threads leave free, counting the work its
+// searches ahead have left on it), and only as many as end with rank 0's, the helper's own
+// factorisation counted (fem/column_deal.h); a helper factorises only when first given blocks, in a run where rank 0
 // factorises every body (so that its factors are in rank 0's frames). On a node whose cores rank 0's threads already keep busy, a helper would only
 // move work from one core's thread to another. With kEveryRank every set of columns is shared
 // evenly.
@@ -29,6 +29,7 @@
 
 #include <cstddef>
 #include <cstring>
+#include <optional>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -56,12 +57,18 @@ class RankTeam {
   int size() const { return size_; }
   int rank() const { return rank_; }
 
-  // Leader: per helper (ranks 1, 2, ...), whether it has a core to itself now. Helpers on
-  // other nodes, or whose CPUs (their affinity) do not overlap the leader's, always do; helpers
-  // whose CPUs overlap the leader's share the leader's CPUs not taken by its solving thread and,
-  // when `leader_searching` (its thread of searches ahead is at work), that thread too, in rank
-  // order.
-  std::vector<bool> helpers_with_a_core(bool leader_searching) const;
+  // Leader: per helper (ranks 1, 2, ...), the core it would solve columns on. Helpers on other
+  // nodes, or whose CPUs (their affinity) do not overlap the leader's, have one of their own.
+  // Helpers whose CPUs overlap the leader's share the leader's CPUs but the one its solving
+  // thread takes, in rank order; while the leader's searches ahead have work left
+  // (`leader_search_seconds` > 0, ContactSearchAhead::remaining_seconds), one of those CPUs is
+  // theirs, and the helper given that one has that much work on it before its own (busy_seconds;
+  // no core at all while the searches' work is not known yet).
+  struct HelperCore {
+    bool has_core = false;
+    double busy_seconds = 0.0;
+  };
+  std::vector<HelperCore> helper_cores(std::optional<double> leader_search_seconds) const;
 
   // Leader: sends every helper the next message and its payload (collective with receive()).
   void send(Message message, const std::vector<char>& payload) const;

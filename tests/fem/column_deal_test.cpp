@@ -15,19 +15,28 @@
 namespace hipfai::fem {
 namespace {
 
-ColumnDealHelper factorised() { return {true, true, false}; }
-ColumnDealHelper to_factorise() { return {true, false, true}; }
+ColumnDealHelper factorised(double busy = 0.0) {
+  return {.has_core = true, .busy_seconds = busy, .factorised = true};
+}
+ColumnDealHelper to_factorise(double busy = 0.0) {
+  return {.has_core = true, .busy_seconds = busy, .may_factorise = true};
+}
 
-// The time the deal takes: every rank's delay (a factorisation) and its blocks.
-double finish_time(const ColumnDeal& deal, double t, double f) {
+// The time the deal takes: every rank's delay (busy seconds of a helper's core, a
+// factorisation) and its blocks; busy[r] for rank r (the leader's 0).
+double finish_time(const ColumnDeal& deal, double t, double f, const std::vector<double>& busy = {}) {
   double finish = 0.0;
-  for (std::size_t r = 0; r < deal.counts.size(); ++r)
-    finish = std::max(finish, (deal.factorise[r] ? f : 0.0) + static_cast<double>(deal.counts[r]) * t);
+  for (std::size_t r = 0; r < deal.counts.size(); ++r) {
+    if (deal.counts[r] == 0) continue;
+    const double before = (r < busy.size() ? busy[r] : 0.0) + (deal.factorise[r] ? f : 0.0);
+    finish = std::max(finish, before + static_cast<double>(deal.counts[r]) * t);
+  }
   return finish;
 }
 
 TEST(ColumnDeal, NoHelperWithACoreLeavesEveryBlockToTheLeader) {
-  const ColumnDeal deal = deal_columns({40, 0.1, 0.5, {{false, true, true}, {false, false, true}}});
+  const ColumnDeal deal = deal_columns(
+      {40, 0.1, 0.5, {{.has_core = false, .factorised = true}, {.has_core = false, .may_factorise = true}}});
   EXPECT_EQ(deal.counts, (std::vector<std::size_t>{40, 0, 0}));
   EXPECT_FALSE(deal.dealt());
 }
@@ -57,20 +66,33 @@ TEST(ColumnDeal, AFactorisationLongerThanTheSetIsNotWorthIt) {
   EXPECT_FALSE(deal_columns({1, 0.2, 0.0, {factorised(), factorised()}}).dealt());
 }
 
+TEST(ColumnDeal, AHelperSharingTheSearchesCoreStartsAfterTheirWork) {
+  // 40 blocks of 0.1 s; the helper's core has 1.5 s of searches ahead and it factorises for 1 s:
+  // T = (4 + 2.5) / 2 = 3.25 s, the helper's (3.25 - 2.5) / 0.1 = 7.5 -> 7 blocks.
+  const ColumnDeal deal = deal_columns({40, 0.1, 1.0, {to_factorise(1.5)}});
+  EXPECT_EQ(deal.counts, (std::vector<std::size_t>{33, 7}));
+  EXPECT_LE(finish_time(deal, 0.1, 1.0, {0.0, 1.5}), 3.3 + 1e-12);
+  // The searches need the core longer than the columns take alone (as at the default level on
+  // two cores, where the searches ahead outlast the columns): no deal.
+  EXPECT_FALSE(deal_columns({40, 0.1, 0.64, {to_factorise(4.4)}}).dealt());
+  // A factorised helper on a core with work left to do only shares what remains after it.
+  EXPECT_EQ(deal_columns({40, 0.1, 1.0, {factorised(2.0)}}).counts, (std::vector<std::size_t>{30, 10}));
+}
+
 TEST(ColumnDeal, HelpersThatMayNotFactoriseTakeNothing) {
   // Not factorised and the leader did not factorise in this run: its factors' frame is gone.
-  const ColumnDeal deal = deal_columns({40, 0.1, 1.0, {{true, false, false}, factorised()}});
+  const ColumnDeal deal = deal_columns({40, 0.1, 1.0, {{.has_core = true}, factorised()}});
   EXPECT_EQ(deal.counts, (std::vector<std::size_t>{20, 0, 20}));
 }
 
 TEST(ColumnDeal, NeverSlowerThanTheLeaderAloneAndCloseToTheBestSplit) {
   // Brute force over every split of the blocks between the leader and two helpers (one
-  // factorised, one not): the deal's finishing time is within a block of the best one, and
-  // never later than the leader alone.
+  // factorised, one not and with 0.4 s of other work on its core): the deal's finishing time is
+  // within a block of the best one, and never later than the leader alone.
   for (const double f : {0.0, 0.3, 1.0, 2.5}) {
     for (std::size_t blocks = 1; blocks <= 30; ++blocks) {
       const double t = 0.1;
-      const ColumnDeal deal = deal_columns({blocks, t, f, {factorised(), to_factorise()}});
+      const ColumnDeal deal = deal_columns({blocks, t, f, {factorised(), to_factorise(0.4)}});
       ASSERT_EQ(std::accumulate(deal.counts.begin(), deal.counts.end(), std::size_t{0}), blocks);
       double best = std::numeric_limits<double>::infinity();
       for (std::size_t a = 0; a <= blocks; ++a) {
@@ -78,10 +100,10 @@ TEST(ColumnDeal, NeverSlowerThanTheLeaderAloneAndCloseToTheBestSplit) {
           ColumnDeal split;
           split.counts = {blocks - a - b, a, b};
           split.factorise = {false, false, b > 0};
-          best = std::min(best, finish_time(split, t, f));
+          best = std::min(best, finish_time(split, t, f, {0.0, 0.0, 0.4}));
         }
       }
-      const double mine = finish_time(deal, t, f);
+      const double mine = finish_time(deal, t, f, {0.0, 0.0, 0.4});
       EXPECT_LE(mine, static_cast<double>(blocks) * t + 1e-12) << blocks << " blocks, f " << f;
       EXPECT_LE(mine, best + t + 1e-12) << blocks << " blocks, f " << f;
     }
@@ -89,7 +111,7 @@ TEST(ColumnDeal, NeverSlowerThanTheLeaderAloneAndCloseToTheBestSplit) {
 }
 
 TEST(ColumnDeal, EvenDealSharesAmongEveryRankThatCanSolve) {
-  const ColumnDeal deal = deal_columns_evenly(7, {to_factorise(), factorised(), {false, false, false}});
+  const ColumnDeal deal = deal_columns_evenly(7, {to_factorise(), factorised(), {}});
   EXPECT_EQ(deal.counts, (std::vector<std::size_t>{3, 2, 2, 0}));
   EXPECT_EQ(deal.factorise, (std::vector<bool>{false, true, false, false}));
 }
@@ -98,6 +120,8 @@ TEST(ColumnDeal, BadTimesAreErrors) {
   EXPECT_THROW(deal_columns({4, 0.0, 0.0, {factorised()}}), Error);
   EXPECT_THROW(deal_columns({4, 0.1, -1.0, {factorised()}}), Error);
   EXPECT_THROW(deal_columns({4, std::numeric_limits<double>::quiet_NaN(), 0.0, {}}), Error);
+  // A helper whose core's other work is not a time takes nothing.
+  EXPECT_FALSE(deal_columns({40, 0.1, 0.0, {factorised(std::numeric_limits<double>::quiet_NaN())}}).dealt());
 }
 
 }  // namespace
