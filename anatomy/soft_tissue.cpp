@@ -713,7 +713,7 @@ class LabrumSections {
       }
       if (femur_hit) return Verdict::kOnFemur;
       section = subdivided(corner);
-      const Verdict verdict = probe(section, corner);
+      const Verdict verdict = probe(section, corner, meridian);
       if (verdict != Verdict::kInPelvis) return verdict;
     }
     return Verdict::kInPelvis;
@@ -737,8 +737,16 @@ class LabrumSections {
   }
 
   // Probes the section's points, edge midpoints and base centroid: on the femur, in the pelvis or
-  // its cartilage, or placed (clear of both).
-  Verdict probe(const Section& section, const std::array<Vec3, kCorners>& corner) const {
+  // its cartilage, or placed (clear of both). The base lies on the rim's face, which the bone's
+  // triangles only approximate: between two rim vertices the face's chord stands up to
+  // L^2 / (8 rho) off the true surface (0.02 mm for 2 mm edges), into the socket where the rim
+  // cone is convex towards it (opening < 90 deg; on a plane rim either way by round-off), so a
+  // base laid on the rim read as inside the pelvis and its section tilted a step deeper than the
+  // rim (0.5 deg; every section of the generated CE 30 and 40 hips). A section is in the pelvis or
+  // its cartilage only where it reaches more than the touching tolerance (o_.min_thickness_mm,
+  // the sphericity tolerance) into them: the pelvis probes are moved that far off the rim's
+  // face, towards the acetabular axis in the section's meridian plane.
+  Verdict probe(const Section& section, const std::array<Vec3, kCorners>& corner, const Vec3& meridian) const {
     std::vector<Vec3> probes(section.begin(), section.end());
     for (int j = 0; j < kSectionPoints; ++j) {
       probes.push_back(0.5 * (section[static_cast<std::size_t>(j)] + section[static_cast<std::size_t>((j + 1) % kSectionPoints)]));
@@ -746,8 +754,12 @@ class LabrumSections {
     probes.push_back((corner[0] + corner[1] + corner[2]) / 3.0);
     bool in_femur = false, in_pelvis = false;
     for (const Vec3& p : probes) {
+      const Vec3 d = p - c_;
+      const double polar = std::atan2(d.dot(meridian), d.dot(acetabulum_.axis));
+      const Vec3 towards_axis = std::sin(polar) * acetabulum_.axis - std::cos(polar) * meridian;
+      const Vec3 q = p + o_.min_thickness_mm * towards_axis;
       in_femur = in_femur || femur_queries_.inside(p);
-      in_pelvis = in_pelvis || pelvis_queries_.inside(p) || cartilage_queries_.inside(p);
+      in_pelvis = in_pelvis || pelvis_queries_.inside(q) || cartilage_queries_.inside(q);
     }
     if (in_femur) return Verdict::kOnFemur;
     return in_pelvis ? Verdict::kInPelvis : Verdict::kPlaced;

@@ -63,8 +63,12 @@
 //             its inner face follows the articular sphere, or the femoral cartilage's outer
 //             surface where that stands higher (the labrum seals on the head). The section is
 //             tilted towards the opening in 0.5 deg steps (up to 10 deg) until it is clear of the
-//             pelvis; a section that still is not, or that meets the femur (the neck passing
-//             under the rim), is left out. One swept solid per run of kept sections, each with end
+//             pelvis (clear: no probe more than min_thickness_mm inside the pelvis or its
+//             cartilage, the probes moved that far towards the acetabular axis; the base lies on
+//             the rim's face, whose triangles bulge into a socket shallower than a hemisphere by
+//             a chord's sagitta, 0.02 mm at 2 mm edges, which read as inside would tilt every
+//             section a step deeper than the rim); a section that still is not, or that meets the
+//             femur (the neck passing under the rim), is left out. One swept solid per run of kept sections, each with end
 //             caps (open at the notch when the bones show one; the transverse ligament is not
 //             modelled); a rim kept all round over a lunate surface without an opening (a
 //             segmentation that fills the fossa and notch, as LHDL's does) gives a closed ring.

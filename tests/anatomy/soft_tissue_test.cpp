@@ -15,6 +15,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -167,7 +168,9 @@ TEST(SoftTissue, SynthesisedOnGeneratedBonesMatchesTheGeneratorsTissues) {
     EXPECT_EQ(vertices_inside(t.acetabular_cartilage, femur, shared, kTol), 0u);
     EXPECT_EQ(vertices_inside(t.acetabular_cartilage, t.femoral_cartilage, shared, kTol), 0u);
     EXPECT_EQ(vertices_inside(t.labrum, femur, shared, 0.0), 0u);
-    EXPECT_EQ(vertices_inside(t.labrum, pelvis, shared, 0.0), 0u);
+    // The labrum's base lies on the rim's face, which the pelvis' triangles approximate by
+    // chords: touching it (within the sphericity tolerance), not inside.
+    EXPECT_EQ(vertices_inside(t.labrum, pelvis, shared, literature::kSphericityToleranceMm), 0u);
     EXPECT_EQ(vertices_inside(t.labrum, t.femoral_cartilage, shared, kTol), 0u);
     EXPECT_EQ(vertices_inside(t.labrum, t.acetabular_cartilage, shared, kTol), 0u);
 
@@ -214,6 +217,23 @@ TEST(SoftTissue, SynthesisedOnGeneratedBonesMatchesTheGeneratorsTissues) {
     // section (base 5 mm, tip 7 mm); 10 %: its inner arc, which four chords approximate (the
     // whole circular segment is 1.2 of its 16.3 mm^2), and the span of the generator's cut ends counted to whole degrees.
     EXPECT_NEAR(sl / sl_fraction, gl / gl_fraction, 0.10 * gl / gl_fraction);
+    // Where it sits: its base on the generator's rim cone, its tip as far in, not a tilt step
+    // (0.5 deg) deeper: the bone's rim face, a chord between its vertices, bulges into a socket
+    // shallower than a hemisphere by up to 0.02 mm, which is touching, not overlapping.
+    // The smallest and largest polar angle (deg) of a solid's vertices about the acetabular axis.
+    const auto polar_range = [&](const TriMesh& solid) {
+      double lo = 180.0, hi = 0.0;
+      for (const Vec3& v : solid.vertices) {
+        const double polar = std::acos(std::clamp((v - model.hjc_mm).normalized().dot(model.acetabular_axis), -1.0, 1.0));
+        lo = std::min(lo, polar * geometry::kRadToDeg);
+        hi = std::max(hi, polar * geometry::kRadToDeg);
+      }
+      return std::pair{lo, hi};
+    };
+    const auto [tip_polar, base_polar] = polar_range(t.labrum);
+    const double gen_tip_polar = polar_range(gen_l).first;
+    EXPECT_NEAR(base_polar, model.socket_opening_deg, 0.1);
+    EXPECT_NEAR(tip_polar, gen_tip_polar, 0.1);
     std::printf("CE %.0f alpha %.0f: femoral area %.0f/%.0f mm2 mean %.2f/%.2f mm; acetabular area %.0f/%.0f mean "
                 "%.2f/%.2f; labrum %.0f/%.0f mm3 (generated/synthesised); on sphere %.0f/%.0f mm2, sections %d/%d, "
                 "pieces %d, dropped femur %d pelvis %d rim %d, %.2f s\n",
