@@ -29,10 +29,8 @@ void penetration_of(SampleFeHip& hip, const std::filesystem::path& dir, const Mo
   penetration.threads = threads;
   StageLog log;
   const PenetrationRun run = compute_penetration(loaded, motion, penetration, log);
-  for (const StepPenetration& step : run.steps) {
-    hip.curvilinear_max_mm.push_back(step.curvilinear_max_mm());
-    hip.radial_max_mm.push_back(step.radial_max_mm());
-  }
+  hip.curvilinear_max_mm = run.curvilinear_maxima_mm();
+  hip.radial_max_mm = run.radial_maxima_mm();
   hip.penetration_ms = 1e3 * seconds_since(start);
 }
 

@@ -529,12 +529,9 @@ stats::PenetrationDepths penetration_over_motion(const std::vector<double>& angl
   const LoadedHip loaded = loaded_hip_from_model(hip, hip_dir.filename().string());
   StageLog log;
   const PenetrationRun run = compute_penetration(loaded, motion, PenetrationOptions{}, log);
-  stats::PenetrationDepths depths{Eigen::MatrixXd(1, p), Eigen::MatrixXd(1, p)};
-  for (int j = 0; j < p; ++j) {
-    depths.curvilinear_mm(0, j) = run.steps[static_cast<std::size_t>(j)].curvilinear_max_mm();
-    depths.radial_mm(0, j) = run.steps[static_cast<std::size_t>(j)].radial_max_mm();
-  }
-  return depths;
+  const std::vector<double> curvilinear = run.curvilinear_maxima_mm(), radial = run.radial_maxima_mm();
+  return {Eigen::Map<const Eigen::MatrixXd>(curvilinear.data(), 1, p),
+          Eigen::Map<const Eigen::MatrixXd>(radial.data(), 1, p)};
 }
 
 }  // namespace

@@ -316,6 +316,18 @@ double PenetrationRun::max_radial_mm() const {
   return deepest;
 }
 
+std::vector<double> PenetrationRun::curvilinear_maxima_mm() const {
+  std::vector<double> maxima;
+  for (const auto& step : steps) maxima.push_back(step.curvilinear_max_mm());
+  return maxima;
+}
+
+std::vector<double> PenetrationRun::radial_maxima_mm() const {
+  std::vector<double> maxima;
+  for (const auto& step : steps) maxima.push_back(step.radial_max_mm());
+  return maxima;
+}
+
 PenetrationRun compute_penetration(const LoadedHip& hip, const Motion& motion,
                                    const PenetrationOptions& options, StageLog& log,
                                    const StepObserver& observer) {

@@ -94,6 +94,9 @@ struct PenetrationRun {
 
   double max_curvilinear_mm() const;
   double max_radial_mm() const;
+  // Each step's maximum, in step order.
+  std::vector<double> curvilinear_maxima_mm() const;
+  std::vector<double> radial_maxima_mm() const;
 };
 
 // Called after each step with the step index (0-based) and that step's per-vertex fields.
