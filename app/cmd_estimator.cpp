@@ -197,10 +197,10 @@ void add_predict_command(CLI::App* estimator) {
   predict->add_option("--hip", args->hip_dir, "Hip model folder (model.json)")->required();
   predict->add_option("--csv", args->csv, "Write step, estimate, low, high, bordering to this file");
   predict->add_option("--method", args->method,
-                      "pca_nn (thesis), knn, ridge, or depth_nn (also computes the hip's penetration depths over "
-                      "the model's standing-to-sitting motion)")
+                      "pca_nn (thesis), knn, ridge, depth_nn or depth_aligned (these two also compute the hip's "
+                      "penetration depths over the model's standing-to-sitting motion)")
       ->capture_default_str()
-      ->check(CLI::IsMember({"pca_nn", "knn", "ridge", "depth_nn"}));
+      ->check(CLI::IsMember({"pca_nn", "knn", "ridge", "depth_nn", "depth_aligned"}));
   predict->add_option("--e-prime", args->e_prime,
                       "Components used, e' (default: all the model keeps), or 'auto': the e' with the smallest "
                       "leave-one-out error among the training hips")
@@ -413,7 +413,7 @@ void add_refine_command(CLI::App* estimator) {
   refine->add_option("--criterion", *criterion,
                      "width (mean interval width of --method) or disagreement (mean range of the methods' estimates)")
       ->capture_default_str();
-  refine->add_option("--method", *method, "Method whose interval `width` reads: pca_nn, knn, ridge, depth_nn")
+  refine->add_option("--method", *method, "Method whose interval `width` reads: pca_nn, knn, ridge, depth_nn, depth_aligned")
       ->capture_default_str();
   refine->add_option("--csv", *csv, "Write hip, score, rank (0 = not picked) of every candidate to this file");
   struct LoopArgs {

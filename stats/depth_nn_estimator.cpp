@@ -40,6 +40,15 @@ void check_shapes(const Eigen::MatrixXd& scores, const Eigen::MatrixXd& values, 
   }
 }
 
+// Hips with a contact-free first step and a positive value there: the reference of their level.
+std::vector<bool> usable_hips(const Eigen::MatrixXd& values, const PenetrationDepths& depths) {
+  std::vector<bool> usable(static_cast<std::size_t>(values.rows()));
+  for (Eigen::Index i = 0; i < values.rows(); ++i) {
+    usable[static_cast<std::size_t>(i)] = std::isfinite(values(i, 0)) && values(i, 0) > 0.0 && !in_contact(depths, i, 0);
+  }
+  return usable;
+}
+
 // Contact-free profile: per step, the mean over usable hips out of contact of the value relative
 // to the hip's first step.
 Eigen::VectorXd contact_free_profile(const Eigen::MatrixXd& values, const PenetrationDepths& depths,
@@ -64,32 +73,41 @@ struct Spread {
   double mean = kNaN, low = kNaN, high = kNaN;
 };
 
-// Level: the first-step values of the k nearest usable hips on the first `components` scores.
-Spread nearest_level(const Eigen::MatrixXd& scores, const Eigen::MatrixXd& values, const Eigen::VectorXd& target,
-                     const std::vector<bool>& usable, int components, int k) {
-  const Eigen::Index m = values.rows();
+// The k hips of `eligible` nearest the target on the first `components` scores (ties: lowest row).
+std::vector<Eigen::Index> nearest_hips(const Eigen::MatrixXd& scores, const Eigen::VectorXd& target,
+                                       const std::vector<bool>& eligible, int components, int k) {
   const Eigen::Index used = std::min<Eigen::Index>(components, scores.cols());
   std::vector<std::pair<double, Eigen::Index>> by_score;
-  for (Eigen::Index i = 0; i < m; ++i) {
-    if (usable[static_cast<std::size_t>(i)]) {
+  for (Eigen::Index i = 0; i < scores.rows(); ++i) {
+    if (eligible[static_cast<std::size_t>(i)]) {
       by_score.emplace_back((scores.row(i).head(used).transpose() - target.head(used)).norm(), i);
     }
   }
   std::sort(by_score.begin(), by_score.end());
   by_score.resize(std::min<std::size_t>(by_score.size(), static_cast<std::size_t>(k)));
-  Spread level;
-  if (!by_score.empty()) {
-    double sum = 0.0;
-    level.low = std::numeric_limits<double>::infinity();
-    level.high = -level.low;
-    for (const auto& [d, i] : by_score) {
-      sum += values(i, 0);
-      level.low = std::min(level.low, values(i, 0));
-      level.high = std::max(level.high, values(i, 0));
-    }
-    level.mean = sum / static_cast<double>(by_score.size());
-  }
-  return level;
+  std::vector<Eigen::Index> hips;
+  for (const auto& [d, i] : by_score) hips.push_back(i);
+  return hips;
+}
+
+// Mean and range of a list (NaN when empty).
+Spread spread_of(const std::vector<double>& xs) {
+  Spread out;
+  if (xs.empty()) return out;
+  out.low = *std::min_element(xs.begin(), xs.end());
+  out.high = *std::max_element(xs.begin(), xs.end());
+  double sum = 0.0;
+  for (const double x : xs) sum += x;
+  out.mean = sum / static_cast<double>(xs.size());
+  return out;
+}
+
+// Level: the first-step values of the k nearest usable hips on the first `components` scores.
+Spread nearest_level(const Eigen::MatrixXd& scores, const Eigen::MatrixXd& values, const Eigen::VectorXd& target,
+                     const std::vector<bool>& usable, int components, int k) {
+  std::vector<double> firsts;
+  for (const Eigen::Index i : nearest_hips(scores, target, usable, components, k)) firsts.push_back(values(i, 0));
+  return spread_of(firsts);
 }
 
 // Impingement factor of a training (hip, step) pair in contact: its value over the level and
@@ -136,21 +154,54 @@ Spread nearest_factor(const std::vector<ContactPair>& pairs, double c, double r,
   return factor;
 }
 
+// One step of a hip's path through the (curvilinear, radial) depth plane, with its factor.
+struct PathPoint {
+  double curvilinear, radial, factor;
+};
+
+// A usable hip's steps in order (those with a value and a profile), each with its factor.
+std::vector<PathPoint> depth_path(const Eigen::MatrixXd& values, const PenetrationDepths& depths,
+                                  const Eigen::VectorXd& profile, Eigen::Index hip) {
+  std::vector<PathPoint> path;
+  for (Eigen::Index j = 0; j < values.cols(); ++j) {
+    if (!std::isfinite(values(hip, j)) || !std::isfinite(profile(j))) continue;
+    path.push_back({depths.curvilinear_mm(hip, j), depths.radial_mm(hip, j), values(hip, j) / (values(hip, 0) * profile(j))});
+  }
+  return path;
+}
+
+// The factor at the point of the path nearest to (c, r), linear along its segment (ties: the
+// earlier segment); a one-point path is that point's factor. The path is not empty.
+double path_factor(const std::vector<PathPoint>& path, double c, double r) {
+  if (path.size() == 1) return path.front().factor;
+  double best_distance = std::numeric_limits<double>::infinity(), best_factor = path.front().factor;
+  for (std::size_t s = 0; s + 1 < path.size(); ++s) {
+    const PathPoint& a = path[s];
+    const PathPoint& b = path[s + 1];
+    const double dc = b.curvilinear - a.curvilinear, dr = b.radial - a.radial;
+    const double length2 = dc * dc + dr * dr;
+    const double t =
+        length2 > 0.0 ? std::clamp(((c - a.curvilinear) * dc + (r - a.radial) * dr) / length2, 0.0, 1.0) : 0.0;
+    const double distance = std::hypot(c - (a.curvilinear + t * dc), r - (a.radial + t * dr));
+    if (distance < best_distance) {
+      best_distance = distance;
+      best_factor = a.factor + t * (b.factor - a.factor);
+    }
+  }
+  return best_factor;
+}
+
 }  // namespace
 
 std::vector<RegressionStep> depth_nn_estimate(const Eigen::MatrixXd& scores, const Eigen::MatrixXd& values,
                                               const PenetrationDepths& depths, const Eigen::VectorXd& target,
                                               const PenetrationDepths& target_depths, int components, int k) {
   check_shapes(scores, values, depths, target, target_depths, components, k);
-  const Eigen::Index m = values.rows(), p = values.cols();
+  const Eigen::Index p = values.cols();
   std::vector<RegressionStep> steps(static_cast<std::size_t>(p));
   if (p == 0) return steps;
 
-  // Hips with a contact-free first step and a positive value there: the reference of their level.
-  std::vector<bool> usable(static_cast<std::size_t>(m));
-  for (Eigen::Index i = 0; i < m; ++i) {
-    usable[static_cast<std::size_t>(i)] = std::isfinite(values(i, 0)) && values(i, 0) > 0.0 && !in_contact(depths, i, 0);
-  }
+  const std::vector<bool> usable = usable_hips(values, depths);
   const Eigen::VectorXd profile = contact_free_profile(values, depths, usable);
   const Spread level = nearest_level(scores, values, target, usable, components, k);
   const std::vector<ContactPair> pairs = contact_pairs(values, depths, usable, profile);
@@ -167,6 +218,68 @@ std::vector<RegressionStep> depth_nn_estimate(const Eigen::MatrixXd& scores, con
     step.estimate = level.mean * profile(j) * factor.mean;
     step.low = level.low * profile(j) * factor.low;
     step.high = level.high * profile(j) * factor.high;
+    step.defined = true;
+  }
+  return steps;
+}
+
+std::vector<RegressionStep> depth_aligned_estimate(const Eigen::MatrixXd& scores, const Eigen::MatrixXd& values,
+                                                   const PenetrationDepths& depths, const Eigen::VectorXd& target,
+                                                   const PenetrationDepths& target_depths, int components, int k) {
+  check_shapes(scores, values, depths, target, target_depths, components, k);
+  const Eigen::Index m = values.rows(), p = values.cols();
+  std::vector<RegressionStep> steps(static_cast<std::size_t>(p));
+  if (p == 0) return steps;
+
+  const std::vector<bool> usable = usable_hips(values, depths);
+  const Eigen::VectorXd profile = contact_free_profile(values, depths, usable);
+  const std::vector<Eigen::Index> level_hips = nearest_hips(scores, target, usable, components, k);
+  std::vector<double> firsts;
+  for (const Eigen::Index i : level_hips) firsts.push_back(values(i, 0));
+  const Spread level = spread_of(firsts);
+
+  // The usable hips that penetrate at some step with a value there, and the k nearest of them.
+  std::vector<bool> penetrating(static_cast<std::size_t>(m), false);
+  for (Eigen::Index i = 0; i < m; ++i) {
+    if (!usable[static_cast<std::size_t>(i)]) continue;
+    for (Eigen::Index j = 0; j < p; ++j) {
+      if (in_contact(depths, i, j) && std::isfinite(values(i, j)) && std::isfinite(profile(j))) {
+        penetrating[static_cast<std::size_t>(i)] = true;
+        break;
+      }
+    }
+  }
+  std::vector<std::vector<PathPoint>> paths;
+  for (const Eigen::Index i : nearest_hips(scores, target, penetrating, components, k)) {
+    paths.push_back(depth_path(values, depths, profile, i));
+  }
+
+  for (Eigen::Index j = 0; j < p; ++j) {
+    RegressionStep& step = steps[static_cast<std::size_t>(j)];
+    step.estimate = step.low = step.high = kNaN;
+    if (!in_contact(target_depths, 0, j)) {
+      std::vector<double> products;
+      for (const Eigen::Index i : level_hips) {
+        const bool own = std::isfinite(values(i, j)) && !in_contact(depths, i, j);
+        const double course = own ? values(i, j) / values(i, 0) : profile(j);
+        if (std::isfinite(course)) products.push_back(values(i, 0) * course);
+      }
+      const Spread free = spread_of(products);
+      if (!std::isfinite(free.mean)) continue;
+      step.estimate = free.mean;
+      step.low = free.low;
+      step.high = free.high;
+    } else {
+      if (!std::isfinite(level.mean) || !std::isfinite(profile(j)) || paths.empty()) continue;
+      std::vector<double> factors;
+      for (const std::vector<PathPoint>& path : paths) {
+        factors.push_back(path_factor(path, target_depths.curvilinear_mm(0, j), target_depths.radial_mm(0, j)));
+      }
+      const Spread factor = spread_of(factors);
+      step.estimate = level.mean * profile(j) * factor.mean;
+      step.low = level.low * profile(j) * factor.low;
+      step.high = level.high * profile(j) * factor.high;
+    }
     step.defined = true;
   }
   return steps;

@@ -43,4 +43,29 @@ std::vector<RegressionStep> depth_nn_estimate(const Eigen::MatrixXd& scores, con
                                               const PenetrationDepths& depths, const Eigen::VectorXd& target,
                                               const PenetrationDepths& target_depths, int components, int k);
 
+// "depth_aligned": depth_nn's level and contact-free course, but each estimate taken from the
+// target's own geometric neighbours, their courses aligned by penetration depth rather than by
+// step (the thesis' pca_nn copies its neighbours' curves step by step and misses where they
+// impinge at another step; depth_nn pools the impingement factors of all training hips at the
+// same depth, whatever their geometry):
+//
+//   free step j      (target's depths both 0): mean over the k level hips (as depth_nn) of
+//                    value(i, 1) x course_i(j), course_i(j) = value(i, j) / value(i, 1) where hip
+//                    i is free of contact at j, else profile(j) (depth_nn's pooled course);
+//   contact step j   (target's depths (c, r)): level x profile(j) x mean over the k hips nearest
+//                    on the first e' scores AMONG THOSE THAT PENETRATE at some step of
+//                    factor_i(c, r): hip i's steps in order form a path in the (curvilinear,
+//                    radial) depth plane, each carrying its factor value(i, j') / (value(i, 1)
+//                    profile(j')) (free steps lie at the origin); factor_i is the factor at the
+//                    point of the path nearest to (c, r), linear along the segment (ties: the
+//                    earlier segment). Beyond the deepest point of a hip's path the factor is
+//                    that point's (no extrapolation).
+//
+// The interval: the range of the level hips' products (free) or low level x profile x lowest
+// factor to high level x profile x highest factor (contact). Same k (the thesis' 4) and the same
+// plain-mm depth distance as depth_nn: nothing fitted. Same errors as depth_nn_estimate.
+std::vector<RegressionStep> depth_aligned_estimate(const Eigen::MatrixXd& scores, const Eigen::MatrixXd& values,
+                                                   const PenetrationDepths& depths, const Eigen::VectorXd& target,
+                                                   const PenetrationDepths& target_depths, int components, int k);
+
 }  // namespace hipfai::stats

@@ -15,6 +15,7 @@ const char* to_string(EstimatorMethod method) {
     case EstimatorMethod::kKnn: return "knn";
     case EstimatorMethod::kRidge: return "ridge";
     case EstimatorMethod::kDepthNn: return "depth_nn";
+    case EstimatorMethod::kDepthAligned: return "depth_aligned";
   }
   return "?";
 }
@@ -23,7 +24,7 @@ EstimatorMethod parse_estimator_method(const std::string& name) {
   for (const EstimatorMethod method : kEstimatorMethods) {
     if (name == to_string(method)) return method;
   }
-  throw_error("unknown estimator method '", name, "' (pca_nn, knn, ridge, depth_nn)");
+  throw_error("unknown estimator method '", name, "' (pca_nn, knn, ridge, depth_nn, depth_aligned)");
 }
 
 namespace {
@@ -112,13 +113,17 @@ EstimateResult estimate(const TrainedEstimator& model, const Eigen::VectorXd& ta
       result.steps = ridge_estimate(model.scores, model.pca.variances.cwiseSqrt(), model.values, target, e_prime);
       break;
     case EstimatorMethod::kDepthNn:
+    case EstimatorMethod::kDepthAligned:
       if (!model.depths.known()) {
-        throw_error("estimator: depth_nn needs the training hips' penetration depths, and this model has none "
-                    "(trained from an FE table without max_curvilinear_mm / max_radial_mm)");
+        throw_error("estimator: ", to_string(method), " needs the training hips' penetration depths, and this model "
+                    "has none (trained from an FE table without max_curvilinear_mm / max_radial_mm)");
       }
-      if (!target_depths.known()) throw_error("estimator: depth_nn needs the target's penetration depths");
-      result.steps = depth_nn_estimate(model.scores, model.values, model.depths, target, target_depths, e_prime,
-                                       model.settings.nearest);
+      if (!target_depths.known()) throw_error("estimator: ", to_string(method), " needs the target's penetration depths");
+      result.steps = method == EstimatorMethod::kDepthNn
+                         ? depth_nn_estimate(model.scores, model.values, model.depths, target, target_depths, e_prime,
+                                             model.settings.nearest)
+                         : depth_aligned_estimate(model.scores, model.values, model.depths, target, target_depths,
+                                                  e_prime, model.settings.nearest);
       break;
   }
   return result;

@@ -18,17 +18,20 @@
 
 namespace hipfai::stats {
 
-enum class EstimatorMethod { kPcaNn, kKnn, kRidge, kDepthNn };
+enum class EstimatorMethod { kPcaNn, kKnn, kRidge, kDepthNn, kDepthAligned };
 
-// "pca_nn", "knn", "ridge", "depth_nn" (the `method` column of the output files).
+// "pca_nn", "knn", "ridge", "depth_nn", "depth_aligned" (the `method` column of the output files).
 const char* to_string(EstimatorMethod method);
 // Inverse of to_string; throws hipfai::Error naming the accepted values.
 EstimatorMethod parse_estimator_method(const std::string& name);
 inline constexpr EstimatorMethod kEstimatorMethods[] = {EstimatorMethod::kPcaNn, EstimatorMethod::kKnn,
-                                                        EstimatorMethod::kRidge, EstimatorMethod::kDepthNn};
-inline constexpr int kNumEstimatorMethods = 4;
-// depth_nn needs the penetration depths of the training hips and of the target.
-inline bool needs_depths(EstimatorMethod method) { return method == EstimatorMethod::kDepthNn; }
+                                                        EstimatorMethod::kRidge, EstimatorMethod::kDepthNn,
+                                                        EstimatorMethod::kDepthAligned};
+inline constexpr int kNumEstimatorMethods = 5;
+// depth_nn and depth_aligned need the penetration depths of the training hips and of the target.
+inline bool needs_depths(EstimatorMethod method) {
+  return method == EstimatorMethod::kDepthNn || method == EstimatorMethod::kDepthAligned;
+}
 
 struct EstimatorSettings {
   PcaOptions pca;   // e = pca.components (thesis: 10)

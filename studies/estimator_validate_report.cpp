@@ -198,7 +198,11 @@ void md_introduction(std::ostringstream& md, const EstimatorValidateResult& r) {
      << model.estimator.settings.nearest << " nearest hips on the first e' scores, times the contact-free profile of "
         "the motion, times the impingement factor of the "
      << model.estimator.settings.nearest << " training (hip, step) pairs nearest in (curvilinear, radial) depth "
-        "where the target's depths are non-zero (stats/depth_nn_estimator.h).\n\n";
+        "where the target's depths are non-zero, and `depth_aligned` (beyond the thesis) the same level and "
+        "profile, but each hip's own contact-free course where it is free of contact, and at the contact steps the "
+        "factor of the "
+     << model.estimator.settings.nearest << " nearest penetrating hips on the first e' scores, each read off its own "
+        "path through the depth plane at the point nearest the target's depths (stats/depth_nn_estimator.h).\n\n";
 }
 
 // report.md: the group means at e' = max, per case and method, beside the thesis'.
@@ -328,8 +332,16 @@ void md_thesis_tables(std::ostringstream& md, const EstimatorValidateResult& r) 
 void md_per_hip(std::ostringstream& md, const EstimatorValidateResult& r) {
   const int max_e = r.max_e_prime;
   md << "## Per hip: methods side by side (e' = " << max_e << ", %)\n\n"
-     << "| hip | grid border | flag (case 1) | Mahalanobis | case 1 pca_nn | knn | ridge | depth_nn | best | case 2 pca_nn | knn | ridge | depth_nn | best |\n"
-     << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+     << "| hip | grid border | flag (case 1) | Mahalanobis |";
+  for (int c = 0; c < 2; ++c) {
+    for (int method = 0; method < kMethods; ++method) {
+      md << (method == 0 ? " case " + std::to_string(c + 1) + " " : " ") << method_name(method) << " |";
+    }
+    md << " best |";
+  }
+  md << "\n|---|---|---|---|";
+  for (int column = 0; column < 2 * (kMethods + 1); ++column) md << "---|";
+  md << '\n';
   int wins[2][kMethods] = {};
   for (std::size_t i = 0; i < r.model.hips.size(); ++i) {
     const int hip = static_cast<int>(i);
@@ -444,8 +456,11 @@ void md_times(std::ostringstream& md, const EstimatorValidateResult& r) {
      << " ms |\n"
      << "| train on " << m << " hips (PCA + correlations, features given) | " << fixed(r.train_ms, 2) << " ms |\n"
      << "| one prediction, e' = " << r.components << ", all " << r.steps
-     << " steps, depths given: pca_nn / knn / ridge / depth_nn | " << fixed(predict_ms[0], 3) << " / "
-     << fixed(predict_ms[1], 3) << " / " << fixed(predict_ms[2], 3) << " / " << fixed(predict_ms[3], 3) << " ms |\n"
+     << " steps, depths given:";
+  for (int method = 0; method < kMethods; ++method) md << (method == 0 ? " " : " / ") << method_name(method);
+  md << " |";
+  for (int method = 0; method < kMethods; ++method) md << (method == 0 ? " " : " / ") << fixed(predict_ms[method], 3);
+  md << " ms |\n"
      << "| leave-one-out, both cases, every method x e' 1.." << r.max_e_prime << " | " << fixed(r.loo_ms / 1000.0, 2)
      << " s |\n"
      << "| whole training pipeline (load, features, train) | " << fixed(r.pipeline_ms / 1000.0, 2) << " s |\n\n"

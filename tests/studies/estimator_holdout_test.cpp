@@ -143,7 +143,7 @@ void report_tables_agree_when_recomputed(const SampleWithFe& sample) {
     EXPECT_NEAR(table_number(row[errors.column("mean_error_percent")]), it->second.first / it->second.second, 1e-6);
     ++checked;
   }
-  EXPECT_EQ(checked, 2 * 4 * 2);
+  EXPECT_EQ(checked, 2 * stats::kNumEstimatorMethods * 2);
 
   // coverage.csv's counts = the held-out steps of estimates.csv inside their calibrated intervals,
   // and its flagged large errors = the steps off by more than 10 % that carry the flag.
@@ -164,7 +164,7 @@ void report_tables_agree_when_recomputed(const SampleWithFe& sample) {
     c[3] += large && row[estimates.column("flagged")] == "1";
   }
   const Table coverage = read_table(out / "coverage.csv");
-  ASSERT_EQ(coverage.rows.size(), 2u * 4u);
+  ASSERT_EQ(coverage.rows.size(), 2u * static_cast<std::size_t>(stats::kNumEstimatorMethods));
   for (const auto& row : coverage.rows) {
     const auto& c = counted.at(row[0] + "," + row[1]);
     EXPECT_EQ(std::stoi(row[coverage.column("steps")]), c[0]);
