@@ -102,11 +102,10 @@ Spread spread_of(const std::vector<double>& xs) {
   return out;
 }
 
-// Level: the first-step values of the k nearest usable hips on the first `components` scores.
-Spread nearest_level(const Eigen::MatrixXd& scores, const Eigen::MatrixXd& values, const Eigen::VectorXd& target,
-                     const std::vector<bool>& usable, int components, int k) {
+// Level: the first-step values of the given hips.
+Spread first_step_level(const Eigen::MatrixXd& values, const std::vector<Eigen::Index>& hips) {
   std::vector<double> firsts;
-  for (const Eigen::Index i : nearest_hips(scores, target, usable, components, k)) firsts.push_back(values(i, 0));
+  for (const Eigen::Index i : hips) firsts.push_back(values(i, 0));
   return spread_of(firsts);
 }
 
@@ -203,7 +202,7 @@ std::vector<RegressionStep> depth_nn_estimate(const Eigen::MatrixXd& scores, con
 
   const std::vector<bool> usable = usable_hips(values, depths);
   const Eigen::VectorXd profile = contact_free_profile(values, depths, usable);
-  const Spread level = nearest_level(scores, values, target, usable, components, k);
+  const Spread level = first_step_level(values, nearest_hips(scores, target, usable, components, k));
   const std::vector<ContactPair> pairs = contact_pairs(values, depths, usable, profile);
 
   for (Eigen::Index j = 0; j < p; ++j) {
@@ -227,27 +226,19 @@ std::vector<RegressionStep> depth_aligned_estimate(const Eigen::MatrixXd& scores
                                                    const PenetrationDepths& depths, const Eigen::VectorXd& target,
                                                    const PenetrationDepths& target_depths, int components, int k) {
   check_shapes(scores, values, depths, target, target_depths, components, k);
-  const Eigen::Index m = values.rows(), p = values.cols();
+  const Eigen::Index p = values.cols();
   std::vector<RegressionStep> steps(static_cast<std::size_t>(p));
   if (p == 0) return steps;
 
   const std::vector<bool> usable = usable_hips(values, depths);
   const Eigen::VectorXd profile = contact_free_profile(values, depths, usable);
   const std::vector<Eigen::Index> level_hips = nearest_hips(scores, target, usable, components, k);
-  std::vector<double> firsts;
-  for (const Eigen::Index i : level_hips) firsts.push_back(values(i, 0));
-  const Spread level = spread_of(firsts);
+  const Spread level = first_step_level(values, level_hips);
 
-  // The usable hips that penetrate at some step with a value there, and the k nearest of them.
-  std::vector<bool> penetrating(static_cast<std::size_t>(m), false);
-  for (Eigen::Index i = 0; i < m; ++i) {
-    if (!usable[static_cast<std::size_t>(i)]) continue;
-    for (Eigen::Index j = 0; j < p; ++j) {
-      if (in_contact(depths, i, j) && std::isfinite(values(i, j)) && std::isfinite(profile(j))) {
-        penetrating[static_cast<std::size_t>(i)] = true;
-        break;
-      }
-    }
+  // The hips with a factor at some step (depth_nn's contact pairs), and the k nearest of them.
+  std::vector<bool> penetrating(static_cast<std::size_t>(values.rows()), false);
+  for (const ContactPair& pair : contact_pairs(values, depths, usable, profile)) {
+    penetrating[static_cast<std::size_t>(pair.hip)] = true;
   }
   std::vector<std::vector<PathPoint>> paths;
   for (const Eigen::Index i : nearest_hips(scores, target, penetrating, components, k)) {
