@@ -3,6 +3,7 @@
 #include "geometry/gmsh_runtime.h"
 #include "geometry/mesh_io_common.h"
 #include "geometry/mesh_io_msh.h"
+#include "geometry/planar_quad_mesh.h"
 
 #include "core/atomic_file.h"
 #include "core/error.h"
@@ -463,12 +464,6 @@ class GmshQuadSession {
   std::vector<std::pair<std::string, double>> saved_;
 };
 
-struct PlanarQuadMesh {
-  std::vector<Eigen::Vector2d> nodes;
-  std::vector<bool> on_boundary;
-  std::vector<std::array<std::int32_t, 4>> quads;  // counter-clockwise in the plane
-};
-
 // Quad mesh of the plane domain bounded by `loops` (the first is the outer one), with mesh size
 // size_mm * (1 + |p|^2 / (4 radius^2)) — the stereographic scale — so edges come out near
 // size_mm on the sphere.
@@ -476,8 +471,9 @@ struct PlanarQuadMesh {
 // boundary spacing relative to the edge length, and whether every element is split into
 // quadrangles afterwards. Blossom recombination needs a perfect matching of the triangles, which
 // a sharp corner of the domain (the horns of the horseshoe) can prevent; another boundary
-// spacing usually has one. Subdivision is all-quad always, at the price of quads with a
-// boundary angle near 180 deg: the last resort.
+// spacing usually has one. Subdivision (the triangles' ears along the outline flipped, then
+// every triangle split into three quads, see planar_quad_mesh.h) is all-quad always, at the
+// price of more nodes and less regular quads: the last resort.
 struct QuadAttempt {
   int algorithm;
   int recombination;
@@ -532,9 +528,9 @@ PlanarQuadMesh mesh_plane_domain(const std::vector<std::vector<Eigen::Vector2d>>
   gmsh::option::setNumber("Mesh.MeshSizeMax", 1e22);
   gmsh::option::setNumber("General.NumThreads", 1);
   gmsh::option::setNumber("Mesh.Algorithm", attempt.algorithm);
-  gmsh::option::setNumber("Mesh.RecombineAll", 1);
+  gmsh::option::setNumber("Mesh.RecombineAll", subdivide ? 0 : 1);
   gmsh::option::setNumber("Mesh.RecombinationAlgorithm", attempt.recombination);
-  gmsh::option::setNumber("Mesh.SubdivisionAlgorithm", subdivide ? 1 : 0);
+  gmsh::option::setNumber("Mesh.SubdivisionAlgorithm", 0);
   gmsh::option::setNumber("Mesh.Smoothing", 5);
   // The mesher reports errors from inside OpenMP regions, where a thrown exception would end the
   // process: let it log them; a failed attempt shows as missing or non-quad elements.
@@ -545,6 +541,7 @@ PlanarQuadMesh mesh_plane_domain(const std::vector<std::vector<Eigen::Vector2d>>
     return {};  // the next attempt may succeed
   }
 
+  PlanarTriMesh triangulation;
   PlanarQuadMesh result;
   std::vector<std::size_t> tags;
   std::vector<double> coords, parametric;
@@ -564,7 +561,15 @@ PlanarQuadMesh mesh_plane_domain(const std::vector<std::vector<Eigen::Vector2d>>
   std::vector<std::vector<std::size_t>> element_tags, node_tags;
   gmsh::model::mesh::getElements(types, element_tags, node_tags, 2, -1);
   for (std::size_t k = 0; k < types.size(); ++k) {
-    if (types[k] != 3) {
+    if (subdivide && types[k] == 2) {
+      for (std::size_t i = 0; i + 2 < node_tags[k].size(); i += 3) {
+        std::array<std::int32_t, 3> triangle{};
+        for (std::size_t c = 0; c < 3; ++c) triangle[c] = index_of.at(node_tags[k][i + c]);
+        triangulation.triangles.push_back(triangle);
+      }
+      continue;
+    }
+    if (types[k] != 3 || subdivide) {
       if (element_tags[k].empty()) continue;
       result.quads.clear();  // triangles left: the caller retries with subdivision
       return result;
@@ -583,24 +588,17 @@ PlanarQuadMesh mesh_plane_domain(const std::vector<std::vector<Eigen::Vector2d>>
       result.quads.push_back(quad);
     }
   }
-  return result;
-}
-
-// Smallest sine of a corner angle over all quads (negative for a reflex corner): quads keep
-// their corner angles on the sphere (the projection is conformal), and so, nearly, do the
-// hexahedra extruded from them.
-double planar_quality(const PlanarQuadMesh& plane) {
-  double lowest = 1.0;
-  for (const auto& quad : plane.quads) {
-    for (std::size_t c = 0; c < 4; ++c) {
-      const Eigen::Vector2d& p = plane.nodes[static_cast<std::size_t>(quad[c])];
-      const Eigen::Vector2d u = plane.nodes[static_cast<std::size_t>(quad[(c + 1) % 4])] - p;
-      const Eigen::Vector2d w = plane.nodes[static_cast<std::size_t>(quad[(c + 3) % 4])] - p;
-      const double lengths = u.norm() * w.norm();
-      lowest = std::min(lowest, lengths > 0.0 ? (u.x() * w.y() - u.y() * w.x()) / lengths : -1.0);
-    }
+  if (!subdivide) return result;
+  triangulation.nodes = std::move(result.nodes);
+  triangulation.on_boundary = std::move(result.on_boundary);
+  for (auto& triangle : triangulation.triangles) {
+    const Eigen::Vector2d& a = triangulation.nodes[static_cast<std::size_t>(triangle[0])];
+    const Eigen::Vector2d u = triangulation.nodes[static_cast<std::size_t>(triangle[1])] - a;
+    const Eigen::Vector2d w = triangulation.nodes[static_cast<std::size_t>(triangle[2])] - a;
+    if (u.x() * w.y() - u.y() * w.x() < 0.0) std::swap(triangle[1], triangle[2]);
   }
-  return lowest;
+  flip_flat_boundary_ears(triangulation);
+  return split_into_quads(triangulation);
 }
 
 // Closest point to the line through the HJC along `direction` on the polyline edges of `loops`.
@@ -682,6 +680,7 @@ PlanarQuadMesh quad_mesh_shadow(const std::vector<std::vector<Vec3>>& loops_3d, 
     PlanarQuadMesh candidate = mesh_plane_domain(plane_loops(spacing_mm), edge_mm, projection.radius_mm, attempt);
     if (candidate.quads.empty()) continue;
     ++successes;
+    open_flat_boundary_corners(candidate);
     const double quality = planar_quality(candidate);
     if (quality > plane_quality) {
       plane_quality = quality;

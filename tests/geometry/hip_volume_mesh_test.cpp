@@ -679,5 +679,67 @@ TEST(HipVolumeMeshFlatCorners, SampledHipsMeshWithValidHexahedra) {
   }
 }
 
+// The largest corner, over the articular faces of every tissue, at an outline node that only one
+// articular quad uses: the corner a Q2 vertex's nodal area (and the nodal contact pressure divided
+// by it) depends on. 3-D angle between the quad's two edges at the node.
+double flattest_single_articular_corner_deg(const HexMesh& mesh) {
+  double flattest = 0.0;
+  for (const SurfaceTag tag : {SurfaceTag::kFemoralCartilageArticular, SurfaceTag::kAcetabularCartilageArticular,
+                               SurfaceTag::kLabrumArticular}) {
+    std::map<std::int32_t, int> uses;
+    for (std::size_t q = 0; q < mesh.quads.size(); ++q) {
+      if (mesh.quad_tags[q] != tag) continue;
+      for (std::int32_t v : mesh.quads[q]) ++uses[v];
+    }
+    std::map<std::pair<std::int32_t, std::int32_t>, int> edge_uses;
+    for (std::size_t q = 0; q < mesh.quads.size(); ++q) {
+      if (mesh.quad_tags[q] != tag) continue;
+      for (std::size_t c = 0; c < 4; ++c) {
+        const auto a = mesh.quads[q][c], b = mesh.quads[q][(c + 1) % 4];
+        ++edge_uses[{std::min(a, b), std::max(a, b)}];
+      }
+    }
+    const auto outline = [&](std::int32_t a, std::int32_t b) { return edge_uses[{std::min(a, b), std::max(a, b)}] == 1; };
+    for (std::size_t q = 0; q < mesh.quads.size(); ++q) {
+      if (mesh.quad_tags[q] != tag) continue;
+      const auto& quad = mesh.quads[q];
+      for (std::size_t c = 0; c < 4; ++c) {
+        const auto v = quad[c], next = quad[(c + 1) % 4], previous = quad[(c + 3) % 4];
+        if (uses[v] != 1 || !outline(v, next) || !outline(v, previous)) continue;
+        const Vec3 u = at(mesh, next) - at(mesh, v), w = at(mesh, previous) - at(mesh, v);
+        flattest = std::max(flattest, std::acos(std::clamp(u.normalized().dot(w.normalized()), -1.0, 1.0)) * 180.0 / std::numbers::pi);
+      }
+    }
+  }
+  return flattest;
+}
+
+// Sampled hips (surface at 2 mm, volume at the FE's default level) whose labrum, meshed by the
+// subdivision fallback, once had outline nodes at 169 deg corners of one quad: nodal areas 1/118
+// of the median, and nodal contact pressures 3.5-7.3 times the ball-averaged peak. The outline's
+// single-quad corners must stay within the plane mesh's bound (150 deg) plus what the
+// stereographic map and the chords between columns add to it (measured: up to 12 deg at the
+// horseshoe's horns).
+TEST(HipVolumeMeshFlatCorners, NoArticularOutlineNodeIsTheFlatCornerOfOneQuad) {
+  constexpr std::array<Case, 3> kSpiking{{{23.452221918851137, 41.59493003040552},
+                                          {26.967846918851137, 69.71993003040552},
+                                          {37.51472191885114, 49.09493003040552}}};
+  for (const Case& sampled : kSpiking) {
+    SCOPED_TRACE(::testing::Message() << "CE " << sampled.ce_deg << " alpha " << sampled.alpha_deg);
+    HipParameters p;
+    p.ce_deg = sampled.ce_deg;
+    p.alpha_deg = sampled.alpha_deg;
+    p.edge_mm = 2.0;
+    const HipModel model = generate_hip(p).model;
+    HipVolumeOptions options;
+    options.edge_mm = 4.0;
+    options.layers = 2;
+    const HipVolumeMesh result = build_hip_volume_mesh(model, options);
+    EXPECT_GT(result.min_scaled_jacobian, 0.0);
+    const double flattest = flattest_single_articular_corner_deg(result.mesh);
+    EXPECT_LT(flattest, 162.0);
+  }
+}
+
 }  // namespace
 }  // namespace hipfai::geometry
