@@ -58,12 +58,23 @@ void limit_threads(unsigned int threads) {
   dealii::MultithreadInfo::set_thread_limit(threads == 0 ? dealii::numbers::invalid_unsigned_int : threads);
 }
 
+// The mesh's communicator. A substructured problem on several ranks is a team (fem/rank_team.h):
+// its rank 0 solves the run alone, on a mesh of its own, and a helper sets up a mesh of its own
+// only in a run where it is given columns (help_rank_0), so a helper that is given none does no
+// work at all; both number the dofs as one rank does, so a block's columns are the same on
+// either. The other solvers distribute the system over the ranks.
+MPI_Comm system_communicator(MPI_Comm communicator, LinearSolver solver) {
+  return solver == LinearSolver::kSubstructured ? MPI_COMM_SELF : communicator;
+}
+
 class ContactProblem::Impl {
  public:
-  Impl(MPI_Comm communicator, ContactOptions options_in)
+  Impl(MPI_Comm communicator_in, ContactOptions options_in)
       : options(std::move(options_in)),
-        system(communicator, options.fe_degree, options.mapping_degree,
-               options.linear_solver == LinearSolver::kSubstructured),
+        built_substructured(options.linear_solver == LinearSolver::kSubstructured),
+        communicator(communicator_in),
+        system(system_communicator(communicator_in, options.linear_solver), options.fe_degree,
+               options.mapping_degree),
         pcout(std::cout,
               options.verbose && dealii::Utilities::MPI::this_mpi_process(communicator) == 0),
         timer(pcout, dealii::TimerOutput::never, dealii::TimerOutput::wall_times),
@@ -74,6 +85,8 @@ class ContactProblem::Impl {
   void output_results(const std::string& file) const;
 
   ContactOptions options;
+  bool built_substructured;  // the solver's kind at construction: the mesh is set up for it
+  MPI_Comm communicator;  // the ranks of the problem (ContactProblem::communicator)
   ContactModel model;
   ElasticSystem system;
 
@@ -459,17 +472,21 @@ void ContactProblem::Impl::postprocess(ContactResult& result) {
 ContactResult ContactProblem::Impl::run() {
   const dealii::Timer wall_clock;
   timer.reset();
+  if (substructured() != built_substructured) {
+    throw_error("fem: the substructured solver is chosen at construction (its mesh is set up for it), "
+                "not between runs");
+  }
   check_references(model);
   share_threads();
   const unsigned int columns_before = compliance.columns_solved_here();
-  setup_system();  // every rank: the mesh is shared (its dof numbering is collective)
   ContactResult result;
   if (team_run() && !team.leads()) {
-    result = help_rank_0();
+    result = help_rank_0();  // sets up its mesh only when given columns
   } else if (team_run()) {
     // The helpers wait for rank 0's messages until the run's result: an error here must reach
     // them too, or they would wait for ever.
     try {
+      setup_system();
       result = solve();
     } catch (const std::exception& error) {
       const std::string what = error.what();
@@ -481,6 +498,7 @@ ContactResult ContactProblem::Impl::run() {
     write_run_state({result}, message);
     team.send(RankTeam::Message::kRunDone, message.bytes());
   } else {
+    setup_system();
     result = solve();
   }
   result.statistics.rank_columns = compliance.columns_solved_here() - columns_before;
@@ -505,7 +523,7 @@ ContactResult ContactProblem::Impl::solve() {
   ContactResult result;
   result.statistics.n_cells = system.triangulation().n_global_active_cells();
   result.statistics.n_dofs = system.dof_handler().n_dofs();
-  result.statistics.n_ranks = dealii::Utilities::MPI::n_mpi_processes(system.communicator());
+  result.statistics.n_ranks = dealii::Utilities::MPI::n_mpi_processes(communicator);
   result.statistics.searched_ahead = searched_ahead;
   std::vector<dealii::Tensor<1, 3>> translations;
   for (const RigidBody& body : model.rigid_bodies) translations.push_back(body.translation_mm);
@@ -531,9 +549,12 @@ ContactResult ContactProblem::Impl::solve() {
 
 ContactResult ContactProblem::Impl::help_rank_0() {
   std::vector<char> payload;
+  bool set_up = false;
   while (true) {
     switch (team.receive(payload)) {
       case RankTeam::Message::kColumns: {
+        // This run's mesh, placement and bodies, as rank 0 set them up (the same model on every
+        // rank), made the first time the run gives this rank columns.
         ByteReader message(payload);
         std::vector<int> missing;
         std::size_t first = 0;
@@ -544,15 +565,18 @@ ContactResult ContactProblem::Impl::help_rank_0() {
         message.io(counts);
         message.io(factorise);
         bool ready = true;
-        if (factorise.at(static_cast<std::size_t>(team.rank()))) {
-          // This run's placement is the frame rank 0 factorised every body in. An error here
-          // is this rank's failed share: the others wait for its verdict in the collectives.
-          try {
+        // An error here is this rank's failed share: the others wait for its verdict in the
+        // collectives.
+        try {
+          if (!set_up) setup_system();
+          set_up = true;
+          if (factorise.at(static_cast<std::size_t>(team.rank()))) {
+            // This run's placement is the frame rank 0 factorised every body in.
             system.compute_cell_matrices(true);
             ready = compliance.factorise(system, constraints, model, timer, pcout, true);
-          } catch (const std::exception&) {
-            ready = false;
           }
+        } catch (const std::exception&) {
+          ready = false;
         }
         // A failed solve is every rank's verdict (share_column_blocks agrees on it); rank 0 acts
         // on it.
@@ -564,11 +588,9 @@ ContactResult ContactProblem::Impl::help_rank_0() {
       case RankTeam::Message::kRunDone: {
         ByteReader message(payload);
         RunState run = read_run_state(message);
-        // The fields stay on rank 0, which owns every cell (write_vtu writes each rank's own);
-        // this rank writes none, with vectors of the sizes the output expects.
+        // The fields stay on rank 0, which writes the VTU files alone (output_results).
         state = Linearization();
-        state.displacement.reinit(system.dof_handler().n_dofs());
-        cell_von_mises.reinit(system.triangulation().n_active_cells());
+        cell_von_mises.reinit(0);
         nodes.clear();
         fields = ContactFields();
         return run.result;
@@ -578,6 +600,7 @@ ContactResult ContactProblem::Impl::help_rank_0() {
 }
 
 void ContactProblem::Impl::output_results(const std::string& file) const {
+  if (team_run() && !team.leads()) return;  // rank 0's mesh has every cell and the fields
   write_contact_vtu(file, system, state.displacement, cell_von_mises, nodes, fields);
 }
 
@@ -607,7 +630,7 @@ dealii::Tensor<1, 3> ContactProblem::displacement_at(const dealii::Point<3>& poi
   return impl_->system.point_value(impl_->state.displacement, point_mm);
 }
 
-MPI_Comm ContactProblem::communicator() const { return impl_->system.communicator(); }
+MPI_Comm ContactProblem::communicator() const { return impl_->communicator; }
 
 ContactOptions& ContactProblem::options() { return impl_->options; }
 

@@ -115,7 +115,8 @@ class ContactProblem {
   dealii::parallel::shared::Triangulation<3>& triangulation();
   MPI_Comm communicator() const;
   // The solver options, to change between runs (iteration limits, solver, warm start);
-  // fe_degree and mapping_degree are fixed at construction.
+  // fe_degree, mapping_degree and whether the solver is the substructured one are fixed at
+  // construction (run() throws hipfai::Error when the latter changed).
   ContactOptions& options();
   // The model, read by every run (a motion changes its rigid bodies between runs).
   ContactModel& model();
@@ -136,8 +137,8 @@ class ContactProblem {
   // substructured run over several ranks only rank 0 holds it (hipfai::Error on the others).
   dealii::Tensor<1, 3> displacement_at(const dealii::Point<3>& point_mm) const;
 
-  // Fields of the last run() to one .vtu file (collective: every rank calls it); see
-  // fem/contact_output.h.
+  // Fields of the last run() to one .vtu file (every rank calls it: collective over the ranks
+  // that share the mesh; a substructured run's rank 0 writes it alone); see fem/contact_output.h.
   void write_vtu(const std::string& file) const;
 
  private:

@@ -22,14 +22,10 @@ geometry::Vec3 to_vec3(const dealii::Point<3>& point) { return {point[0], point[
 
 }  // namespace
 
-ElasticSystem::ElasticSystem(MPI_Comm communicator, unsigned int fe_degree,
-                             unsigned int mapping_degree, bool cells_on_rank_0)
+ElasticSystem::ElasticSystem(MPI_Comm communicator, unsigned int fe_degree, unsigned int mapping_degree)
     : comm_(communicator),
-      // A custom partition with nothing connected to set it leaves every cell in subdomain 0.
       triangulation_(communicator, dealii::Triangulation<3>::none, false,
-                     cells_on_rank_0
-                         ? dealii::parallel::shared::Triangulation<3>::partition_custom_signal
-                         : dealii::parallel::shared::Triangulation<3>::partition_auto),
+                     dealii::parallel::shared::Triangulation<3>::partition_auto),
       fe_(dealii::FE_Q<3>(fe_degree), 3),
       mapping_(mapping_degree),
       dof_handler_(triangulation_) {

@@ -47,12 +47,10 @@ struct VonMisesField {
 
 class ElasticSystem {
  public:
-  // cells_on_rank_0: every cell owned by the communicator's rank 0 instead of partitioned over
-  // the ranks (every rank still holds the whole mesh). The dofs are then numbered as on one rank,
-  // so every loop over them sums in the one-rank order: the substructured solver, which solves
-  // on rank 0 (fem/rank_team.h), gives a one-rank run's numbers bit for bit.
-  ElasticSystem(MPI_Comm communicator, unsigned int fe_degree, unsigned int mapping_degree,
-                bool cells_on_rank_0 = false);
+  // The cells are partitioned over the communicator's ranks (every rank holds the whole mesh).
+  // The substructured solver, which solves on rank 0 alone (fem/rank_team.h), gives its system
+  // MPI_COMM_SELF: its dofs are numbered, and every loop over them sums, as on one rank.
+  ElasticSystem(MPI_Comm communicator, unsigned int fe_degree, unsigned int mapping_degree);
 
   // Moves the mesh to the model's pose: the cells of a body bonded to a rigid body rotated with
   // it from the reference vertices (saved on the first call, so rotations do not accumulate).

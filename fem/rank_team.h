@@ -5,7 +5,8 @@
 // (fem/body_compliance.h); the rest of a run (contact search, condensed active sets, recovery,
 // stresses) is short and threaded. So rank 0 solves the run with the threads a one-rank run has,
 // and the other ranks help it with column blocks (BodyCompliance::share_column_blocks), each
-// with its own copy of the bodies' factors. Replicating the rest on every rank would give each
+// with its own copy of the bodies' factors, on a mesh of its own set up only in a run where it
+// is given blocks (so a helper given none does no work). Replicating the rest on every rank would give each
 // rank only its share of the machine's threads when the ranks share a machine (2 ranks on 2
 // cores: one each, and no thread for the searches ahead), which costs more than the columns save.
 //

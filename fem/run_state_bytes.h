@@ -3,9 +3,8 @@
 //
 // On several ranks the substructured solver's rank 0 solves the run; the callers of
 // ContactProblem on the other ranks read the result as on rank 0 (a motion's cutbacks and next
-// translation depend on it). The fields stay on rank 0: write_vtu, collective, writes each
-// rank's own cells, and a substructured problem's cells are all rank 0's; displacement_at is
-// rank 0's alone on such a run.
+// translation depend on it). The fields stay on rank 0, the only rank with the run's mesh set
+// up: write_vtu writes rank 0's file alone and displacement_at is rank 0's alone on such a run.
 #pragma once
 
 #include "fem/contact_result.h"

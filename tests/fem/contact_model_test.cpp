@@ -1,6 +1,8 @@
-// fem::ContactModel and check_references: the model's internal references.
+// fem::ContactModel and check_references: the model's internal references; what a
+// ContactProblem fixes at construction.
 #include "fem/contact_model.h"
 #include "core/error.h"
+#include "fem/contact_problem.h"
 #include "layer_fixture.h"
 
 #include <gtest/gtest.h>
@@ -39,6 +41,19 @@ TEST(FemContactModel, RejectsAZeroFreeDirectionOfALoadControlledBody) {
   EXPECT_NO_THROW(check_references(model));  // not load controlled: not used
   model.rigid_bodies[1].load_controlled = true;
   EXPECT_THROW(check_references(model), Error);
+}
+
+// The substructured solver's mesh is set up for it at construction (on several ranks, rank 0's
+// alone): switching to or from it between runs is an error, not a silently wrong mesh.
+TEST(FemContactProblem, RejectsSwitchingToOrFromTheSubstructuredSolver) {
+  for (const auto& [built, switched] : {std::pair{LinearSolver::kSubstructured, LinearSolver::kDirect},
+                                       std::pair{LinearSolver::kCgAmg, LinearSolver::kSubstructured}}) {
+    ContactOptions options;
+    options.linear_solver = built;
+    ContactProblem problem(MPI_COMM_SELF, options);
+    problem.options().linear_solver = switched;
+    EXPECT_THROW(problem.run(), Error);
+  }
 }
 
 }  // namespace
