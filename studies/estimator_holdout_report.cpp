@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
+#include <iterator>
 #include <limits>
 #include <map>
 #include <sstream>
@@ -271,7 +272,8 @@ std::string report_md(const HoldoutResult& result, const HoldoutOptions& options
   md << "\n## Times\n\n"
      << "- FE per hip (sample's runs): " << fixed(result.fe_s_per_hip, 1) << " s; penetration depths per hip: "
      << fixed(result.penetration_ms_per_hip / 1e3, 2) << " s; features per hip: " << fixed(result.feature_ms_per_hip, 1)
-     << " ms\n\n| training hips | training (ms) | leave-one-out calibration (ms) | prediction per hip, 4 methods (ms) |\n|---:|---:|---:|---:|\n";
+     << " ms\n\n| training hips | training (ms) | leave-one-out calibration (ms) | prediction per hip, "
+     << std::size(stats::kEstimatorMethods) << " methods (ms) |\n|---:|---:|---:|---:|\n";
   for (const auto& t : result.timings) {
     md << "| " << t.training_hips << " | " << fixed(t.train_ms, 1) << " | " << fixed(t.calibrate_ms, 0) << " | "
        << fixed(t.predict_ms_per_hip, 2) << " |\n";
