@@ -191,6 +191,7 @@ bool flip_one(PlanarTriMesh& mesh, double max_corner_rad, std::size_t& found) {
       for (std::int32_t node : across) {
         if (node != a && node != b) w = node;
       }
+      if (w < 0) continue;  // a degenerate triangle across: nothing to flip to
       const Triangle3 first{v, a, w}, second{v, w, b};
       const double before = std::min(smallest_angle(mesh, ear), smallest_angle(mesh, across));
       const double after = std::min(smallest_angle(mesh, first), smallest_angle(mesh, second));
