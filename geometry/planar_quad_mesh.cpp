@@ -15,6 +15,15 @@ using Quad = std::array<std::int32_t, 4>;
 
 std::size_t at(std::int32_t v) { return static_cast<std::size_t>(v); }
 
+// The angle at `corner` from the edge towards `next` counter-clockwise to the edge towards
+// `previous`, in [0, 2 pi).
+double corner_angle(const Eigen::Vector2d& corner, const Eigen::Vector2d& next, const Eigen::Vector2d& previous) {
+  const Eigen::Vector2d u = next - corner;
+  const Eigen::Vector2d w = previous - corner;
+  const double angle = std::atan2(u.x() * w.y() - u.y() * w.x(), u.dot(w));
+  return angle < 0.0 ? angle + 2.0 * std::numbers::pi : angle;
+}
+
 // Sine of the corner at c (the cross product over the edge lengths): positive for a convex
 // corner of a counter-clockwise quad, -1 for a degenerate one.
 double corner_sine(const PlanarQuadMesh& mesh, const Quad& quad, std::size_t c) {
@@ -141,11 +150,7 @@ bool open_one(PlanarQuadMesh& mesh, double max_corner_rad, std::size_t& found) {
 using Triangle3 = std::array<std::int32_t, 3>;
 
 double triangle_angle(const PlanarTriMesh& mesh, const Triangle3& t, std::size_t c) {
-  const Eigen::Vector2d& p = mesh.nodes[at(t[c])];
-  const Eigen::Vector2d u = mesh.nodes[at(t[(c + 1) % 3])] - p;
-  const Eigen::Vector2d w = mesh.nodes[at(t[(c + 2) % 3])] - p;
-  const double angle = std::atan2(u.x() * w.y() - u.y() * w.x(), u.dot(w));
-  return angle < 0.0 ? angle + 2.0 * std::numbers::pi : angle;
+  return corner_angle(mesh.nodes[at(t[c])], mesh.nodes[at(t[(c + 1) % 3])], mesh.nodes[at(t[(c + 2) % 3])]);
 }
 
 double twice_area(const PlanarTriMesh& mesh, const Triangle3& t) {
@@ -293,11 +298,7 @@ PlanarQuadMesh split_into_quads(const PlanarTriMesh& mesh, int sweeps) {
 }
 
 double quad_corner_angle(const PlanarQuadMesh& mesh, const Quad& quad, std::size_t c) {
-  const Eigen::Vector2d& p = mesh.nodes[at(quad[c])];
-  const Eigen::Vector2d u = mesh.nodes[at(quad[(c + 1) % 4])] - p;
-  const Eigen::Vector2d w = mesh.nodes[at(quad[(c + 3) % 4])] - p;
-  const double angle = std::atan2(u.x() * w.y() - u.y() * w.x(), u.dot(w));
-  return angle < 0.0 ? angle + 2.0 * std::numbers::pi : angle;
+  return corner_angle(mesh.nodes[at(quad[c])], mesh.nodes[at(quad[(c + 1) % 4])], mesh.nodes[at(quad[(c + 3) % 4])]);
 }
 
 double planar_quality(const PlanarQuadMesh& mesh) {

@@ -190,6 +190,33 @@ double path_factor(const std::vector<PathPoint>& path, double c, double r) {
   return best_factor;
 }
 
+// What both methods start from: the hips usable for training, the course of a step free of
+// contact, the k usable hips nearest the target and their first-step level.
+struct Basis {
+  std::vector<bool> usable;
+  Eigen::VectorXd profile;
+  std::vector<Eigen::Index> level_hips;
+  Spread level;
+};
+
+Basis basis_of(const Eigen::MatrixXd& scores, const Eigen::MatrixXd& values, const PenetrationDepths& depths,
+               const Eigen::VectorXd& target, int components, int k) {
+  Basis basis;
+  basis.usable = usable_hips(values, depths);
+  basis.profile = contact_free_profile(values, depths, basis.usable);
+  basis.level_hips = nearest_hips(scores, target, basis.usable, components, k);
+  basis.level = first_step_level(values, basis.level_hips);
+  return basis;
+}
+
+// A step's estimate and interval: the level, carried along the contact-free course, times the
+// contact factor.
+void set_scaled(RegressionStep& step, const Spread& level, double profile, const Spread& factor) {
+  step.estimate = level.mean * profile * factor.mean;
+  step.low = level.low * profile * factor.low;
+  step.high = level.high * profile * factor.high;
+}
+
 }  // namespace
 
 std::vector<RegressionStep> depth_nn_estimate(const Eigen::MatrixXd& scores, const Eigen::MatrixXd& values,
@@ -200,10 +227,10 @@ std::vector<RegressionStep> depth_nn_estimate(const Eigen::MatrixXd& scores, con
   std::vector<RegressionStep> steps(static_cast<std::size_t>(p));
   if (p == 0) return steps;
 
-  const std::vector<bool> usable = usable_hips(values, depths);
-  const Eigen::VectorXd profile = contact_free_profile(values, depths, usable);
-  const Spread level = first_step_level(values, nearest_hips(scores, target, usable, components, k));
-  const std::vector<ContactPair> pairs = contact_pairs(values, depths, usable, profile);
+  const Basis basis = basis_of(scores, values, depths, target, components, k);
+  const Eigen::VectorXd& profile = basis.profile;
+  const Spread& level = basis.level;
+  const std::vector<ContactPair> pairs = contact_pairs(values, depths, basis.usable, profile);
 
   for (Eigen::Index j = 0; j < p; ++j) {
     RegressionStep& step = steps[static_cast<std::size_t>(j)];
@@ -214,9 +241,7 @@ std::vector<RegressionStep> depth_nn_estimate(const Eigen::MatrixXd& scores, con
       if (pairs.empty()) continue;
       factor = nearest_factor(pairs, target_depths.curvilinear_mm(0, j), target_depths.radial_mm(0, j), k);
     }
-    step.estimate = level.mean * profile(j) * factor.mean;
-    step.low = level.low * profile(j) * factor.low;
-    step.high = level.high * profile(j) * factor.high;
+    set_scaled(step, level, profile(j), factor);
     step.defined = true;
   }
   return steps;
@@ -230,14 +255,13 @@ std::vector<RegressionStep> depth_aligned_estimate(const Eigen::MatrixXd& scores
   std::vector<RegressionStep> steps(static_cast<std::size_t>(p));
   if (p == 0) return steps;
 
-  const std::vector<bool> usable = usable_hips(values, depths);
-  const Eigen::VectorXd profile = contact_free_profile(values, depths, usable);
-  const std::vector<Eigen::Index> level_hips = nearest_hips(scores, target, usable, components, k);
-  const Spread level = first_step_level(values, level_hips);
+  const Basis basis = basis_of(scores, values, depths, target, components, k);
+  const Eigen::VectorXd& profile = basis.profile;
+  const Spread& level = basis.level;
 
   // The hips with a factor at some step (depth_nn's contact pairs), and the k nearest of them.
   std::vector<bool> penetrating(static_cast<std::size_t>(values.rows()), false);
-  for (const ContactPair& pair : contact_pairs(values, depths, usable, profile)) {
+  for (const ContactPair& pair : contact_pairs(values, depths, basis.usable, profile)) {
     penetrating[static_cast<std::size_t>(pair.hip)] = true;
   }
   std::vector<std::vector<PathPoint>> paths;
@@ -250,7 +274,7 @@ std::vector<RegressionStep> depth_aligned_estimate(const Eigen::MatrixXd& scores
     step.estimate = step.low = step.high = kNaN;
     if (!in_contact(target_depths, 0, j)) {
       std::vector<double> products;
-      for (const Eigen::Index i : level_hips) {
+      for (const Eigen::Index i : basis.level_hips) {
         const bool own = std::isfinite(values(i, j)) && !in_contact(depths, i, j);
         const double course = own ? values(i, j) / values(i, 0) : profile(j);
         if (std::isfinite(course)) products.push_back(values(i, 0) * course);
@@ -266,10 +290,7 @@ std::vector<RegressionStep> depth_aligned_estimate(const Eigen::MatrixXd& scores
       for (const std::vector<PathPoint>& path : paths) {
         factors.push_back(path_factor(path, target_depths.curvilinear_mm(0, j), target_depths.radial_mm(0, j)));
       }
-      const Spread factor = spread_of(factors);
-      step.estimate = level.mean * profile(j) * factor.mean;
-      step.low = level.low * profile(j) * factor.low;
-      step.high = level.high * profile(j) * factor.high;
+      set_scaled(step, level, profile(j), spread_of(factors));
     }
     step.defined = true;
   }
