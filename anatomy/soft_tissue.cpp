@@ -17,6 +17,7 @@
 #include <numbers>
 #include <numeric>
 #include <array>
+#include <limits>
 #include <map>
 #include <optional>
 #include <unordered_map>
@@ -171,7 +172,9 @@ void keep_largest(const TriMesh& mesh, const EdgeAdjacency& adjacency, std::vect
 // A patch of a closed mesh made a manifold surface with boundary (see the header: largest part,
 // small holes filled, pinched vertices removed). Returns the triangle mask.
 std::vector<char> clean_patch(const TriMesh& mesh, const EdgeAdjacency& adjacency, std::vector<char> in,
-                              LayerReport& report, const std::function<bool(const Vec3&)>& depression = {}) {
+                              LayerReport& report, const std::function<bool(const Vec3&)>& depression = {},
+                              std::vector<char>* filled = nullptr) {
+  if (filled != nullptr) filled->assign(in.size(), 0);
   // Holes are noise of the region's band when smaller than a 3 mm disc (see the header); with
   // `depression`, also every hole (a part of the rest of the mesh but the largest) whose vertices
   // all pass it.
@@ -201,7 +204,9 @@ std::vector<char> clean_patch(const TriMesh& mesh, const EdgeAdjacency& adjacenc
       if (!hole) continue;
       ++report.holes_filled;
       for (std::size_t t = 0; t < label.size(); ++t) {
-        if (label[t] == g) in[t] = 1;
+        if (label[t] != g) continue;
+        in[t] = 1;
+        if (filled != nullptr) (*filled)[t] = 1;
       }
     }
   }
@@ -516,6 +521,7 @@ std::vector<std::int32_t> head_vertices(const SoftTissueRequest& request, double
 // The femoral head and lunate patches the cartilage layers grow on.
 struct Patches {
   std::vector<char> head_in, lunate_in;  // triangle masks of femur and pelvis
+  std::vector<char> head_filled;         // the head's holes filled (the fovea): a femur triangle mask
   PatchVertices head, socket;
   std::vector<std::pair<std::int32_t, std::int32_t>> head_boundary, socket_boundary;
 };
@@ -534,7 +540,7 @@ Patches find_patches(const SoftTissueRequest& request, double band, SoftTissueRe
   }
   patches.head_in = clean_patch(femur, femur_edges, patches.head_in, report.femoral, [&](const Vec3& x) {
     return (x - head_centre).norm() <= request.head_radius_mm + band;
-  });
+  }, &patches.head_filled);
   const geometry::SurfaceRegion lunate =
       geometry::find_lunate_surface(pelvis, head_centre, request.head_radius_mm, {}, request.pelvis_name);
   patches.lunate_in = triangles_of(pelvis, lunate.mesh_vertices);
@@ -582,17 +588,27 @@ std::vector<double> nominal_femoral_thickness(const TriMesh& femur, const Patche
 // The common articular sphere about c (see the header): its radius splits the bone-to-bone gap
 // in the ratio of the two literature thicknesses where the femoral lens is thickest (within 10 %
 // of its maximum) and the ray meets the lunate surface; where that gap is wider than both
-// thicknesses the acetabular layer keeps its own and the femoral layer takes the rest.
+// thicknesses the acetabular layer keeps its own and the femoral layer takes the rest. It lies
+// no farther than the femoral maximum above the deepest head bone facing the lunate surface
+// outside the head's filled holes (the fovea, where no cartilage grows).
 double articular_radius(const SoftTissueRequest& request, const Patches& patches, const MeshQueries& pelvis_queries,
                         const std::vector<double>& t_f_nominal, const Vec3& c) {
   const TriMesh& femur = *request.femur;
   const double t_f_max = request.options.femoral_max_thickness_mm, t_a_lit = request.options.acetabular_thickness_mm;
+  std::vector<char> in_hole(femur.vertices.size(), 0);
+  for (std::size_t t = 0; t < patches.head_filled.size(); ++t) {
+    if (!patches.head_filled[t]) continue;
+    for (std::int32_t v : femur.triangles[t]) in_hole[static_cast<std::size_t>(v)] = 1;
+  }
   std::vector<double> split, split_all;
+  double deepest = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < patches.head.mesh_index.size(); ++i) {
-    const Vec3& x = femur.vertices[static_cast<std::size_t>(patches.head.mesh_index[i])];
+    const auto v = static_cast<std::size_t>(patches.head.mesh_index[i]);
+    const Vec3& x = femur.vertices[v];
     const auto hit = pelvis_queries.first_hit(c, ray_direction(c, x));
     if (!hit || !patches.lunate_in[hit->triangle]) continue;
     const double r = (x - c).norm(), gap = hit->distance - r;
+    if (!in_hole[v]) deepest = std::min(deepest, r);
     const double meet = gap >= t_f_max + t_a_lit ? hit->distance - t_a_lit : r + std::max(0.0, gap) * t_f_max / (t_f_max + t_a_lit);
     split_all.push_back(meet);
     if (t_f_nominal[i] >= 0.9 * t_f_max) split.push_back(meet);
@@ -600,7 +616,51 @@ double articular_radius(const SoftTissueRequest& request, const Patches& patches
   if (split.empty()) split = split_all;
   if (split.empty()) throw_error(request.femur_name, ": the femoral head region faces no lunate surface");
   std::nth_element(split.begin(), split.begin() + static_cast<std::ptrdiff_t>(split.size() / 2), split.end());
-  return split[split.size() / 2];
+  return std::min(split[split.size() / 2], deepest + t_f_max);
+}
+
+// The head region's edge peeled where its bone stands within the minimum thickness of the
+// articular sphere (see the header): triangles whose three vertices lie there are taken off the
+// region from its edge inwards, round by round, until the edge runs where the bone lies deeper.
+// A bump inside the region keeps its layer. Returns the number of triangles peeled.
+std::size_t peel_bare_rim(const TriMesh& femur, Patches& patches, double r_art, const Vec3& c, double min_thickness) {
+  const EdgeAdjacency adjacency(femur);
+  std::vector<char> bare(femur.vertices.size(), 0);
+  for (std::int32_t v : patches.head.mesh_index) {
+    bare[static_cast<std::size_t>(v)] = r_art - (femur.vertices[static_cast<std::size_t>(v)] - c).norm() < min_thickness;
+  }
+  std::vector<char>& in = patches.head_in;
+  std::size_t peeled = 0;
+  for (bool changed = true; changed;) {
+    changed = false;
+    std::vector<std::size_t> edge_bare;
+    for (std::size_t t = 0; t < in.size(); ++t) {
+      if (!in[t]) continue;
+      const Triangle& tri = femur.triangles[t];
+      if (!bare[static_cast<std::size_t>(tri[0])] || !bare[static_cast<std::size_t>(tri[1])] ||
+          !bare[static_cast<std::size_t>(tri[2])]) {
+        continue;
+      }
+      for (int k = 0; k < 3; ++k) {
+        int inside = 0;
+        for (std::int32_t u : adjacency.across(tri[k], tri[(k + 1) % 3])) inside += in[static_cast<std::size_t>(u)] ? 1 : 0;
+        if (inside == 1) {
+          edge_bare.push_back(t);
+          break;
+        }
+      }
+    }
+    for (std::size_t t : edge_bare) in[t] = 0;
+    peeled += edge_bare.size();
+    changed = !edge_bare.empty();
+  }
+  if (peeled > 0) {
+    LayerReport unused;
+    in = clean_patch(femur, adjacency, in, unused);
+    patches.head = patch_vertices(femur, in);
+    patches.head_boundary = boundary_edges(femur, adjacency, in);
+  }
+  return peeled;
 }
 
 // A layer's thickness and its inner and outer radius about c, per patch vertex.
@@ -745,7 +805,11 @@ class LabrumSections {
   // rim (0.5 deg; every section of the generated CE 30 and 40 hips). A section is in the pelvis or
   // its cartilage only where it reaches more than the touching tolerance (o_.min_thickness_mm,
   // the sphericity tolerance) into them: the pelvis probes are moved that far off the rim's
-  // face, towards the acetabular axis in the section's meridian plane.
+  // face, towards the acetabular axis in the section's meridian plane. Likewise on the femur:
+  // its inner face lies on the articular sphere, where the bone of a congruent head may lie too
+  // (the generated heads' bare band beyond the cartilage, on the sphere: with the radius exactly
+  // the generator's, round-off there dropped up to 14 of the 144 sections of CE 20-40 hips), so
+  // the femur probes are moved that far out along their ray from c.
   Verdict probe(const Section& section, const std::array<Vec3, kCorners>& corner, const Vec3& meridian) const {
     std::vector<Vec3> probes(section.begin(), section.end());
     for (int j = 0; j < kSectionPoints; ++j) {
@@ -758,7 +822,7 @@ class LabrumSections {
       const double polar = std::atan2(d.dot(meridian), d.dot(acetabulum_.axis));
       const Vec3 towards_axis = std::sin(polar) * acetabulum_.axis - std::cos(polar) * meridian;
       const Vec3 q = p + o_.min_thickness_mm * towards_axis;
-      in_femur = in_femur || femur_queries_.inside(p);
+      in_femur = in_femur || femur_queries_.inside(Vec3(p + o_.min_thickness_mm * d.normalized()));
       in_pelvis = in_pelvis || pelvis_queries_.inside(q) || cartilage_queries_.inside(q);
     }
     if (in_femur) return Verdict::kOnFemur;
@@ -863,14 +927,15 @@ SoftTissues synthesise_soft_tissues(const SoftTissueRequest& request) {
   const Vec3 c = request.joint_centre_mm.value_or(request.head_centre_mm);
   SoftTissues out;
   SoftTissueReport& report = out.report;
-  const Patches patches = find_patches(request, std::max(0.5, 2.5 * request.head_fit_rms_mm), report);
+  Patches patches = find_patches(request, std::max(0.5, 2.5 * request.head_fit_rms_mm), report);
   const std::vector<double> t_f_nominal = nominal_femoral_thickness(femur, patches, c, o);
 
   const MeshQueries femur_queries(femur), pelvis_queries(pelvis);
-  const std::vector<double> head_area = vertex_areas(femur, patches.head_in, patches.head);
-  const std::vector<double> socket_area = vertex_areas(pelvis, patches.lunate_in, patches.socket);
   const double r_art = articular_radius(request, patches, pelvis_queries, t_f_nominal, c);
   report.articular_radius_mm = r_art;
+  report.femoral_rim_peeled = peel_bare_rim(femur, patches, r_art, c, o.min_thickness_mm);
+  const std::vector<double> head_area = vertex_areas(femur, patches.head_in, patches.head);
+  const std::vector<double> socket_area = vertex_areas(pelvis, patches.lunate_in, patches.socket);
   const LayerRadii femoral =
       femoral_layer(femur, patches.head, head_area, r_art, c, o, report.femoral);
   LayerRadii acetabular = acetabular_layer(pelvis, patches.socket, socket_area, r_art, c, o, report.acetabular);

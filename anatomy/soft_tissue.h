@@ -31,7 +31,13 @@
 //             thickest: over the femoral rays that meet the lunate surface with a lens (below)
 //             within 10 % of t_f,max, the median of the meeting point r_f + g t_f,max /
 //             (t_f,max + t_a) when g < t_f,max + t_a (the literature ratio), else r_p - t_a (the
-//             acetabular cartilage keeps its constant thickness, the femoral takes the rest).
+//             acetabular cartilage keeps its constant thickness, the femoral takes the rest);
+//             at most r_min + t_f,max, r_min the deepest head bone whose ray meets the lunate
+//             surface, outside the head's filled holes (the fovea, bare of cartilage: the
+//             ligamentum teres inserts there), so that the femoral cartilage is nowhere thicker
+//             than its literature maximum. The median alone is biased up by the spread of the
+//             split points about the thickest spot (on the generated hips 25.04-25.09 mm against
+//             the generator's 25.0; with the bound 25.00).
 //   thickness acetabular: from the lunate bone to the sphere, t_a(y) = |y - c| - r_art. Femoral:
 //             from the head to the sphere over the whole head region, t_f(x) = r_art - |x - c|,
 //             also where the ray meets no lunate surface in this pose (facing the fossa, beyond
@@ -50,7 +56,11 @@
 //             surfaces that close are touching, not penetrating, for the study): where a bone
 //             stands within it of the sphere (a bump), its layer stands proud of the sphere by up to
 //             that much, plus what the bone itself stands out (LayerReport::overlap_area_mm2 says
-//             where).
+//             where). Except at the head region's edge: there such bone is left bare (the region
+//             peeled from its edge inwards over triangles whose three vertices lie within the
+//             minimum of the sphere), as on the generated heads, whose bone between their lens'
+//             edge and the head-neck junction is the articular sphere itself; a 0.1 mm ridge
+//             standing proud along the edge concentrated the femoral cartilage's stress there.
 //   labrum    a triangular section (base `labrum_base_mm` wide on the rim, tip `labrum_height_mm`
 //             above it, the generator's section) in the meridian plane of the acetabular axis through c at
 //             every 2.5 deg of clock angle: the rim's polar angle (Acetabulum::rim, plane-fit
@@ -141,6 +151,7 @@ struct LayerReport {
 struct SoftTissueReport {
   LayerReport femoral, acetabular;
   double articular_radius_mm = 0.0;  // the common articular sphere about the joint centre
+  std::size_t femoral_rim_peeled = 0;  // head-region triangles left bare at its edge ("minimum" above)
   double labrum_volume_mm3 = 0.0;
   int labrum_sections = 0;           // kept
   int labrum_sections_total = 0;     // tried (360 / labrum_step_deg)
