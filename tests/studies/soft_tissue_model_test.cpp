@@ -236,5 +236,26 @@ TEST(SoftTissueModel, BonesWithoutAHeadAreAOneLineError) {
   }
 }
 
+// Bones that already intersect in the neutral pose (the femur pushed 8 mm into the acetabulum) make
+// the tissues meaningless: a one-line error, no folder.
+TEST(SoftTissueModel, IntersectingBonesAreAOneLineError) {
+  fs::create_directories(kScratch);
+  const TriMesh pelvis = geometry::read_mesh(kLhdl + "pelvis_no_sacrum.ply");
+  TriMesh femur = geometry::read_mesh(kLhdl + "femur_r.ply");
+  for (Vec3& v : femur.vertices) v += Vec3(8.0, 0.0, 0.0);  // medial for this right hip (CT +x is left)
+  SoftTissueModelRequest request;
+  request.assessment.femur = &femur;
+  request.assessment.femur_name = "femur_r.ply";
+  request.assessment.pelvis = &pelvis;
+  try {
+    build_soft_tissue_model(request);
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("intersect"), std::string::npos) << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+  }
+}
+
 }  // namespace
 }  // namespace hipfai::studies
