@@ -216,24 +216,30 @@ TEST(SoftTissueModel, AMirroredHipGivesTheSameModel) {
   EXPECT_NEAR(b.model.neck_axis.dot(a.model.neck_axis), 1.0, 1e-3);
 }
 
-TEST(SoftTissueModel, BonesWithoutAHeadAreAOneLineError) {
-  fs::create_directories(kScratch);
-  const TriMesh pelvis = geometry::read_mesh(kLhdl + "pelvis_no_sacrum.ply");
-  TriMesh square;
-  square.vertices = {Vec3(0, 0, 0), Vec3(40, 0, 0), Vec3(40, 40, 0), Vec3(0, 40, 0)};
-  square.triangles = {{0, 1, 2}, {0, 2, 3}};
+// build_soft_tissue_model on these bones throws one line naming `expected`.
+void expect_one_line_error(const TriMesh& femur, const std::string& femur_name, const TriMesh& pelvis,
+                           const std::string& expected) {
   SoftTissueModelRequest request;
-  request.assessment.femur = &square;
-  request.assessment.femur_name = "square.obj";
+  request.assessment.femur = &femur;
+  request.assessment.femur_name = femur_name;
   request.assessment.pelvis = &pelvis;
   try {
     build_soft_tissue_model(request);
     ADD_FAILURE() << "no error";
   } catch (const Error& e) {
     const std::string message = e.what();
-    EXPECT_NE(message.find("no femoral head"), std::string::npos) << message;
+    EXPECT_NE(message.find(expected), std::string::npos) << message;
     EXPECT_EQ(message.find('\n'), std::string::npos) << message;
   }
+}
+
+TEST(SoftTissueModel, BonesWithoutAHeadAreAOneLineError) {
+  fs::create_directories(kScratch);
+  const TriMesh pelvis = geometry::read_mesh(kLhdl + "pelvis_no_sacrum.ply");
+  TriMesh square;
+  square.vertices = {Vec3(0, 0, 0), Vec3(40, 0, 0), Vec3(40, 40, 0), Vec3(0, 40, 0)};
+  square.triangles = {{0, 1, 2}, {0, 2, 3}};
+  expect_one_line_error(square, "square.obj", pelvis, "no femoral head");
 }
 
 // Bones that already intersect in the neutral pose (the femur pushed 8 mm into the acetabulum) make
@@ -243,18 +249,7 @@ TEST(SoftTissueModel, IntersectingBonesAreAOneLineError) {
   const TriMesh pelvis = geometry::read_mesh(kLhdl + "pelvis_no_sacrum.ply");
   TriMesh femur = geometry::read_mesh(kLhdl + "femur_r.ply");
   for (Vec3& v : femur.vertices) v += Vec3(8.0, 0.0, 0.0);  // medial for this right hip (CT +x is left)
-  SoftTissueModelRequest request;
-  request.assessment.femur = &femur;
-  request.assessment.femur_name = "femur_r.ply";
-  request.assessment.pelvis = &pelvis;
-  try {
-    build_soft_tissue_model(request);
-    ADD_FAILURE() << "no error";
-  } catch (const Error& e) {
-    const std::string message = e.what();
-    EXPECT_NE(message.find("intersect"), std::string::npos) << message;
-    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
-  }
+  expect_one_line_error(femur, "femur_r.ply", pelvis, "intersect");
 }
 
 }  // namespace
