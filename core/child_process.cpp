@@ -4,6 +4,7 @@
 
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/personality.h>
 #include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -111,6 +112,29 @@ ChildOutcome run_in_child(const std::function<void(int fd)>& work, const ChildRe
   return outcome;
 }
 
+
+void exec_fresh_image(const std::string& variable, const std::string& value, int fd) {
+  const int flags = ::fcntl(fd, F_GETFD);
+  if (flags < 0 || ::fcntl(fd, F_SETFD, flags & ~FD_CLOEXEC) != 0) return;
+  std::vector<std::string> env_text;
+  const std::string prefix = variable + "=";
+  for (char** e = environ; e != nullptr && *e != nullptr; ++e) {
+    if (std::strncmp(*e, prefix.c_str(), prefix.size()) != 0) env_text.emplace_back(*e);
+  }
+  env_text.push_back(prefix + value);
+  std::vector<char*> envp;
+  for (std::string& e : env_text) envp.push_back(e.data());
+  envp.push_back(nullptr);
+  std::string name = "hipfai-child";
+  char* argv[] = {name.data(), nullptr};
+  // The new image's addresses the same on every run (where the system allows it: a container's
+  // seccomp policy may refuse, and the image then runs at random addresses).
+  const int persona = ::personality(0xffffffff);
+  if (persona != -1) ::personality(static_cast<unsigned long>(persona) | ADDR_NO_RANDOMIZE);
+  ::execve("/proc/self/exe", argv, envp.data());
+  if (persona != -1) ::personality(static_cast<unsigned long>(persona));
+  ::fcntl(fd, F_SETFD, flags);
+}
 
 int run_program(const std::filesystem::path& program, const std::vector<std::string>& args,
                 const std::filesystem::path& log, const std::vector<std::string>& environment) {

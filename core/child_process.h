@@ -43,6 +43,16 @@ struct ChildOutcome {
 ChildOutcome run_in_child(const std::function<void(int fd)>& work, const ChildRequest& request,
                           const std::string& what);
 
+// In a child made by run_in_child: replaces the child's image with a fresh one of this same program
+// (/proc/self/exe), its environment this process' plus `variable`=`value`, `fd` kept open across
+// the exec (the time limit, the silenced output and the parent's pipe carry over), address space
+// randomisation off (ADDR_NO_RANDOMIZE, where allowed). The new image starts from the program's
+// initial heap at the same addresses on every run, for libraries whose results depend on the
+// addresses they are given; the program must act on `variable` before main (a static initializer
+// of the library that set it). Returns only when the exec failed (the caller then does the work
+// itself).
+void exec_fresh_image(const std::string& variable, const std::string& value, int fd);
+
 // Writes all of `bytes` to `fd` (retrying short writes and EINTR); false on a write error.
 bool write_all(int fd, const std::string& bytes);
 
