@@ -620,9 +620,10 @@ double articular_radius(const SoftTissueRequest& request, const Patches& patches
 }
 
 // The head region's edge peeled where its bone stands within the minimum thickness of the
-// articular sphere (see the header): triangles whose three vertices lie there are taken off the
-// region from its edge inwards, round by round, until the edge runs where the bone lies deeper.
-// A bump inside the region keeps its layer. Returns the number of triangles peeled.
+// articular sphere (see the header): edge triangles with a vertex there are taken off the region,
+// round by round, until every vertex of the edge lies deeper, so that no part of the edge stands
+// proud of the sphere. A bump inside the region keeps its layer. Returns the number of triangles
+// peeled.
 std::size_t peel_bare_rim(const TriMesh& femur, Patches& patches, double r_art, const Vec3& c, double min_thickness) {
   const EdgeAdjacency adjacency(femur);
   std::vector<char> bare(femur.vertices.size(), 0);
@@ -637,7 +638,7 @@ std::size_t peel_bare_rim(const TriMesh& femur, Patches& patches, double r_art, 
     for (std::size_t t = 0; t < in.size(); ++t) {
       if (!in[t]) continue;
       const Triangle& tri = femur.triangles[t];
-      if (!bare[static_cast<std::size_t>(tri[0])] || !bare[static_cast<std::size_t>(tri[1])] ||
+      if (!bare[static_cast<std::size_t>(tri[0])] && !bare[static_cast<std::size_t>(tri[1])] &&
           !bare[static_cast<std::size_t>(tri[2])]) {
         continue;
       }

@@ -57,10 +57,11 @@
 //             stands within it of the sphere (a bump), its layer stands proud of the sphere by up to
 //             that much, plus what the bone itself stands out (LayerReport::overlap_area_mm2 says
 //             where). Except at the head region's edge: there such bone is left bare (the region
-//             peeled from its edge inwards over triangles whose three vertices lie within the
-//             minimum of the sphere), as on the generated heads, whose bone between their lens'
-//             edge and the head-neck junction is the articular sphere itself; a 0.1 mm ridge
-//             standing proud along the edge concentrated the femoral cartilage's stress there.
+//             peeled from its edge inwards over the triangles with a vertex within the minimum
+//             of the sphere, until no edge vertex is), as on the generated heads, whose bone
+//             between their lens' edge and the head-neck junction is the articular sphere
+//             itself; a ridge standing proud along the edge concentrated the femoral
+//             cartilage's stress there.
 //   labrum    a triangular section (base `labrum_base_mm` wide on the rim, tip `labrum_height_mm`
 //             above it, the generator's section) in the meridian plane of the acetabular axis through c at
 //             every 2.5 deg of clock angle: the rim's polar angle (Acetabulum::rim, plane-fit

@@ -207,8 +207,13 @@ TEST(SoftTissue, SynthesisedOnGeneratedBonesMatchesTheGeneratorsTissues) {
     const double p = std::numbers::pi;
     const double femoral_ring = 2.0 * p * 25.0 * std::sin(p / 4.0) * edge;
     const double acetabular_ring = (2.0 * p * 27.0 + 2.0 * p * 26.0 * std::sin(40.0 * p / 180.0)) * edge;
-    EXPECT_NEAR(sf_area, gf_area, femoral_ring);
-    EXPECT_GT(f_both, gf_area - femoral_ring);
+    // The femoral layer leaves bare, along its edge, the bone within the 0.1 mm minimum of the
+    // sphere (the peel: edge triangles with a vertex there, so up to one triangle more), where the
+    // generator's lens runs on thinner than the minimum towards its edge: it covers less, by the
+    // generator's thin band and a triangle, two rings at most (measured 1.3-1.7), never more.
+    EXPECT_GT(sf_area, gf_area - 2.0 * femoral_ring);
+    EXPECT_LT(sf_area, gf_area + femoral_ring);
+    EXPECT_GT(f_both, gf_area - 2.0 * femoral_ring);
     EXPECT_GT(a_both, ga_area - acetabular_ring);
     // The generated pelvis has no fossa (the generator cuts it from the cartilage only), so the
     // synthesised layer covers it too: the extra area is the fossa's cap (40 deg half angle on the
