@@ -275,6 +275,14 @@ PatchVertices patch_vertices(const TriMesh& mesh, const std::vector<char>& in) {
   return out;
 }
 
+// Is edge k (tri[k] -> tri[k + 1]) of patch triangle `tri` on the patch's boundary (no other patch
+// triangle across it)?
+bool on_patch_boundary(const Triangle& tri, int k, const EdgeAdjacency& adjacency, const std::vector<char>& in) {
+  int inside = 0;
+  for (std::int32_t u : adjacency.across(tri[k], tri[(k + 1) % 3])) inside += in[static_cast<std::size_t>(u)] ? 1 : 0;
+  return inside == 1;
+}
+
 // Directed boundary edges (a -> b as in their triangle) of the patch.
 std::vector<std::pair<std::int32_t, std::int32_t>> boundary_edges(const TriMesh& mesh, const EdgeAdjacency& adjacency,
                                                                   const std::vector<char>& in) {
@@ -283,9 +291,7 @@ std::vector<std::pair<std::int32_t, std::int32_t>> boundary_edges(const TriMesh&
     if (!in[t]) continue;
     const Triangle& tri = mesh.triangles[t];
     for (int k = 0; k < 3; ++k) {
-      int inside = 0;
-      for (std::int32_t u : adjacency.across(tri[k], tri[(k + 1) % 3])) inside += in[static_cast<std::size_t>(u)] ? 1 : 0;
-      if (inside == 1) out.emplace_back(tri[k], tri[(k + 1) % 3]);
+      if (on_patch_boundary(tri, k, adjacency, in)) out.emplace_back(tri[k], tri[(k + 1) % 3]);
     }
   }
   return out;
@@ -526,11 +532,12 @@ struct Patches {
   std::vector<std::pair<std::int32_t, std::int32_t>> head_boundary, socket_boundary;
 };
 
-Patches find_patches(const SoftTissueRequest& request, double band, SoftTissueReport& report) {
+Patches find_patches(const SoftTissueRequest& request, const EdgeAdjacency& femur_edges, double band,
+                     SoftTissueReport& report) {
   const TriMesh& femur = *request.femur;
   const TriMesh& pelvis = *request.pelvis;
   const Vec3 head_centre = request.head_centre_mm;
-  const EdgeAdjacency femur_edges(femur), pelvis_edges(pelvis);
+  const EdgeAdjacency pelvis_edges(pelvis);
   Patches patches;
   patches.head_in = triangles_of(femur, head_vertices(request, band));
   if (std::count(patches.head_in.begin(), patches.head_in.end(), 1) < 20) {
@@ -624,8 +631,8 @@ double articular_radius(const SoftTissueRequest& request, const Patches& patches
 // round by round, until every vertex of the edge lies deeper, so that no part of the edge stands
 // proud of the sphere. A bump inside the region keeps its layer. Returns the number of triangles
 // peeled.
-std::size_t peel_bare_rim(const TriMesh& femur, Patches& patches, double r_art, const Vec3& c, double min_thickness) {
-  const EdgeAdjacency adjacency(femur);
+std::size_t peel_bare_rim(const TriMesh& femur, const EdgeAdjacency& adjacency, Patches& patches, double r_art,
+                          const Vec3& c, double min_thickness) {
   std::vector<char> bare(femur.vertices.size(), 0);
   for (std::int32_t v : patches.head.mesh_index) {
     bare[static_cast<std::size_t>(v)] = r_art - (femur.vertices[static_cast<std::size_t>(v)] - c).norm() < min_thickness;
@@ -642,13 +649,9 @@ std::size_t peel_bare_rim(const TriMesh& femur, Patches& patches, double r_art, 
           !bare[static_cast<std::size_t>(tri[2])]) {
         continue;
       }
-      for (int k = 0; k < 3; ++k) {
-        int inside = 0;
-        for (std::int32_t u : adjacency.across(tri[k], tri[(k + 1) % 3])) inside += in[static_cast<std::size_t>(u)] ? 1 : 0;
-        if (inside == 1) {
-          edge_bare.push_back(t);
-          break;
-        }
+      if (on_patch_boundary(tri, 0, adjacency, in) || on_patch_boundary(tri, 1, adjacency, in) ||
+          on_patch_boundary(tri, 2, adjacency, in)) {
+        edge_bare.push_back(t);
       }
     }
     for (std::size_t t : edge_bare) in[t] = 0;
@@ -809,7 +812,7 @@ class LabrumSections {
   // face, towards the acetabular axis in the section's meridian plane. Likewise on the femur:
   // its inner face lies on the articular sphere, where the bone of a congruent head may lie too
   // (the generated heads' bare band beyond the cartilage, on the sphere: with the radius exactly
-  // the generator's, round-off there dropped up to 14 of the 144 sections of CE 20-40 hips), so
+  // the generator's, round-off there dropped 2 to 32 of the 144 sections of CE 20-40 hips), so
   // the femur probes are moved that far out along their ray from c.
   Verdict probe(const Section& section, const std::array<Vec3, kCorners>& corner, const Vec3& meridian) const {
     std::vector<Vec3> probes(section.begin(), section.end());
@@ -928,13 +931,14 @@ SoftTissues synthesise_soft_tissues(const SoftTissueRequest& request) {
   const Vec3 c = request.joint_centre_mm.value_or(request.head_centre_mm);
   SoftTissues out;
   SoftTissueReport& report = out.report;
-  Patches patches = find_patches(request, std::max(0.5, 2.5 * request.head_fit_rms_mm), report);
+  const EdgeAdjacency femur_edges(femur);
+  Patches patches = find_patches(request, femur_edges, std::max(0.5, 2.5 * request.head_fit_rms_mm), report);
   const std::vector<double> t_f_nominal = nominal_femoral_thickness(femur, patches, c, o);
 
   const MeshQueries femur_queries(femur), pelvis_queries(pelvis);
   const double r_art = articular_radius(request, patches, pelvis_queries, t_f_nominal, c);
   report.articular_radius_mm = r_art;
-  report.femoral_rim_peeled = peel_bare_rim(femur, patches, r_art, c, o.min_thickness_mm);
+  report.femoral_rim_peeled = peel_bare_rim(femur, femur_edges, patches, r_art, c, o.min_thickness_mm);
   const std::vector<double> head_area = vertex_areas(femur, patches.head_in, patches.head);
   const std::vector<double> socket_area = vertex_areas(pelvis, patches.lunate_in, patches.socket);
   const LayerRadii femoral =
