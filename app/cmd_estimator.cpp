@@ -10,8 +10,10 @@
 #include "studies/estimator_refine_report.h"
 #include "studies/estimator_sample.h"
 #include "studies/estimator_sample_fe.h"
+#include "studies/estimator_sample_run.h"
 #include "studies/estimator_sample_report.h"
 #include "studies/estimator_study.h"
+#include "studies/pipeline/mpi_launch.h"
 
 #include <algorithm>
 #include <cmath>
@@ -20,6 +22,7 @@
 #include <iomanip>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 namespace hipfai::app {
@@ -319,26 +322,29 @@ void add_sample_command(CLI::App* estimator) {
     for (const auto& name : args->vary) options.vary.push_back(studies::parse_sampled_parameter(name));
     options.edge_mm = args->edge_mm;
     const studies::SamplePlan plan = studies::plan_sample(options);
-    studies::write_design_csv(plan, args->out);
-    const auto outcomes = studies::generate_sample_hips(
-        plan, args->out, [&plan](std::size_t index, const studies::SampleHipOutcome& outcome) {
-          const bool failed = outcome.status == studies::SampleHipOutcome::Status::kFailed;
-          (failed ? std::cerr : std::cout) << studies::sample_hip_line(plan, index, outcome) << std::endl;
-        });
-    std::cout << studies::sample_summary(plan, outcomes, args->out) << '\n';
+    std::optional<studies::SampleFeOptions> fe;
     if (!args->fe_level.empty()) {
-      studies::SampleFeOptions fe;
-      fe.sample_dir = args->out;
-      fe.cache_dir = args->cache;
-      fe.level = parse_fe_level(args->fe_level, "--fe-level");
-      fe.steps = args->steps;
-      fe.jobs = args->jobs;
-      fe.threads = args->threads;
-      fe.program = std::filesystem::read_symlink("/proc/self/exe");
-      const studies::SampleFeResult result = studies::run_sample_fe(plan, fe);
-      studies::write_sample_fe_tables(plan, result, fe.level, args->out);
-      std::cout << studies::sample_fe_summary(plan, result, args->out) << '\n';
-      for (const auto& hip : result.hips) {
+      fe.emplace();
+      fe->sample_dir = args->out;
+      fe->cache_dir = args->cache;
+      fe->level = parse_fe_level(args->fe_level, "--fe-level");
+      fe->steps = args->steps;
+      fe->jobs = args->jobs;
+      fe->threads = args->threads;
+      fe->program = std::filesystem::read_symlink("/proc/self/exe");
+    }
+    // Under mpirun / srun the hips (generation, depths and FE) are spread over the ranks; rank 0 reports.
+    const studies::EstimatorSampleRun run = studies::run_estimator_sample(
+        plan, args->out, fe, studies::unit_spread_of_this_process(), [](const std::string& line, bool failed) {
+          (failed ? std::cerr : std::cout) << line << std::endl;
+        });
+    if (!run.holds_results) return;
+    const std::vector<studies::SampleHipOutcome>& outcomes = run.outcomes;
+    std::cout << studies::sample_summary(plan, outcomes, args->out) << '\n';
+    if (run.fe) {
+      studies::write_sample_fe_tables(plan, *run.fe, fe->level, args->out);
+      std::cout << studies::sample_fe_summary(plan, *run.fe, args->out) << '\n';
+      for (const auto& hip : run.fe->hips) {
         if (!hip.error.empty()) std::cerr << "estimator sample: " << plan.hips[hip.plan_index].name << ": " << hip.error << '\n';
       }
     }

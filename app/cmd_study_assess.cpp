@@ -5,6 +5,7 @@
 #include "app/command_registry.h"
 #include "studies/assessment_truth.h"
 #include "studies/assessment_truth_report.h"
+#include "studies/pipeline/mpi_launch.h"
 #include "studies/soft_tissue_truth.h"
 #include "studies/soft_tissue_truth_report.h"
 
@@ -65,10 +66,16 @@ const CommandRegistrar registrar("study.assess", [](CLI::App& parent) {
     run.fe_level = fe_level_from_name(*fe_level);  // none: no FE
     if (run.quick && fe_level_option->count() == 0 && run.fe_level) run.fe_level = FeLevel::kCoarse;
     run.program = std::filesystem::read_symlink("/proc/self/exe");
+    // Under mpirun / srun the hips are spread over the ranks, and rank 0 alone reports.
+    run.spread = studies::unit_spread_of_this_process();
     const auto result = studies::run_soft_tissue_truth(run);
+    if (!result.holds_results) return;
+    // A hip that failed is named in one line; the others' tables and report are kept.
+    if (result.rows.empty()) studies::throw_if_units_failed("soft-tissue-truth", result.failed, 0, "hips", run.out_dir);
     const auto report = studies::write_soft_tissue_truth(result);
     std::cout << "report: " << report.string() << " (" << std::fixed << std::setprecision(1) << result.seconds
               << " s)\n";
+    studies::throw_if_units_failed("soft-tissue-truth", result.failed, result.rows.size(), "hips", run.out_dir);
   });
 });
 

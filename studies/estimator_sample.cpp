@@ -132,33 +132,38 @@ bool sample_hip_complete(const std::filesystem::path& hip_dir) {
   return std::filesystem::is_regular_file(hip_dir / "model.json", ec);
 }
 
+SampleHipOutcome generate_sample_hip(const SamplePlan& plan, std::size_t index, const std::filesystem::path& out_dir) {
+  const SampledHip& hip = plan.hips.at(index);
+  const std::filesystem::path target = out_dir / hip.name;
+  SampleHipOutcome outcome;
+  if (sample_hip_complete(target)) {
+    outcome.status = SampleHipOutcome::Status::kSkipped;
+    return outcome;
+  }
+  const auto start = std::chrono::steady_clock::now();
+  try {
+    std::filesystem::create_directories(out_dir);
+    const geometry::HipGeneratorResult generated = geometry::generate_hip(hip.parameters);
+    AtomicDirectory staging(target);
+    geometry::write_hip_model(generated.model, staging.partial_path(), "ply");
+    staging.commit(sample_hip_complete);
+    outcome.status = SampleHipOutcome::Status::kGenerated;
+  } catch (const std::exception& error) {
+    outcome.status = SampleHipOutcome::Status::kFailed;
+    outcome.error = error.what();
+  }
+  outcome.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return outcome;
+}
+
 std::vector<SampleHipOutcome> generate_sample_hips(
     const SamplePlan& plan, const std::filesystem::path& out_dir,
     const std::function<void(std::size_t index, const SampleHipOutcome&)>& on_hip) {
   std::filesystem::create_directories(out_dir);
   std::vector<SampleHipOutcome> outcomes;
   for (std::size_t h = 0; h < plan.hips.size(); ++h) {
-    const SampledHip& hip = plan.hips[h];
-    const std::filesystem::path target = out_dir / hip.name;
-    SampleHipOutcome outcome;
-    if (sample_hip_complete(target)) {
-      outcome.status = SampleHipOutcome::Status::kSkipped;
-    } else {
-      const auto start = std::chrono::steady_clock::now();
-      try {
-        const geometry::HipGeneratorResult generated = geometry::generate_hip(hip.parameters);
-        AtomicDirectory staging(target);
-        geometry::write_hip_model(generated.model, staging.partial_path(), "ply");
-        staging.commit(sample_hip_complete);
-        outcome.status = SampleHipOutcome::Status::kGenerated;
-      } catch (const std::exception& error) {
-        outcome.status = SampleHipOutcome::Status::kFailed;
-        outcome.error = error.what();
-      }
-      outcome.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    }
-    outcomes.push_back(outcome);
-    if (on_hip) on_hip(h, outcome);
+    outcomes.push_back(generate_sample_hip(plan, h, out_dir));
+    if (on_hip) on_hip(h, outcomes.back());
   }
   return outcomes;
 }

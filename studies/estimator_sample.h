@@ -85,6 +85,10 @@ struct SampleHipOutcome {
   double seconds = 0.0;  // kGenerated: construction, meshing and writing
 };
 
+// Generates hip `index` of `plan` into out_dir/<name>/ unless it is complete (kSkipped); a hip the
+// generator cannot make is kFailed with the generator's message.
+SampleHipOutcome generate_sample_hip(const SamplePlan& plan, std::size_t index, const std::filesystem::path& out_dir);
+
 // Generates every hip of `plan` not yet complete into out_dir/<name>/ (model.json and the tissue
 // meshes, as `hipfai generate` writes them), in plan order. A hip the generator cannot make is
 // reported in its outcome and the others still run. `on_hip` is called after each hip (progress).

@@ -53,13 +53,43 @@ void read_entry(SampleFeHip& hip, const FeBatchEntry& done, const Motion& motion
   std::string word;
   if (timing >> word >> hip.fe_s; !timing) hip.fe_s = step_s;
 }
+
+// The FE run of a hip folder: the same job, so the same cache entry, however it is solved.
+FeBatchJob sample_fe_job(const std::filesystem::path& dir, const SampleFeOptions& options) {
+  FeBatchJob job;
+  job.id = dir.filename().string();
+  job.run.model_dir = dir.string();
+  job.run.steps = options.steps;
+  job.run.level = options.level;
+  return job;
+}
 #endif
 
 }  // namespace
 
-namespace {
+#ifdef HIPFAI_WITH_FEM
+SampleFeHip sample_hip_fe_on_this_rank(std::size_t plan_index, const std::filesystem::path& dir, const Motion& motion,
+                                       const SampleFeOptions& options, unsigned int threads) {
+  SampleFeHip hip;
+  hip.dir = dir;
+  hip.plan_index = plan_index;
+  penetration_of(hip, dir, motion, static_cast<int>(threads));
+  FeBatchJob job = sample_fe_job(dir, options);
+  job.run.ranks = FeRanks::kThisRank;
+  FeBatchEntry done;
+  try {
+    done.entry = fe_job_entry(job, options.cache_dir);
+    done.source = make_fe_entry(job, done.entry, FeEntrySolver{{}, threads}, LockWait::kBlock);
+    done.reused = done.source != EntrySource::kMade;
+  } catch (const std::exception& e) {
+    done.error = e.what();  // as the batch keeps going: the hip is named with why, the others kept
+  }
+  read_entry(hip, done, motion);
+  return hip;
+}
+#endif
 
-void check_fe_options(const SampleFeOptions& options) {
+void check_sample_fe_options(const SampleFeOptions& options) {
   if (options.steps < 3) throw_error("estimator sample: --steps must be at least 3");
   if (options.jobs < 1) throw_error("estimator sample: --jobs must be at least 1");
 #ifdef HIPFAI_WITH_FEM
@@ -70,6 +100,8 @@ void check_fe_options(const SampleFeOptions& options) {
   throw_error("estimator sample: this build has no FE module (configure with HIPFAI_WITH_FEM=ON)");
 #endif
 }
+
+namespace {
 
 // The depths of each (index, folder) and its FE through one batch, in order.
 SampleFeResult run_fe_of(const std::vector<std::pair<std::size_t, std::filesystem::path>>& hips, std::size_t total,
@@ -98,12 +130,7 @@ SampleFeResult run_fe_of(const std::vector<std::pair<std::size_t, std::filesyste
                   *std::max_element(hip.radial_max_mm.begin(), hip.radial_max_mm.end()), hip.penetration_ms / 1e3);
       std::fflush(stdout);
     }
-    FeBatchJob job;
-    job.id = dir.filename().string();
-    job.run.model_dir = dir.string();
-    job.run.steps = options.steps;
-    job.run.level = options.level;
-    fe.add(std::move(job));
+    fe.add(sample_fe_job(dir, options));
     result.hips.push_back(std::move(hip));
   }
   const std::vector<FeBatchEntry> done = fe.finish();
@@ -119,7 +146,7 @@ SampleFeResult run_sample_fe(const SamplePlan& plan, const SampleFeOptions& opti
   if (!std::filesystem::is_directory(options.sample_dir)) {
     throw_error(options.sample_dir.string(), ": no such sample folder (make it with `hipfai estimator sample`)");
   }
-  check_fe_options(options);
+  check_sample_fe_options(options);
   std::vector<std::pair<std::size_t, std::filesystem::path>> hips;
   int missing = 0;
   for (std::size_t h = 0; h < plan.hips.size(); ++h) {
@@ -136,7 +163,7 @@ SampleFeResult run_sample_fe(const SamplePlan& plan, const SampleFeOptions& opti
 }
 
 SampleFeResult run_hips_fe(const std::vector<std::filesystem::path>& dirs, const SampleFeOptions& options) {
-  check_fe_options(options);
+  check_sample_fe_options(options);
   std::vector<std::pair<std::size_t, std::filesystem::path>> hips;
   for (std::size_t h = 0; h < dirs.size(); ++h) {
     if (!sample_hip_complete(dirs[h])) throw_error(dirs[h].string(), ": not a hip folder (no model.json)");

@@ -50,6 +50,19 @@ struct SampleFeResult {
   double seconds = 0;
 };
 
+// Throws hipfai::Error for unusable options (no --jobs, --steps < 3, a missing FE program, a build
+// without the FE module).
+void check_sample_fe_options(const SampleFeOptions& options);
+
+#ifdef HIPFAI_WITH_FEM
+// One hip's depths over `motion` and its FE, solved in this process on this rank alone
+// (FeRanks::kThisRank) with `threads`, through the same cache entry run_sample_fe uses: a unit of
+// a sample spread over MPI ranks (studies/estimator_sample_ranks.h). An FE run that fails is the
+// hip's error, as in run_sample_fe.
+SampleFeHip sample_hip_fe_on_this_rank(std::size_t plan_index, const std::filesystem::path& dir, const Motion& motion,
+                                       const SampleFeOptions& options, unsigned int threads);
+#endif
+
 // Throws hipfai::Error for unusable options (no such folder, --jobs < 1, --steps < 3, a missing
 // FE program) before any work.
 SampleFeResult run_sample_fe(const SamplePlan& plan, const SampleFeOptions& options);

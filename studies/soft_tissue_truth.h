@@ -8,15 +8,21 @@
 // and whether each penetrates. With an FE level, also the FE of both tissue sets over the same
 // motion (studies/pipeline/fe_batch.h, cached like `study validate`'s): the peaks over the motion of the
 // contact pressure and of the von Mises stress per tissue, raw and ball-averaged.
+//
+// Started by mpirun or srun (options.spread kMpiRanks) with two ranks or more, the hips are spread
+// over the ranks (studies/soft_tissue_truth_ranks.h): each worker rank compares a hip and solves its
+// two FE runs alone, rank 0 gets the rows; the same rows as the one-process run.
 #pragma once
 
 #include "core/fe_choices.h"
+#include "studies/pipeline/mpi_launch.h"
 #include "studies/results/fe_step_record.h"
 
 #include <array>
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace hipfai::studies {
@@ -26,6 +32,8 @@ struct SoftTissueTruthOptions {
   int sub_motions = 30;           // standing to sitting
   std::filesystem::path out_dir = "out/soft-tissue-truth";
   bool quick = false;             // two hips (CE 20 alpha 80, CE 40 alpha 40) at 3 mm, 10 sub-motions
+  // (CE, alpha) of the hips, in order; empty: the 25 of the grid, or --quick's two.
+  std::vector<std::pair<double, double>> hips;
   int threads = 2;
   // FE of both tissue sets at this level; none: no FE (the CLI's default is the default level in
   // a build with the FE module).
@@ -33,6 +41,10 @@ struct SoftTissueTruthOptions {
   std::filesystem::path cache_dir = "cache";
   std::filesystem::path program;  // the hipfai executable of the FE workers; empty: in this process
   int jobs = 2;                   // FE worker processes at once
+  bool progress = true;           // progress bar / lines on stdout
+  // kMpiRanks: the hips over the ranks of MPI_COMM_WORLD when there are two or more (every rank
+  // calls run_soft_tissue_truth; rank 0 alone holds the results).
+  UnitSpread spread = UnitSpread::kThisMachine;
 };
 
 // Peaks over the motion of one FE run (MPa), over its converged steps.
@@ -59,7 +71,11 @@ struct SoftTissueTruthRow {
 
 struct SoftTissueTruthResult {
   SoftTissueTruthOptions options;
-  std::vector<SoftTissueTruthRow> rows;
+  bool holds_results = true;  // false on the worker ranks of a spread run
+  std::vector<SoftTissueTruthRow> rows;  // in the grid's order (spread: the hips that did not fail)
+  // Spread over MPI ranks, the hips that failed (the others' rows are kept); otherwise a failure
+  // stops the study.
+  std::vector<UnitFailure> failed;
   double contact_tolerance_mm = 0.0;  // the generated hips' (applied to both runs), largest over the hips
   double seconds = 0.0;
 };

@@ -176,6 +176,15 @@ std::string fe_section(const SoftTissueTruthResult& result, const std::vector<Pe
   return fe_section.str();
 }
 
+// The hips a run spread over MPI ranks could not compare (none in a one-process run: a failure
+// stops it), each with why.
+std::string failed_hips(const SoftTissueTruthResult& result) {
+  if (result.failed.empty()) return {};
+  std::string text = std::to_string(result.failed.size()) + " hip(s) failed and are left out of every count:\n\n";
+  for (const UnitFailure& f : result.failed) text += "- " + f.unit + ": " + f.message + "\n";
+  return text + "\n";
+}
+
 }  // namespace
 
 std::filesystem::path write_soft_tissue_truth(const SoftTissueTruthResult& result) {
@@ -211,7 +220,7 @@ std::filesystem::path write_soft_tissue_truth(const SoftTissueTruthResult& resul
      << "| curvilinear maxima within 10 % (hips where both penetrate) | " << agreement.within_curvilinear << " of " << agreement.both_c
      << " | all |\n"
      << "| radial maxima within 10 % (hips where both penetrate) | " << agreement.within_radial << " of " << agreement.both_r << " | all |\n\n"
-     << fe << table.str() << "\nWhole study " << fixed(result.seconds, 1) << " s. Per hip: `soft_tissue_truth.csv`; the "
+     << failed_hips(result) << fe << table.str() << "\nWhole study " << fixed(result.seconds, 1) << " s. Per hip: `soft_tissue_truth.csv`; the "
      << "models: `hips/<hip>/generated`, `hips/<hip>/synthesised`.\n";
   write_file_atomically(result.options.out_dir / "soft_tissue_truth.csv", csv.str());
   const auto path = result.options.out_dir / "soft_tissue_truth.md";

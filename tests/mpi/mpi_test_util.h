@@ -1,11 +1,16 @@
 // Helpers of the tests run under mpirun (tests/mpi/): files compared without their timing
-// columns, and a barrier the waiting ranks sleep through.
+// columns, a barrier the waiting ranks sleep through, and the one-process run of a study on rank 0.
 #pragma once
 
+#include "studies/pipeline/mpi_launch.h"
+
+#include <gtest/gtest.h>
 #include <mpi.h>
 
 #include <chrono>
+#include <exception>
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <iterator>
 #include <sstream>
@@ -20,9 +25,10 @@ inline std::string read_text(const std::filesystem::path& file) {
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
-// A timing column: its name ends in _s or _ms, or has _ms_ (penetration_ms_per_step).
+// A timing column: its name ends in _s, _ms or _seconds, or has _ms_ (penetration_ms_per_step).
 inline bool is_timing_column(const std::string& name) {
-  return name.ends_with("_s") || name.ends_with("_ms") || name.find("_ms_") != std::string::npos;
+  return name.ends_with("_s") || name.ends_with("_ms") || name.ends_with("_seconds") ||
+         name.find("_ms_") != std::string::npos;
 }
 
 // A CSV without its timing columns.
@@ -68,6 +74,27 @@ inline bool every_rank_ok(bool ok) {
   MPI_Iallreduce(&mine, &all, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD, &request);
   wait_sleeping(request);
   return all == 1;
+}
+
+// The scratch folder of a study's test in the build tree.
+inline std::filesystem::path scratch(const std::string& study) {
+  return std::filesystem::path(HIPFAI_BINARY_DIR) / "test-scratch" / study;
+}
+
+// Rank 0 clears the study's scratch folder and runs it in one process, while the others wait;
+// false on every rank when it failed (the failure is rank 0's).
+inline bool serial_run_on_rank_zero(const std::string& study, const std::function<void()>& serial) {
+  bool ok = true;
+  if (join_mpi_world().rank == 0) {
+    std::filesystem::remove_all(scratch(study));
+    try {
+      serial();
+    } catch (const std::exception& e) {
+      ADD_FAILURE() << "the one-process run: " << e.what();
+    }
+    ok = !::testing::Test::HasFailure();
+  }
+  return every_rank_ok(ok);
 }
 
 }  // namespace hipfai::studies::mpi_test

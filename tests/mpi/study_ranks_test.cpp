@@ -25,25 +25,9 @@ namespace {
 namespace fs = std::filesystem;
 
 using mpi_test::read_text;
+using mpi_test::scratch;
+using mpi_test::serial_run_on_rank_zero;
 using mpi_test::without_timings;
-
-fs::path scratch(const std::string& study) { return fs::path(HIPFAI_BINARY_DIR) / "test-scratch" / study; }
-
-// Rank 0 clears the study's folder and runs it in one process, while the others wait; false on
-// every rank when it failed (the failure is rank 0's).
-bool serial_run_on_rank_zero(const std::string& study, const std::function<void()>& serial) {
-  bool ok = true;
-  if (join_mpi_world().rank == 0) {
-    fs::remove_all(scratch(study));
-    try {
-      serial();
-    } catch (const std::exception& e) {
-      ADD_FAILURE() << "the one-process run: " << e.what();
-    }
-    ok = !::testing::Test::HasFailure();
-  }
-  return mpi_test::every_rank_ok(ok);
-}
 
 // Every file of `serial` with one of `extensions` (but those named in `skip`) is in `spread` the
 // same: CSVs without their timing columns, others byte for byte. Returns how many were compared.
