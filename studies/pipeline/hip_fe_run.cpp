@@ -112,6 +112,21 @@ HipFeRunSummary run_hip_fe(const HipFeRunOptions& options, bool throw_on_failure
   }
   summary.mesh_seconds = seconds_since(start);
 
+  if (rank == 0 && !options.csv_file.empty()) {
+    // Fail on an unwritable table before the solve (and before the results file is begun), not after it.
+    const std::filesystem::path probe = options.csv_file + ".partial";
+    if (!std::ofstream(probe)) throw_error(options.csv_file, ": cannot open for writing (--csv)");
+    std::filesystem::remove(probe);
+  }
+  if (rank == 0 && !options.vtu_prefix.empty()) {
+    // The same for the fields' folder (made when missing): deal.II's writer would stop the run
+    // after its last step with an internal error.
+    const std::filesystem::path probe = options.vtu_prefix + ".partial";
+    std::error_code ec;
+    if (probe.has_parent_path()) std::filesystem::create_directories(probe.parent_path(), ec);
+    if (ec || !std::ofstream(probe)) throw_error(options.vtu_prefix, ": cannot write the VTU files there (--vtu-prefix)");
+    std::filesystem::remove(probe);
+  }
   std::unique_ptr<fem::FemResultsWriter> writer;
   if (rank == 0) {
     writer = std::make_unique<fem::FemResultsWriter>(options.out_file, summary.bodies, fem::kFemurBody);
@@ -121,12 +136,6 @@ HipFeRunSummary run_hip_fe(const HipFeRunOptions& options, bool throw_on_failure
                   volume.min_scaled_jacobian, steps.size());
       std::fflush(stdout);
     }
-  }
-  if (rank == 0 && !options.csv_file.empty()) {
-    // Fail on an unwritable table before the solve, not after it.
-    const std::filesystem::path probe = options.csv_file + ".partial";
-    if (!std::ofstream(probe)) throw_error(options.csv_file, ": cannot open for writing (--csv)");
-    std::filesystem::remove(probe);
   }
   fem::MotionOptions motion_options;
   motion_options.moving_body = fem::kFemurBody;

@@ -60,6 +60,20 @@ if(TARGET hipfai_fem)
                   COMMAND fem run --model @TMP@ --steps 1 --out @TMP@/r.h5)
   hipfai_cli_test(NAME fem_run_bad_level EXIT nonzero STDERR "level"
                   COMMAND fem run --model @TMP@ --level medium --out @TMP@/r.h5)
+  # --vtu-prefix: a missing folder is made; one that cannot be (a file in its path) is a one-line
+  # error before the solve, not deal.II's internal error after the last step.
+  set(fem_vtu_tmp ${CMAKE_BINARY_DIR}/cli-tmp/fem_run_vtu_prefix)
+  file(MAKE_DIRECTORY ${fem_vtu_tmp})
+  add_test(NAME cli.fem_run_vtu_prefix_folders
+           COMMAND sh -c "rm -rf \"$2/new\" \"$2/bad.h5\" \"$2/ok.h5\" && \"$1\" generate --ce-deg 20 --alpha-deg 40 --edge-mm 5 --out \"$2/hip\" >/dev/null && \
+: > \"$2/a-file\" && ! \"$1\" fem run --model \"$2/hip\" --level coarse --steps 1 --out \"$2/bad.h5\" \
+--vtu-prefix \"$2/a-file/sub/f\" --vtu-every 1 >/dev/null 2>\"$2/err.txt\" && \
+grep -q 'a-file/sub/f: cannot write the VTU files there (--vtu-prefix)' \"$2/err.txt\" && \
+test \"$(wc -l < \"$2/err.txt\")\" -eq 1 && ! test -e \"$2/bad.h5\" && \
+\"$1\" fem run --model \"$2/hip\" --level coarse --steps 1 --out \"$2/ok.h5\" \
+--vtu-prefix \"$2/new/dir/f\" --vtu-every 1 >/dev/null && test -s \"$2/new/dir/f_1.vtu\""
+           sh $<TARGET_FILE:hipfai> ${fem_vtu_tmp})
+  set_tests_properties(cli.fem_run_vtu_prefix_folders PROPERTIES LABELS "cli;fem" TIMEOUT 300)
   # fem levels: option errors before any solve, and no report left behind.
   hipfai_cli_test(NAME fem_levels_one_level EXIT nonzero STDERR "at least two levels"
                   COMMAND fem levels --model @TMP@ --levels coarse --out @TMP@/levels)
