@@ -74,12 +74,11 @@ SampleFeHip sample_hip_fe_on_this_rank(std::size_t plan_index, const std::filesy
   hip.dir = dir;
   hip.plan_index = plan_index;
   penetration_of(hip, dir, motion, static_cast<int>(threads));
-  FeBatchJob job = sample_fe_job(dir, options);
-  job.run.ranks = FeRanks::kThisRank;
   FeBatchEntry done;
   try {
-    done.entry = fe_job_entry(job, options.cache_dir);
-    done.source = make_fe_entry(job, done.entry, FeEntrySolver{{}, threads}, LockWait::kBlock);
+    const FeEntryOnRank made = make_fe_entry_on_this_rank(sample_fe_job(dir, options), options.cache_dir, threads);
+    done.entry = made.entry;
+    done.source = made.source;
     done.reused = done.source != EntrySource::kMade;
   } catch (const std::exception& e) {
     done.error = e.what();  // as the batch keeps going: the hip is named with why, the others kept

@@ -52,12 +52,9 @@ void add_fe_peaks(SoftTissueTruthResult& result, const Motion& motion) {
 
 SoftTissueTruthResult run_soft_tissue_truth(const SoftTissueTruthOptions& options) {
   const auto start = SteadyClock::now();
-  if (options.fe_level) {
 #ifndef HIPFAI_WITH_FEM
-    throw_error("soft-tissue-truth: this build has no FE (HIPFAI_WITH_FEM off); use --fe-level none");
-#endif
-  }
-#ifdef HIPFAI_WITH_FEM
+  if (options.fe_level) throw_error("soft-tissue-truth: this build has no FE (HIPFAI_WITH_FEM off); use --fe-level none");
+#else
   if (options.spread == UnitSpread::kMpiRanks && join_mpi_world().size > 1) {
     SoftTissueTruthResult result = run_soft_tissue_truth_over_ranks(options);
     result.seconds = seconds_since(start);

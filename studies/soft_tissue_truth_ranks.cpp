@@ -75,14 +75,11 @@ namespace {
 // as in the one-process run, why a run failed).
 void solve_fe_here(SoftTissueTruthRow& row, const SoftTissueTruthOptions& options, const Motion& motion,
                    unsigned int threads) {
-  std::array<FeBatchJob, 2> jobs = soft_tissue_fe_jobs(row, options, motion);
+  const std::array<FeBatchJob, 2> jobs = soft_tissue_fe_jobs(row, options, motion);
   for (std::size_t k = 0; k < jobs.size(); ++k) {
-    FeBatchJob& job = jobs[k];
-    job.run.ranks = FeRanks::kThisRank;
     try {
-      const std::filesystem::path entry = fe_job_entry(job, options.cache_dir);
-      make_fe_entry(job, entry, FeEntrySolver{{}, threads}, LockWait::kBlock);
-      (k == 0 ? row.generated_fe : row.synthesised_fe) = soft_tissue_fe_peaks(entry);
+      const FeEntryOnRank made = make_fe_entry_on_this_rank(jobs[k], options.cache_dir, threads);
+      (k == 0 ? row.generated_fe : row.synthesised_fe) = soft_tissue_fe_peaks(made.entry);
     } catch (const std::exception& e) {
       row.fe_error += (row.fe_error.empty() ? "" : "; ") + std::string(e.what());
     }

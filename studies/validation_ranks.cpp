@@ -79,12 +79,11 @@ std::string run_unit(const Units& units, std::size_t unit, const Motion& motion,
   hip.alpha = alpha;
   hip.id = parametric_hip_id(ce, alpha);
   hip.dir = generated_hip_dir(ParametricHip{ce, alpha, options.edge_mm}, options.cache_dir);
-  FeBatchJob job = validation_fe_job(hip, options);
-  job.run.ranks = FeRanks::kThisRank;
   const auto start = SteadyClock::now();
+  const FeEntryOnRank made = make_fe_entry_on_this_rank(validation_fe_job(hip, options), options.cache_dir, threads);
   FeReply reply;
-  reply.entry = fe_job_entry(job, options.cache_dir);
-  reply.source = make_fe_entry(job, reply.entry, FeEntrySolver{{}, threads}, LockWait::kBlock);
+  reply.entry = made.entry;
+  reply.source = made.source;
   reply.seconds = seconds_since(start);
   return encode_fe(reply);
 }

@@ -85,6 +85,14 @@ EntrySource make_fe_entry(const FeBatchJob& job, const std::filesystem::path& en
       entry, fe_entry_is_complete, [&](AtomicDirectory& staging) { solve_into(job, staging, entry, solver); }, wait);
 }
 
+FeEntryOnRank make_fe_entry_on_this_rank(FeBatchJob job, const std::filesystem::path& cache_dir, unsigned int threads) {
+  job.run.ranks = FeRanks::kThisRank;
+  FeEntryOnRank made;
+  made.entry = fe_job_entry(job, cache_dir);
+  made.source = make_fe_entry(job, made.entry, FeEntrySolver{{}, threads}, LockWait::kBlock);
+  return made;
+}
+
 }  // namespace hipfai::studies
 
 #endif  // HIPFAI_WITH_FEM

@@ -41,6 +41,15 @@ bool fe_entry_is_complete(const std::filesystem::path& entry);
 EntrySource make_fe_entry(const FeBatchJob& job, const std::filesystem::path& entry, const FeEntrySolver& solver,
                           LockWait wait);
 
+// A run made into its entry in this process on this rank alone (FeRanks::kThisRank: a unit of a
+// study spread over MPI ranks), waiting while another job solves it: where the entry is and how it
+// came (kMade, or kFound / made by another job). Throws what make_fe_entry throws.
+struct FeEntryOnRank {
+  std::filesystem::path entry;
+  EntrySource source = EntrySource::kMade;
+};
+FeEntryOnRank make_fe_entry_on_this_rank(FeBatchJob job, const std::filesystem::path& cache_dir, unsigned int threads);
+
 }  // namespace hipfai::studies
 
 #endif  // HIPFAI_WITH_FEM
