@@ -532,12 +532,11 @@ struct Patches {
   std::vector<std::pair<std::int32_t, std::int32_t>> head_boundary, socket_boundary;
 };
 
-Patches find_patches(const SoftTissueRequest& request, const EdgeAdjacency& femur_edges, double band,
-                     SoftTissueReport& report) {
+Patches find_patches(const SoftTissueRequest& request, const EdgeAdjacency& femur_edges,
+                     const EdgeAdjacency& pelvis_edges, double band, SoftTissueReport& report) {
   const TriMesh& femur = *request.femur;
   const TriMesh& pelvis = *request.pelvis;
   const Vec3 head_centre = request.head_centre_mm;
-  const EdgeAdjacency pelvis_edges(pelvis);
   Patches patches;
   patches.head_in = triangles_of(femur, head_vertices(request, band));
   if (std::count(patches.head_in.begin(), patches.head_in.end(), 1) < 20) {
@@ -665,6 +664,80 @@ std::size_t peel_bare_rim(const TriMesh& femur, const EdgeAdjacency& adjacency, 
     patches.head_boundary = boundary_edges(femur, adjacency, in);
   }
   return peeled;
+}
+
+// The acetabular fossa taken off the lunate patch (see the header): the patch triangles with a
+// corner deeper from c than the articular sphere plus the thickest cartilage, and for each such
+// part the patch encloses, the patch inferior of the part's centre within its width, which opens
+// it to the outline towards the notch. Then the largest piece, made manifold again.
+void remove_fossa(const TriMesh& pelvis, const EdgeAdjacency& adjacency, Patches& patches, double r_art, const Vec3& c,
+                  const Acetabulum& acetabulum, const SoftTissueOptions& o, SoftTissueReport& report) {
+  std::vector<char>& in = patches.lunate_in;
+  const double deepest_cartilage = r_art + o.fossa_depth_mm;
+  std::vector<char> fossa(in.size(), 0);
+  for (std::size_t t = 0; t < in.size(); ++t) {
+    if (!in[t]) continue;
+    for (std::int32_t v : pelvis.triangles[t]) {
+      if ((pelvis.vertices[static_cast<std::size_t>(v)] - c).norm() > deepest_cartilage) fossa[t] = 1;
+    }
+    if (fossa[t]) report.fossa_area_mm2 += geometry::triangle_area(pelvis, t);
+  }
+  if (report.fossa_area_mm2 == 0.0) return;
+  const auto centroid_direction = [&](std::size_t t) {
+    const Triangle& tri = pelvis.triangles[t];
+    return ray_direction(c, (pelvis.vertices[static_cast<std::size_t>(tri[0])] + pelvis.vertices[static_cast<std::size_t>(tri[1])] +
+                             pelvis.vertices[static_cast<std::size_t>(tri[2])]) / 3.0);
+  };
+  std::vector<char> kept = in, bare(in.size(), 0);
+  for (std::size_t t = 0; t < in.size(); ++t) {
+    kept[t] = in[t] && !fossa[t];
+    bare[t] = !kept[t];
+  }
+  // The parts of the mesh off the patch: the largest is its outside; a fossa part in any other is
+  // enclosed by the patch (a hole).
+  int parts = 0;
+  const std::vector<std::int32_t> part = components(pelvis, adjacency, bare, &parts);
+  std::vector<double> part_area(static_cast<std::size_t>(parts), 0.0);
+  std::vector<Vec3> centre(static_cast<std::size_t>(parts), Vec3::Zero());
+  for (std::size_t t = 0; t < in.size(); ++t) {
+    if (part[t] < 0) continue;
+    const double area = geometry::triangle_area(pelvis, t);
+    part_area[static_cast<std::size_t>(part[t])] += area;
+    if (fossa[t]) centre[static_cast<std::size_t>(part[t])] += area * centroid_direction(t);
+  }
+  const auto outside = static_cast<int>(std::max_element(part_area.begin(), part_area.end()) - part_area.begin());
+  const Vec3 inferior = -acetabulum.clock_superior;
+  for (int g = 0; g < parts; ++g) {
+    if (g == outside || centre[static_cast<std::size_t>(g)].norm() == 0.0) continue;
+    // Seen from c: f the hole's centre, s the inferior direction along the sphere there, n across.
+    const Vec3 f = centre[static_cast<std::size_t>(g)].normalized();
+    const Vec3 s = (inferior - inferior.dot(f) * f).normalized();
+    const Vec3 n = f.cross(s);
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (std::size_t t = 0; t < in.size(); ++t) {
+      if (part[t] != g || !fossa[t]) continue;
+      for (std::int32_t v : pelvis.triangles[t]) {
+        const double across = ray_direction(c, pelvis.vertices[static_cast<std::size_t>(v)]).dot(n);
+        lo = std::min(lo, across);
+        hi = std::max(hi, across);
+      }
+    }
+    for (std::size_t t = 0; t < in.size(); ++t) {
+      if (!kept[t]) continue;
+      const Vec3 d = centroid_direction(t);
+      if (d.dot(f) > 0.0 && d.dot(s) >= 0.0 && d.dot(n) >= lo && d.dot(n) <= hi) {
+        kept[t] = 0;
+        report.fossa_opening_area_mm2 += geometry::triangle_area(pelvis, t);
+      }
+    }
+    ++report.fossa_holes_opened;
+  }
+  LayerReport cleaning;
+  in = clean_patch(pelvis, adjacency, kept, cleaning);
+  report.acetabular.holes_filled += cleaning.holes_filled;
+  report.acetabular.pinches_removed += cleaning.pinches_removed;
+  patches.socket = patch_vertices(pelvis, in);
+  patches.socket_boundary = boundary_edges(pelvis, adjacency, in);
 }
 
 // A layer's thickness and its inner and outer radius about c, per patch vertex.
@@ -916,6 +989,11 @@ void check_request(const SoftTissueRequest& request) {
   if (request.femur->empty()) throw_error(request.femur_name, ": empty mesh");
   if (request.pelvis->empty()) throw_error(request.pelvis_name, ": empty mesh");
   if (!(request.head_radius_mm > 0.0)) throw_error(request.femur_name, ": no femoral head sphere given");
+  const SoftTissueOptions& o = request.options;
+  if (!(o.fossa_depth_mm > o.min_thickness_mm)) {
+    throw_error("soft tissue: fossa_depth_mm = ", o.fossa_depth_mm, " must exceed the minimum thickness ",
+                o.min_thickness_mm, " mm");
+  }
 }
 
 }  // namespace
@@ -931,14 +1009,20 @@ SoftTissues synthesise_soft_tissues(const SoftTissueRequest& request) {
   const Vec3 c = request.joint_centre_mm.value_or(request.head_centre_mm);
   SoftTissues out;
   SoftTissueReport& report = out.report;
-  const EdgeAdjacency femur_edges(femur);
-  Patches patches = find_patches(request, femur_edges, std::max(0.5, 2.5 * request.head_fit_rms_mm), report);
+  const EdgeAdjacency femur_edges(femur), pelvis_edges(pelvis);
+  Patches patches =
+      find_patches(request, femur_edges, pelvis_edges, std::max(0.5, 2.5 * request.head_fit_rms_mm), report);
   const std::vector<double> t_f_nominal = nominal_femoral_thickness(femur, patches, c, o);
 
   const MeshQueries femur_queries(femur), pelvis_queries(pelvis);
   const double r_art = articular_radius(request, patches, pelvis_queries, t_f_nominal, c);
   report.articular_radius_mm = r_art;
   report.femoral_rim_peeled = peel_bare_rim(femur, femur_edges, patches, r_art, c, o.min_thickness_mm);
+  remove_fossa(pelvis, pelvis_edges, patches, r_art, c, *request.acetabulum, o, report);
+  if (std::count(patches.lunate_in.begin(), patches.lunate_in.end(), 1) < 20) {
+    throw_error(request.pelvis_name, ": no lunate surface left outside the acetabular fossa (bone deeper than ",
+                r_art + o.fossa_depth_mm, " mm from the joint centre)");
+  }
   const std::vector<double> head_area = vertex_areas(femur, patches.head_in, patches.head);
   const std::vector<double> socket_area = vertex_areas(pelvis, patches.lunate_in, patches.socket);
   const LayerRadii femoral =

@@ -7,8 +7,9 @@
 //             sphere whose normals face away from its centre (within 40 deg) and that lie beyond the
 //             head-neck junction (the alpha angle's clock profile, Nötzli's definition of where the
 //             head leaves its sphere, when given), or the given vertices; the
-//             lunate surface: geometry::find_lunate_surface about the head sphere (the horseshoe:
-//             the fossa and the notch are not on it). Each is made a clean manifold patch: the
+//             lunate surface: geometry::find_lunate_surface about the head sphere, which on a
+//             real bone may still reach over the fossa floor (see "fossa" below). Each is made a
+//             clean manifold patch: the
 //             triangles with three patch corners, the largest edge-connected part, holes filled
 //             (those smaller than a 3 mm disc: band noise; on the head also every hole whose bone
 //             lies below the sphere's band: dips that cartilage fills in vivo, and the fovea,
@@ -38,6 +39,19 @@
 //             than its literature maximum. The median alone is biased up by the spread of the
 //             split points about the thickest spot (on the generated hips 25.04-25.09 mm against
 //             the generator's 25.0; with the bound 25.00).
+//   fossa     the acetabular fossa taken off the lunate patch once r_art is known (r_art itself is
+//             measured on the whole patch: its rays face the dome, where the head's cartilage is
+//             thickest): every patch triangle with a corner whose bone lies deeper from c than
+//             r_art + fossa_depth_mm (the thickest cartilage the thesis' model holds, both layers'
+//             literature thicknesses: literature::kAcetabularCartilageMaxThicknessMm) goes, so the
+//             acetabular layer is nowhere thicker than that. The fossa opens inferiorly into the
+//             acetabular notch: a removed part the patch encloses (a hole) is opened to the
+//             patch's outline along the inferior direction, taking the patch triangles inferior of
+//             the part's centre within its own width (seen from c, across the inferior meridian
+//             through its centre), so the layer is one C-shaped piece with one outline, as the
+//             generator's horseshoe; the largest piece is kept. On the generated bones, which have
+//             no fossa (their socket's bone is the articular sphere plus the acetabular thickness),
+//             it takes nothing.
 //   thickness acetabular: from the lunate bone to the sphere, t_a(y) = |y - c| - r_art. Femoral:
 //             from the head to the sphere over the whole head region, t_f(x) = r_art - |x - c|,
 //             also where the ray meets no lunate surface in this pose (facing the fossa, beyond
@@ -82,7 +96,8 @@
 //             femur (the neck passing under the rim), is left out. One swept solid per run of kept sections, each with end
 //             caps (open at the notch when the bones show one; the transverse ligament is not
 //             modelled); a rim kept all round over a lunate surface without an opening (a
-//             segmentation that fills the fossa and notch, as LHDL's does) gives a closed ring.
+//             segmentation that fills the fossa and notch with bone within the fossa rule's depth)
+//             gives a closed ring; a fossa opened to the notch (LHDL's) leaves the labrum open there.
 //
 // Why not offset surfaces or Booleans: an offset of a real bone's noisy surface self-intersects
 // and needs a repair step; a Boolean of spheres (the generator's) does not follow the bone. The
@@ -107,6 +122,9 @@ struct SoftTissueOptions {
   double labrum_base_mm = literature::kLabrumBaseWidthMm;
   // Thinnest layer kept (see the header comment).
   double min_thickness_mm = literature::kSphericityToleranceMm;
+  // Bone of the lunate patch deeper than the articular sphere by more than this is the fossa and
+  // bears no cartilage (see "fossa" in the header comment).
+  double fossa_depth_mm = literature::kAcetabularCartilageMaxThicknessMm;
   double labrum_step_deg = 2.5;  // clock angle between labrum sections
 };
 
@@ -153,6 +171,12 @@ struct SoftTissueReport {
   LayerReport femoral, acetabular;
   double articular_radius_mm = 0.0;  // the common articular sphere about the joint centre
   std::size_t femoral_rim_peeled = 0;  // head-region triangles left bare at its edge ("minimum" above)
+  // The fossa taken off the lunate patch ("fossa" above): its area deeper than the rule, the area
+  // of the patch taken with it to open it towards the notch, and the number of enclosed parts so
+  // opened.
+  double fossa_area_mm2 = 0.0;
+  double fossa_opening_area_mm2 = 0.0;
+  int fossa_holes_opened = 0;
   double labrum_volume_mm3 = 0.0;
   int labrum_sections = 0;           // kept
   int labrum_sections_total = 0;     // tried (360 / labrum_step_deg)
@@ -172,8 +196,9 @@ struct SoftTissues {
 };
 
 // Throws hipfai::Error with one line for missing or empty bones, no head region ("<femur>: no
-// femoral head region on the sphere ..."), no lunate surface, a head region facing no lunate
-// surface, or no rim to carry a labrum.
+// femoral head region on the sphere ..."), no lunate surface, none left outside the fossa, a head
+// region facing no lunate surface, no rim to carry a labrum, or a fossa_depth_mm not above
+// min_thickness_mm.
 SoftTissues synthesise_soft_tissues(const SoftTissueRequest& request);
 
 }  // namespace hipfai::anatomy

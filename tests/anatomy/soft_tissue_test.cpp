@@ -156,6 +156,15 @@ TEST(SoftTissue, SynthesisedOnGeneratedBonesMatchesTheGeneratorsTissues) {
     expect_valid_solid(t.femoral_cartilage, "femoral cartilage");
     expect_valid_solid(t.acetabular_cartilage, "acetabular cartilage");
     expect_valid_solid(t.labrum, "labrum");
+    // The generated pelvis has no fossa: its socket's bone is the articular sphere plus the 2 mm
+    // acetabular thickness, shallower than the fossa rule's 4 mm, so the rule takes nothing and
+    // the layer is the whole lunate patch, one piece with one outline (Euler characteristic 2).
+    EXPECT_EQ(t.report.fossa_area_mm2, 0.0);
+    EXPECT_EQ(t.report.fossa_holes_opened, 0);
+    const geometry::MeshReport acetabular_check = geometry::check_mesh(t.acetabular_cartilage);
+    EXPECT_EQ(acetabular_check.connected_components, 1u);
+    EXPECT_EQ(static_cast<long>(acetabular_check.num_vertices) - static_cast<long>(acetabular_check.num_edges) +
+                  static_cast<long>(acetabular_check.num_triangles), 2);
 
     // Apart from each other and from the bones, except the shared bone interfaces. Tolerance: the
     // two cartilages meet along rays through vertices of different meshes, so between vertices
@@ -296,6 +305,28 @@ TEST(SoftTissue, BonesWithoutAHeadOrASocketAreOneLineErrors) {
   const std::string socket_message = message_of(no_socket);
   EXPECT_NE(socket_message.find("far.ply: no lunate surface"), std::string::npos) << socket_message;
   EXPECT_EQ(socket_message.find('\n'), std::string::npos);
+  // A fossa rule no deeper than the thinnest layer is no rule; one shallower than this socket's
+  // bone (2 mm above the articular sphere) leaves it no lunate surface.
+  const geometry::SurfaceRegion head = geometry::find_femoral_head(femur, &pelvis);
+  SoftTissueRequest whole;
+  whole.femur = &femur;
+  whole.pelvis = &pelvis;
+  whole.pelvis_name = "socket.ply";
+  whole.head_centre_mm = head.sphere.center_mm;
+  whole.joint_centre_mm = model.hjc_mm;
+  whole.head_radius_mm = head.sphere.radius_mm;
+  whole.head_fit_rms_mm = head.sphere.rms_mm;
+  whole.head_vertices = head.mesh_vertices;
+  whole.acetabulum = &acetabulum;
+  whole.options.fossa_depth_mm = 0.0;
+  const std::string rule_message = message_of(whole);
+  EXPECT_NE(rule_message.find("fossa_depth_mm = 0 must exceed the minimum thickness"), std::string::npos) << rule_message;
+  EXPECT_EQ(rule_message.find('\n'), std::string::npos);
+  whole.options.fossa_depth_mm = 1.0;
+  const std::string shallow_message = message_of(whole);
+  EXPECT_NE(shallow_message.find("socket.ply: no lunate surface left outside the acetabular fossa"), std::string::npos)
+      << shallow_message;
+  EXPECT_EQ(shallow_message.find('\n'), std::string::npos);
 }
 
 }  // namespace

@@ -16,11 +16,15 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <map>
+#include <optional>
 #include <set>
 #include <tuple>
 
@@ -47,13 +51,14 @@ std::size_t vertices_inside(const TriMesh& tissue, const TriMesh& solid, const s
   return count;
 }
 
-// The soft tissue model of the LHDL CT bones, with the request's default options.
-SoftTissueModel lhdl_model() {
+// The soft tissue model of the LHDL CT bones, with the request's default options or `options`.
+SoftTissueModel lhdl_model(const anatomy::SoftTissueOptions& options = {}) {
   const TriMesh femur = geometry::read_mesh(kLhdl + "femur_r.ply");
   const TriMesh pelvis = geometry::read_mesh(kLhdl + "pelvis_no_sacrum.ply");
   SoftTissueModelRequest request;
   request.assessment.femur = &femur;
   request.assessment.pelvis = &pelvis;
+  request.options = options;
   return build_soft_tissue_model(request);
 }
 
@@ -155,6 +160,76 @@ TEST(SoftTissueModel, TheRealBonesGiveAValidModelFolder) {
   const std::string json((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   EXPECT_NE(json.find("\"handedness\": \"right\""), std::string::npos);
   EXPECT_NE(json.find("\"measured\""), std::string::npos);
+}
+
+// The distance along the unit ray from `origin` to the mesh's nearest triangle it crosses
+// (Moller-Trumbore), or none.
+std::optional<double> ray_distance(const TriMesh& mesh, const Vec3& origin, const Vec3& direction) {
+  std::optional<double> best;
+  for (const auto& tri : mesh.triangles) {
+    const Vec3& a = mesh.vertices[static_cast<std::size_t>(tri[0])];
+    const Vec3 e1 = mesh.vertices[static_cast<std::size_t>(tri[1])] - a, e2 = mesh.vertices[static_cast<std::size_t>(tri[2])] - a;
+    const Vec3 p = direction.cross(e2);
+    const double det = e1.dot(p);
+    if (std::abs(det) < 1e-12) continue;
+    const Vec3 s = origin - a;
+    const double u = s.dot(p) / det;
+    if (u < 0.0 || u > 1.0) continue;
+    const Vec3 q = s.cross(e1);
+    const double v = direction.dot(q) / det;
+    if (v < 0.0 || u + v > 1.0) continue;
+    const double t = e2.dot(q) / det;
+    if (t > 0.0 && (!best || t < *best)) best = t;
+  }
+  return best;
+}
+
+TEST(SoftTissueModel, TheRealSocketsCartilageIsAHorseshoeOffTheFossa) {
+  // The lunate patch found on these bones reaches over the fossa floor; the bone deeper than the
+  // articular sphere plus the thickest cartilage (literature::kAcetabularCartilageMaxThicknessMm)
+  // is the fossa and stays bare, the rest one piece with one outline.
+  const SoftTissueModel result = lhdl_model();
+  const anatomy::SoftTissueReport& r = result.report;
+  anatomy::SoftTissueOptions whole_patch;  // the rule off: the whole lunate patch, fossa floor included
+  whole_patch.fossa_depth_mm = std::numeric_limits<double>::infinity();
+  const SoftTissueModel before = lhdl_model(whole_patch);
+  const anatomy::SoftTissueReport& b = before.report;
+  std::printf("LHDL acetabular: %.0f mm2 %.2f-%.2f mm (mean %.2f, %.0f mm3) without the fossa rule; %.0f mm2 %.2f-%.2f mm "
+              "(mean %.2f, %.0f mm3) with it: fossa %.0f mm2, opened towards the notch %.0f mm2 (%d holes); labrum %d "
+              "sections, %d pieces, ring %d\n",
+              b.acetabular.covered_area_mm2, b.acetabular.min_thickness_mm, b.acetabular.max_thickness_mm,
+              b.acetabular.mean_thickness_mm, b.acetabular.volume_mm3, r.acetabular.covered_area_mm2,
+              r.acetabular.min_thickness_mm, r.acetabular.max_thickness_mm, r.acetabular.mean_thickness_mm,
+              r.acetabular.volume_mm3, r.fossa_area_mm2, r.fossa_opening_area_mm2, r.fossa_holes_opened,
+              r.labrum_sections, r.labrum_pieces, r.labrum_closed_ring ? 1 : 0);
+  EXPECT_EQ(b.fossa_area_mm2, 0.0);
+  // The same articular sphere: it is measured on the whole patch.
+  EXPECT_EQ(r.articular_radius_mm, b.articular_radius_mm);
+  // Without the rule the layer runs over the fossa floor, thicker than any cartilage; with it the
+  // layer is nowhere thicker than the rule allows, and smaller by at least the fossa.
+  EXPECT_GT(b.acetabular.max_thickness_mm, literature::kAcetabularCartilageMaxThicknessMm);
+  EXPECT_LE(r.acetabular.max_thickness_mm, literature::kAcetabularCartilageMaxThicknessMm + 1e-9);
+  EXPECT_GT(r.fossa_area_mm2, 0.0);
+  EXPECT_LT(r.acetabular.covered_area_mm2, b.acetabular.covered_area_mm2 - r.fossa_area_mm2 + 1e-6);
+  EXPECT_GT(r.acetabular.covered_area_mm2, 1000.0);
+  // One piece with one outline: a closed surface of one part with Euler characteristic 2 (an
+  // extruded patch with a hole would be a torus, 0).
+  const geometry::HipModel& m = result.model;
+  const geometry::MeshReport check = geometry::check_mesh(m.tissue("acetabular_cartilage"));
+  EXPECT_TRUE(check.watertight_manifold);
+  EXPECT_EQ(check.connected_components, 1u);
+  EXPECT_EQ(static_cast<long>(check.num_vertices) - static_cast<long>(check.num_edges) +
+                static_cast<long>(check.num_triangles), 2);
+  // The deepest bone the whole patch covered (its thickest layer; the segmentation's fossa runs on
+  // deeper beyond the patch) is bare now: no acetabular cartilage on its ray from the HJC (the
+  // origin).
+  const TriMesh& whole_layer = before.model.tissue("acetabular_cartilage");
+  const std::vector<double>& thickness = whole_layer.vertex_fields.at("thickness_mm");
+  const auto thickest = static_cast<std::size_t>(std::max_element(thickness.begin(), thickness.end()) - thickness.begin());
+  const Vec3 deepest_ray = whole_layer.vertices[thickest].normalized();
+  EXPECT_NEAR(thickness[thickest], b.acetabular.max_thickness_mm, 1e-9);
+  EXPECT_TRUE(ray_distance(whole_layer, Vec3::Zero(), deepest_ray).has_value());
+  EXPECT_FALSE(ray_distance(m.tissue("acetabular_cartilage"), Vec3::Zero(), deepest_ray).has_value());
 }
 
 #ifdef HIPFAI_WITH_FEM
