@@ -1,6 +1,7 @@
 #include "geometry/hip_volume_mesh.h"
 
 #include "geometry/gmsh_runtime.h"
+#include "geometry/mesh_parts.h"
 #include "geometry/mesh_io_common.h"
 #include "geometry/mesh_io_msh.h"
 #include "geometry/planar_quad_mesh.h"
@@ -1212,8 +1213,21 @@ HipVolumeMesh build_hip_volume_mesh(const HipModel& model, const HipVolumeOption
       if (options.labrum_layers > 0) tissue_options.layers = options.labrum_layers;
     }
     const std::size_t first_hex = result.mesh.hexes.size();
-    mesh_tissue(recipe, model.tissue(recipe.name), model.hjc_mm, model.acetabular_axis.normalized(),
-                std::cos(model.socket_opening_deg * kDegToRad), model.soft_tissue, tissue_options, result.mesh);
+    // A tissue in pieces (a labrum open at the notch and over the neck) is meshed piece by piece:
+    // one shadow holds one piece.
+    const TriMesh& tissue = model.tissue(recipe.name);
+    validate_mesh(tissue, recipe.name);
+    const std::vector<TriMesh> pieces = connected_parts(tissue);
+    for (std::size_t k = 0; k < pieces.size(); ++k) {
+      TissueRecipe piece_recipe = recipe;
+      const std::string piece_name =
+          pieces.size() == 1 ? std::string(recipe.name)
+                             : std::string(recipe.name) + " (piece " + std::to_string(k + 1) + " of " +
+                                   std::to_string(pieces.size()) + ")";
+      piece_recipe.name = piece_name.c_str();
+      mesh_tissue(piece_recipe, pieces[k], model.hjc_mm, model.acetabular_axis.normalized(),
+                  std::cos(model.socket_opening_deg * kDegToRad), model.soft_tissue, tissue_options, result.mesh);
+    }
     std::size_t inverted = 0;
     double lowest = std::numeric_limits<double>::infinity();
     Vec3 where = Vec3::Zero();

@@ -31,7 +31,9 @@
 //   - an articular-side quad is tagged articular only if all four of its columns hit a face
 //     within 45 deg of radial there; quads over a side wall (fossa, labral notch) are kFree;
 //   - side faces (the columns at the shadow's boundary) are kFree, except the labrum's side
-//     faces lying in the acetabular rim plane: kLabrumBonded.
+//     faces lying in the acetabular rim plane: kLabrumBonded;
+//   - a tissue in several connected pieces (a labrum open at the notch and again where the neck
+//     passes under the rim) is meshed piece by piece, each with its own shadow.
 // Tissues synthesised on segmented bones (HipModel::soft_tissue, anatomy/soft_tissue.h) are radial
 // layers about the HJC already, but the cartilages' outlines follow the bone's triangles in a
 // zigzag: for them the outline is smoothed over one edge length before the quad mesh, and a

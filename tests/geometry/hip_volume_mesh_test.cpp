@@ -396,22 +396,26 @@ std::string case_name(const ::testing::TestParamInfo<Case>& test) {
 
 INSTANTIATE_TEST_SUITE_P(GeneratedHips, HipVolumeMeshTest, ::testing::ValuesIn(kCases), case_name);
 
-// A closed band of a spherical shell about the unit `axis` through the origin: radii
-// inner_mm..outer_mm, polar angles theta0..theta1 from the axis, n_theta x n_phi cells per face.
-// Exact volume (2/3) pi (outer^3 - inner^3) (cos theta0 - cos theta1).
-TriMesh shell_band(const Vec3& axis, double inner_mm, double outer_mm, double theta0, double theta1, int n_theta,
-                   int n_phi) {
+// A closed piece of a spherical shell about the unit `axis` through the origin: radii
+// inner_mm..outer_mm, polar angles theta0..theta1, azimuths phi0..phi1 (about axis.unitOrthogonal()),
+// n_theta x n_phi cells per face, its side walls radial from the origin (cones about the axis and,
+// unless it runs all round, half-planes through it). Exact volume
+// (1/3) (outer^3 - inner^3) (cos theta0 - cos theta1) (phi1 - phi0).
+TriMesh shell_sector(const Vec3& axis, double inner_mm, double outer_mm, double theta0, double theta1, double phi0,
+                     double phi1, int n_theta, int n_phi) {
+  const bool ring = phi1 - phi0 >= 2.0 * std::numbers::pi;
+  const int columns = ring ? n_phi : n_phi + 1;  // vertex columns of azimuth
   const Vec3 u = axis.unitOrthogonal();
   const Vec3 v = axis.cross(u);
   auto direction = [&](double theta, double phi) {
     return Vec3(std::cos(theta) * axis + std::sin(theta) * (std::cos(phi) * u + std::sin(phi) * v));
   };
   TriMesh mesh;
-  // Vertex (ring i, sector j, side k): k = 0 inner, 1 outer.
-  auto index = [&](int i, int j, int k) { return static_cast<std::int32_t>((i * n_phi + (j % n_phi)) * 2 + k); };
+  // Vertex (ring i, column j, side k): k = 0 inner, 1 outer.
+  auto index = [&](int i, int j, int k) { return static_cast<std::int32_t>((i * columns + (j % columns)) * 2 + k); };
   for (int i = 0; i <= n_theta; ++i) {
-    for (int j = 0; j < n_phi; ++j) {
-      const Vec3 d = direction(theta0 + (theta1 - theta0) * i / n_theta, 2.0 * std::numbers::pi * j / n_phi);
+    for (int j = 0; j < columns; ++j) {
+      const Vec3 d = direction(theta0 + (theta1 - theta0) * i / n_theta, phi0 + (phi1 - phi0) * j / n_phi);
       mesh.vertices.push_back(inner_mm * d);
       mesh.vertices.push_back(outer_mm * d);
     }
@@ -434,12 +438,30 @@ TriMesh shell_band(const Vec3& axis, double inner_mm, double outer_mm, double th
   }
   for (int i : {0, n_theta}) {
     for (int j = 0; j < n_phi; ++j) {
-      // The side walls face away from the band's middle: towards smaller polar angles at theta0.
-      const Vec3 towards_axis = axis - axis.dot(point(index(i, j, 0)).normalized()) * point(index(i, j, 0)).normalized();
+      // The cone walls face away from the band's middle: towards smaller polar angles at theta0.
+      const Vec3 radial = point(index(i, j, 0)).normalized();
+      const Vec3 towards_axis = axis - axis.dot(radial) * radial;
       add_quad(index(i, j, 0), index(i, j, 1), index(i, j + 1, 1), index(i, j + 1, 0), i == 0 ? towards_axis : -towards_axis);
     }
   }
+  if (ring) return mesh;
+  // The half-plane walls face away from the piece's middle azimuth.
+  const double theta_mid = 0.5 * (theta0 + theta1);
+  const Vec3 middle = 0.5 * (inner_mm + outer_mm) * direction(theta_mid, 0.5 * (phi0 + phi1));
+  for (int j : {0, n_phi}) {
+    for (int i = 0; i < n_theta; ++i) {
+      const Vec3 away = 0.5 * (point(index(i, j, 0)) + point(index(i + 1, j, 1))) - middle;
+      add_quad(index(i, j, 0), index(i, j, 1), index(i + 1, j, 1), index(i + 1, j, 0), away);
+    }
+  }
   return mesh;
+}
+
+// A closed band of a spherical shell all round the axis (see shell_sector). Exact volume
+// (2/3) pi (outer^3 - inner^3) (cos theta0 - cos theta1).
+TriMesh shell_band(const Vec3& axis, double inner_mm, double outer_mm, double theta0, double theta1, int n_theta,
+                   int n_phi) {
+  return shell_sector(axis, inner_mm, outer_mm, theta0, theta1, 0.0, 2.0 * std::numbers::pi, n_theta, n_phi);
 }
 
 // Closed-form reference: a model whose three tissues are bands of spherical shells about the
@@ -505,6 +527,68 @@ TEST(HipVolumeMeshShells, VolumesEqualTheExactShellBands) {
     const double tolerance = exact * 3.0 * diagonal * diagonal / (6.0 * band.inner * band.inner);
     EXPECT_NEAR(volumes[tag], exact, tolerance) << band.name;
     EXPECT_LT(tolerance, 0.02 * exact) << band.name << ": the bound is too loose to test anything";
+  }
+}
+
+// A tissue in two pieces (a labrum open at the notch and again over the neck: two sectors of a
+// shell band about the HJC) is meshed piece by piece: both pieces get their hexahedra, and each
+// piece's hexahedra fill it to the bound of the shell test above. One shadow for both pieces
+// would mesh one and leave the other out (half the volume).
+TEST(HipVolumeMeshShells, ATissueInTwoPiecesMeshesBothPieces) {
+  const double radius = 25.0, deg = kDegToRad;
+  const Vec3 axis = Vec3(-1.0, 0.2, 0.1).normalized();
+  HipModel model;
+  model.tissues["femoral_cartilage"] = shell_band(axis, radius - 2.0, radius, 20 * deg, 120 * deg, 30, 120);
+  model.tissues["acetabular_cartilage"] = shell_band(axis, radius, radius + 2.0, 15 * deg, 85 * deg, 21, 120);
+  struct Sector {
+    double phi0, phi1;
+  };
+  const std::array<Sector, 2> sectors{{{10 * deg, 150 * deg}, {200 * deg, 330 * deg}}};
+  const double inner = radius, outer = radius + 4.0, theta0 = 80 * deg, theta1 = 95 * deg;
+  const TriMesh first = shell_sector(axis, inner, outer, theta0, theta1, sectors[0].phi0, sectors[0].phi1, 5, 41);
+  const TriMesh second = shell_sector(axis, inner, outer, theta0, theta1, sectors[1].phi0, sectors[1].phi1, 5, 38);
+  ASSERT_GT(signed_volume(first), 0.0);
+  ASSERT_GT(signed_volume(second), 0.0);
+  model.tissues["labrum"] = merge_meshes({&first, &second});
+  model.acetabular_axis = -axis;
+  HipVolumeOptions options;
+  options.edge_mm = 1.5;
+  const HipVolumeMesh result = build_hip_volume_mesh(model, options);
+  const HexMesh& mesh = result.mesh;
+  EXPECT_GT(result.min_scaled_jacobian, 0.3);
+  // Each labrum hexahedron by the sector its centroid's azimuth lies in.
+  const Vec3 u = axis.unitOrthogonal(), v = axis.cross(u);
+  std::array<double, 2> volume{0.0, 0.0}, longest{0.0, 0.0};
+  std::size_t outside = 0;
+  for (std::size_t h = 0; h < mesh.hexes.size(); ++h) {
+    if (mesh.hex_tags[h] != VolumeTag::kLabrum) continue;
+    Vec3 centroid = Vec3::Zero();
+    for (auto n : mesh.hexes[h]) centroid += at(mesh, n) / 8.0;
+    double phi = std::atan2(centroid.dot(v), centroid.dot(u));
+    if (phi < 0.0) phi += 2.0 * std::numbers::pi;
+    std::size_t k = 2;
+    for (std::size_t s = 0; s < 2; ++s) {
+      if (phi > sectors[s].phi0 && phi < sectors[s].phi1) k = s;
+    }
+    if (k == 2) {
+      ++outside;
+      continue;
+    }
+    volume[k] += hex_volume(mesh, mesh.hexes[h]);
+    const auto& x = mesh.hexes[h];
+    for (auto [a, b] : {std::pair{0, 2}, std::pair{1, 3}}) {
+      longest[k] = std::max(longest[k], (at(mesh, x[static_cast<std::size_t>(a)]) - at(mesh, x[static_cast<std::size_t>(b)])).norm());
+    }
+  }
+  EXPECT_EQ(outside, 0u) << "labrum hexahedra outside both pieces";
+  for (std::size_t k = 0; k < 2; ++k) {
+    SCOPED_TRACE(k == 0 ? "first piece" : "second piece");
+    const double exact = (std::pow(outer, 3) - std::pow(inner, 3)) / 3.0 * (std::cos(theta0) - std::cos(theta1)) *
+                         (sectors[k].phi1 - sectors[k].phi0);
+    const double diagonal = longest[k] * inner / outer;
+    const double tolerance = exact * 3.0 * diagonal * diagonal / (6.0 * inner * inner);
+    EXPECT_NEAR(volume[k], exact, tolerance);
+    EXPECT_LT(tolerance, 0.02 * exact) << "the bound is too loose to test anything";
   }
 }
 
