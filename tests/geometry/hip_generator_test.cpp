@@ -7,6 +7,7 @@
 #include "geometry/hip_generator.h"
 #include "geometry/hip_model.h"
 #include "geometry/mesh_check.h"
+#include "geometry/mesh_parts.h"
 #include "tests/geometry/mesh_inside.h"
 #include "tests/geometry/study_hips.h"
 
@@ -155,6 +156,24 @@ TEST(HipGenerator, LabrumIsSevenMillimetresHigh) {
         << "ce " << ce;
     // Its inner face continues the articular sphere: no labrum vertex inside 25 mm.
     for (const Vec3& p : model.tissue("labrum").vertices) EXPECT_GE((p - model.hjc_mm).norm(), 25.0 - 1e-6);
+  }
+}
+
+// Hips whose neck sector ends just short of the notch (sampled CE 27-28 deg): the generator left a
+// 2-14 mm^3 sliver of labrum between the two cuts, which the FE volume mesher inverted once it
+// meshed every piece. The labrum is one piece now, and whatever piece it keeps holds at least one
+// base width of its section along the rim. A grid hip's labrum is one piece as before.
+TEST(HipGenerator, NoLabrumSliverBetweenTheNeckSectorAndTheNotch) {
+  const double least_mm3 = literature::kLabrumBaseWidthMm * 0.5 * literature::kLabrumBaseWidthMm * literature::kLabrumHeightMm;
+  struct Sampled {
+    double ce, alpha;
+  };
+  for (const Sampled& h : {Sampled{28.022534418851137, 73.78243003040552}, Sampled{27.319409418851137, 43.15743003040552},
+                           Sampled{40.0, 80.0}}) {
+    SCOPED_TRACE(::testing::Message() << "CE " << h.ce << " alpha " << h.alpha);
+    const std::vector<TriMesh> pieces = connected_parts(hip(h.ce, h.alpha, 2.0).tissue("labrum"));
+    EXPECT_EQ(pieces.size(), 1u);
+    for (const TriMesh& piece : pieces) EXPECT_GE(signed_volume(piece), least_mm3);
   }
 }
 
