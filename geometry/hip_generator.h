@@ -20,7 +20,9 @@
 //   labrum               triangle (R, 0), (R + base, 0), tip on the R sphere at labrum_height along
 //                        a, revolved about a; interrupted at the inferior notch and kept
 //                        labrum_neck_clearance_mm outside the neck cylinder (shallow sockets
-//                        bring the posteroinferior rim over the neck in the neutral pose).
+//                        bring the posteroinferior rim over the neck in the neutral pose); a
+//                        sliver the two cuts leave between them (less than one base width of the
+//                        section along the rim) is removed.
 // Each tissue is meshed on its own (surfaces are not shared between tissues), so each is a
 // closed manifold surface; triangles are re-oriented outward.
 // Coincidences the B-rep cannot carry are kept out of every (CE, alpha) of the range: a circle of
