@@ -1118,8 +1118,7 @@ void mesh_tissue(const TissueRecipe& recipe, const TriMesh& tissue, const Vec3& 
   // caps): meshed as a generated one, only its bonded side found otherwise (SideFaceTagger).
   const bool synthesised = source == SoftTissueSource::kSynthesised;
   const bool zigzag_outline = synthesised && recipe.volume != VolumeTag::kLabrum;
-  const std::string name = recipe.name;
-  validate_mesh(tissue, name);
+  const std::string name = recipe.name;  // the tissue validated by the caller
 
   const RimCone rim_cone{rim_axis, rim_cos};
   const std::vector<bool> rim_face = rim_cone_faces(tissue, hjc, rim_cone);
