@@ -1,6 +1,8 @@
 # hipfai bench collision: a --quick run writes the report, CSV and plots; bad options fail with one line.
 hipfai_cli_test(NAME bench_collision_quick EXIT 0
                 COMMAND bench collision --quick --out @TMP@/bench)
+# A benchmark run (40 s on 2 cores): "long", run with scripts/test --long.
+set_tests_properties(cli.bench_collision_quick PROPERTIES LABELS "cli;long")
 hipfai_cli_test(NAME bench_collision_bad_threads EXIT nonzero STDERR "threads"
                 COMMAND bench collision --quick --threads 9 --out @TMP@/bench)
 # hipfai bench radial: the quick probe on the smallest scenario (prints its table; no files), and

@@ -48,7 +48,7 @@ Table read_table(const fs::path& file) {
   return table;
 }
 
-// One sample with its FE (12 hips, coarse, 6 steps) serves the three checks below, run in one
+// One sample with its FE (12 hips, coarse, 3 steps) serves the three checks below, run in one
 // test so that ctest's one-process-per-test does not make it three times.
 struct SampleWithFe {
   fs::path root_;
@@ -71,7 +71,7 @@ struct SampleWithFe {
     fe_.sample_dir = root_ / "sample";
     fe_.cache_dir = root_ / "cache";
     fe_.level = FeLevel::kCoarse;
-    fe_.steps = 6;
+    fe_.steps = 3;
     fe_.progress = false;
     truth_ = run_sample_fe(plan_, fe_);
     write_sample_fe_tables(plan_, truth_, fe_.level, root_ / "sample");

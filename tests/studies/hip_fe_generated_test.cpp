@@ -8,6 +8,11 @@
 // where late in the motion acetabular nodes touch both the femoral cartilage and, past its edge,
 // the bone (two contact constraints on one node once made the constraint closure run out of
 // memory at step 25).
+//
+// Here, not in tests/fem, because the motion and its load are the studies' (studies/pipeline/
+// motion.h): the FE module's own test program links the FE library alone.
+#ifdef HIPFAI_WITH_FEM
+
 #include "core/literature.h"
 #include "fem/contact_problem.h"
 #include "fem/hip_fe_model.h"
@@ -284,3 +289,5 @@ INSTANTIATE_TEST_SUITE_P(StudyGrid, HipFeGenerated, ::testing::Values(Hip{40.0, 
 
 }  // namespace
 }  // namespace hipfai::fem
+
+#endif  // HIPFAI_WITH_FEM
