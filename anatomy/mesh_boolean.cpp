@@ -21,8 +21,8 @@ namespace hipfai::anatomy {
 namespace {
 
 namespace PMP = CGAL::Polygon_mesh_processing;
-using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
-using Point = Kernel::Point_3;
+using EpickKernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point = EpickKernel::Point_3;
 using SurfaceMesh = CGAL::Surface_mesh<Point>;
 
 // A manifold TriMesh as a Surface_mesh; vertices no triangle uses are left out.

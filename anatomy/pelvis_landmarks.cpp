@@ -24,7 +24,7 @@ namespace {
 
 using geometry::Vec3;
 using Kernel = CGAL::Simple_cartesian<double>;
-using Tree = CGAL::Orthogonal_k_neighbor_search<CGAL::Search_traits_3<Kernel>>::Tree;
+using PointTree = CGAL::Orthogonal_k_neighbor_search<CGAL::Search_traits_3<Kernel>>::Tree;
 using Search = CGAL::Orthogonal_k_neighbor_search<CGAL::Search_traits_3<Kernel>>;
 
 // Vertices sampled for the symmetry test: enough for a mean distance good to a fraction of a mm.
@@ -48,7 +48,7 @@ Principal principal_axes(const geometry::TriMesh& mesh) {
 
 // Mean distance from the sampled vertices, mirrored through the plane (centroid, normal), to the
 // nearest vertex of the mesh.
-double mirror_residual(const geometry::TriMesh& mesh, const Tree& tree, const Vec3& centroid,
+double mirror_residual(const geometry::TriMesh& mesh, const PointTree& tree, const Vec3& centroid,
                        const Vec3& normal) {
   const std::size_t stride = std::max<std::size_t>(1, mesh.num_vertices() / kSymmetrySamples);
   double sum = 0.0;
@@ -129,7 +129,7 @@ Symmetry symmetry_plane(const geometry::TriMesh& mesh, const Principal& principa
   std::vector<Kernel::Point_3> points;
   points.reserve(mesh.num_vertices());
   for (const Vec3& v : mesh.vertices) points.emplace_back(v.x(), v.y(), v.z());
-  const Tree tree(points.begin(), points.end());
+  const PointTree tree(points.begin(), points.end());
   std::array<double, 3> residual{};
   int ml = 0;
   for (int k = 0; k < 3; ++k) {

@@ -33,7 +33,7 @@ using Kernel = CGAL::Simple_cartesian<double>;
 using CgalTriangle = Kernel::Triangle_3;
 using TriangleIterator = std::vector<CgalTriangle>::const_iterator;
 using Primitive = CGAL::AABB_triangle_primitive<Kernel, TriangleIterator>;
-using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+using TriangleTree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
 
 Kernel::Point_3 to_point(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
 
@@ -99,7 +99,7 @@ class MeshQueries {
   const Vec3& vertex(std::int32_t i) const { return mesh_.vertices[static_cast<std::size_t>(i)]; }
   const TriMesh& mesh_;
   std::vector<CgalTriangle> triangles_;
-  Tree tree_;
+  TriangleTree tree_;
 };
 
 std::uint64_t edge_key(std::int32_t a, std::int32_t b) {

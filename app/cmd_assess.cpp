@@ -101,7 +101,7 @@ void run(const AssessArgs& args) {
   }
 }
 
-const CommandRegistrar registrar("assess", [](CLI::App& parent) {
+const CommandRegistrar assess_registrar("assess", [](CLI::App& parent) {
   auto* command = parent.add_subcommand(
       "assess", "Patient-specific FAI assessment of a femur and pelvis: frames from the bones, CE, alpha and "
                 "the other radiographic measures in 3D, clinical motions to bony impingement, virtual resection");

@@ -45,7 +45,7 @@ void fail_on_mismatch(const std::vector<std::string>& mismatched, const std::str
   throw_error(list, " ", what);
 }
 
-const CommandRegistrar registrar("bench", [](CLI::App& parent) {
+const CommandRegistrar bench_registrar("bench", [](CLI::App& parent) {
   auto* bench = parent.add_subcommand("bench", "Benchmarks (collision: the thesis' methods against real peers)");
   bench->require_subcommand(1);
   auto* collision = bench->add_subcommand(

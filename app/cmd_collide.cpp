@@ -102,7 +102,7 @@ void run(const CollideArgs& args) {
             << ", max depth " << std::setprecision(6) << result.max_depth_mm() << " mm\n";
 }
 
-const CommandRegistrar registrar("collide", [](CLI::App& parent) {
+const CommandRegistrar collide_registrar("collide", [](CLI::App& parent) {
   auto* command = parent.add_subcommand(
       "collide", "Penetrating vertices and depths of a mobile mesh rotated about an axis");
   auto args = std::make_shared<CollideArgs>();

@@ -235,7 +235,7 @@ void print_validation(const studies::EstimatorValidateSummary& summary, int max_
   std::cout << "thesis: case 1 5.14 (interior 1.62); report: " << summary.report.string() << '\n';
 }
 
-void add_validate_command(CLI::App* estimator) {
+void add_estimator_validate_command(CLI::App* estimator) {
   auto* validate = estimator->add_subcommand(
       "validate", "Leave-one-out over all hips, e' = 1..10, cases 1-2 (thesis Tables 12-13, Figs. 72-74) with "
                   "baselines; writes loo.csv, estimates.csv, report.md, model.h5");
@@ -469,13 +469,13 @@ void add_refine_command(CLI::App* estimator) {
   });
 }
 
-const CommandRegistrar registrar("estimator", [](CLI::App& parent) {
+const CommandRegistrar estimator_registrar("estimator", [](CLI::App& parent) {
   auto* estimator = parent.add_subcommand(
       "estimator", "Contact-pressure estimator of thesis §4.5 (PCA nearest neighbour): train, predict, validate, sample, refine");
   estimator->require_subcommand(1);
   add_train_command(estimator);
   add_predict_command(estimator);
-  add_validate_command(estimator);
+  add_estimator_validate_command(estimator);
   add_sample_command(estimator);
   add_refine_command(estimator);
   add_holdout_command(estimator);

@@ -326,7 +326,7 @@ void add_levels_command(CLI::App* fem_command) {
   });
 }
 
-const CommandRegistrar registrar{"fem", [](CLI::App& parent) {
+const CommandRegistrar fem_registrar{"fem", [](CLI::App& parent) {
   auto* fem_command = parent.add_subcommand("fem", "Finite-element contact model (deal.II/PETSc)");
   fem_command->require_subcommand(1);
   add_verify_command(fem_command);

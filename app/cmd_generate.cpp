@@ -162,7 +162,7 @@ void run(const GenerateOptions& options) {
   print_table(rows, options.volume);
 }
 
-const CommandRegistrar registrar("generate", [](CLI::App& parent) {
+const CommandRegistrar generate_registrar("generate", [](CLI::App& parent) {
   auto options = std::make_shared<GenerateOptions>();
   CLI::App* command = parent.add_subcommand(
       "generate",

@@ -61,7 +61,7 @@ void run(const HjcArgs& args) {
   }
 }
 
-const CommandRegistrar registrar("hjc", [](CLI::App& parent) {
+const CommandRegistrar hjc_registrar("hjc", [](CLI::App& parent) {
   auto* command = parent.add_subcommand(
       "hjc", "Hip joint centre by five methods (thesis §4.4.2.2): femoralheadsphere, acetabulumsphere, "
              "doublesphere, dconst, dref");

@@ -114,7 +114,7 @@ void run_mesh_info(const MeshInfoOptions& options) {
   }
 }
 
-const CommandRegistrar registrar{"mesh-info", [](CLI::App& parent) {
+const CommandRegistrar mesh_info_registrar{"mesh-info", [](CLI::App& parent) {
   auto options = std::make_shared<MeshInfoOptions>();
   CLI::App* command = parent.add_subcommand(
       "mesh-info",

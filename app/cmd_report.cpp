@@ -11,7 +11,7 @@
 namespace hipfai::app {
 namespace {
 
-const CommandRegistrar registrar("report", [](CLI::App& parent) {
+const CommandRegistrar report_registrar("report", [](CLI::App& parent) {
   auto* report = parent.add_subcommand("report", "Re-make a study's report from its stored results");
   report->require_subcommand(1);
   auto* correlation = report->add_subcommand(

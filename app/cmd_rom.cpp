@@ -186,7 +186,7 @@ void run(const RomArgs& args) {
   if (!args.csv.empty()) write_csv(args.csv, rows);
 }
 
-const CommandRegistrar registrar("rom", [](CLI::App& parent) {
+const CommandRegistrar rom_registrar("rom", [](CLI::App& parent) {
   auto* command = parent.add_subcommand(
       "rom", "Exact range of motion (both directions) of a mobile mesh about an axis, in one pass");
   auto args = std::make_shared<RomArgs>();

@@ -9,7 +9,7 @@
 namespace hipfai::app {
 namespace {
 
-const CommandRegistrar registrar("run", [](CLI::App& parent) {
+const CommandRegistrar run_registrar("run", [](CLI::App& parent) {
   auto* command = parent.add_subcommand(
       "run", "Run a scene file: only the stages its outputs need (see meshes/scenes/)");
   struct Args {

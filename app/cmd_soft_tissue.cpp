@@ -32,7 +32,7 @@ void run(const SoftTissueArgs& args) {
   std::printf("%.2f s; written to %s (model.json, soft_tissue.md)\n", result.total_seconds, args.out.c_str());
 }
 
-const CommandRegistrar registrar("soft-tissue", [](CLI::App& parent) {
+const CommandRegistrar soft_tissue_registrar("soft-tissue", [](CLI::App& parent) {
   auto* command = parent.add_subcommand(
       "soft-tissue", "Cartilage and labrum synthesised on a segmented femur and pelvis, written as a hip model "
                      "folder (model.json and the five tissues, hip frame) for run, collide and the other commands");

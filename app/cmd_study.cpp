@@ -130,7 +130,7 @@ void add_fai_command(CLI::App* study) {
   });
 }
 
-void add_validate_command(CLI::App* study) {
+void add_study_validate_command(CLI::App* study) {
   auto* validate = study->add_subcommand(
       "validate", "FAI validation: penetration depths vs the FE ground truth on 25 hips over standing to sitting "
                   "(thesis Tables 8-9); writes steps.csv, timings.csv, correlation.csv and report.md");
@@ -204,11 +204,11 @@ void add_sensitivity_command(CLI::App* study) {
   });
 }
 
-const CommandRegistrar registrar("study", [](CLI::App& parent) {
+const CommandRegistrar study_registrar("study", [](CLI::App& parent) {
   auto* study = parent.add_subcommand("study", "Run a study: fai (thesis §4.3), validate (penetration vs FE, Tables 8-9), sensitivity (hip geometry)");
   study->require_subcommand(1);
   add_fai_command(study);
-  add_validate_command(study);
+  add_study_validate_command(study);
   add_sensitivity_command(study);
 });
 

@@ -17,7 +17,7 @@
 namespace hipfai::app {
 namespace {
 
-const CommandRegistrar registrar("study.assess", [](CLI::App& parent) {
+const CommandRegistrar study_assess_registrar("study.assess", [](CLI::App& parent) {
   CLI::App* study = parent.get_subcommand("study");
   auto* truth = study->add_subcommand(
       "assess-truth", "The assessment (hipfai assess) against known truth: the 25 generated hips from their bones "

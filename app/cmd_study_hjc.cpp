@@ -35,7 +35,7 @@ void print_report(const std::filesystem::path& report, double seconds) {
   std::cout << "report: " << report.string() << " (" << std::fixed << std::setprecision(1) << seconds << " s)\n";
 }
 
-const CommandRegistrar registrar("study.hjc", [](CLI::App& parent) {
+const CommandRegistrar study_hjc_registrar("study.hjc", [](CLI::App& parent) {
   CLI::App* study = parent.get_subcommand("study");
 
   auto* cohort = study->add_subcommand(

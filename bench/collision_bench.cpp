@@ -22,6 +22,7 @@
 #include "contact/range_finder.h"
 #include "contact/ray_sampling.h"
 #include "core/error.h"
+#include "core/numbers.h"
 #include "core/parallel.h"
 
 #include <algorithm>
@@ -43,7 +44,7 @@ namespace {
 
 using Eigen::Vector3d;
 using geometry::TriMesh;
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+using hipfai::kNaN;
 
 // ------------------------------------------------------------------ configuration
 
@@ -71,7 +72,6 @@ struct Reference {
   std::size_t num_checked = 0;
   double ms = 0.0;                       // wall time of the oracle run (2 threads)
 };
-
 
 Exactness compare(const Reference& reference, const std::vector<std::int32_t>& vertices,
                   const std::vector<double>* depths) {
@@ -165,8 +165,6 @@ Reference make_reference(const Scenario& s, const TriMesh& posed, const std::vec
 }
 
 // ------------------------------------------------------------------ result rows
-
-
 
 class Bench {
  public:
@@ -747,8 +745,6 @@ void Bench::fill_ratios() {
     }
   }
 }
-
-
 
 CollisionBenchReport Bench::run() {
   const auto start = std::chrono::steady_clock::now();

@@ -2,6 +2,7 @@
 
 #include "bench/bench_format.h"
 #include "core/atomic_file.h"
+#include "core/numbers.h"
 #include "core/version.h"
 #include "studies/reports/svg_plot.h"
 
@@ -17,7 +18,7 @@ namespace hipfai::bench {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+using hipfai::kNaN;
 
 double fit_exponent(const std::vector<std::pair<double, double>>& points) {
   std::vector<std::pair<double, double>> logs;

@@ -1,6 +1,7 @@
 #include "bench/collision_bench_targets.h"
 
 #include "bench/bench_format.h"
+#include "core/numbers.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,7 +12,7 @@ namespace hipfai::bench {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+using hipfai::kNaN;
 
 // The targets of the collision benchmark measured on its rows (collision_bench_targets.h).
 class Targets {

@@ -2,6 +2,7 @@
 
 #include "contact/arc_triangle.h"
 #include "core/error.h"
+#include "core/numbers.h"
 
 #include <algorithm>
 #include <cmath>
@@ -10,8 +11,8 @@
 namespace hipfai::contact {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
+using hipfai::kPi;
+using hipfai::kTwoPi;
 
 std::size_t bins_of_level(int levels, int level) { return std::size_t{1} << (levels - 1 - level); }
 

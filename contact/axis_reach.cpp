@@ -7,7 +7,7 @@
 namespace hipfai::contact {
 namespace {
 
-constexpr double kRelativePad = 1e-9;
+constexpr double kReachPad = 1e-9;
 
 // A body in the axis frame: each vertex's (r, z) and each triangle's (r, z) box.
 struct Body {
@@ -147,7 +147,7 @@ AxisReach reach_about_axis(const geometry::TriMesh& fixed, const geometry::TriMe
   }
   AxisReach reach;
   if (!(z_lo <= z_hi)) return reach;  // no vertex at all
-  const double pad = kRelativePad * std::max({1.0, r_hi, std::abs(z_lo), std::abs(z_hi)});
+  const double pad = kReachPad * std::max({1.0, r_hi, std::abs(z_lo), std::abs(z_hi)});
   // The grid spans every widened box: r from 0 (no point is nearer the axis), z over all vertices.
   const double r0 = -2.0 * pad, z0 = z_lo - 2.0 * pad;
   const double r_extent = r_hi + 4.0 * pad, z_extent = z_hi - z_lo + 4.0 * pad;

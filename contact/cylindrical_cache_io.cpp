@@ -56,9 +56,9 @@ class Writer {
 
 // Bounds-checked little-endian reads: after any failed read ok() is false and every further read
 // returns zeros, so parsing code can check once per block instead of after every field.
-class Reader {
+class CacheReader {
  public:
-  explicit Reader(std::span<const std::byte> bytes) : bytes_(bytes) {}
+  explicit CacheReader(std::span<const std::byte> bytes) : bytes_(bytes) {}
 
   bool ok() const { return ok_; }
   void fail() { ok_ = false; }
@@ -175,7 +175,7 @@ std::optional<std::vector<std::byte>> read_payload(const std::array<char, 4>& ki
   if (!in) return std::nullopt;
   std::array<std::byte, kHeaderBytes> header_bytes{};
   if (!in.read(reinterpret_cast<char*>(header_bytes.data()), kHeaderBytes)) return std::nullopt;
-  Reader header(header_bytes);
+  CacheReader header(header_bytes);
   if (!header.tag_is(kMagic) || !header.tag_is(kind)) return std::nullopt;
   if (header.u32() != kCylindricalCacheVersion) return std::nullopt;
   const std::uint64_t payload_bytes = header.u64();
@@ -252,7 +252,7 @@ class CylindricalCacheAccess {
     for (std::int32_t t : table.overflow_) out.i32(t);
   }
 
-  static std::optional<CylindricalTable> read_table(Reader& in) {
+  static std::optional<CylindricalTable> read_table(CacheReader& in) {
     CylindricalTable table;
     if (!read_grid(in, table)) return std::nullopt;
     const std::size_t num_vertices = in.count(3 * 8);
@@ -271,7 +271,7 @@ class CylindricalCacheAccess {
   }
 
   // Status, frame and grid; false when any is unreadable or meaningless.
-  static bool read_grid(Reader& in, CylindricalTable& table) {
+  static bool read_grid(CacheReader& in, CylindricalTable& table) {
     const std::optional<QueryStatus> status = decode_status(in.u8());
     if (!status) return false;
     table.status_ = *status;
@@ -295,7 +295,7 @@ class CylindricalCacheAccess {
   }
 
   // Triangles: vertex indices, normal and cell range each.
-  static bool read_triangles(Reader& in, std::size_t num_vertices, CylindricalTable& table) {
+  static bool read_triangles(CacheReader& in, std::size_t num_vertices, CylindricalTable& table) {
     const std::size_t num_triangles = in.count(3 * 4 + 3 * 8 + 4 * 4 + 1);
     if (!in.ok() || num_triangles > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max())) {
       return false;
@@ -330,7 +330,7 @@ class CylindricalCacheAccess {
   // The cells' triangle lists. Each triangle must sit exactly in the cells of its range, once per
   // cell: then a query (and a later update_triangles, which unbins by range) sees the same table
   // as the saved one.
-  static bool read_cells(Reader& in, CylindricalTable& table) {
+  static bool read_cells(CacheReader& in, CylindricalTable& table) {
     const std::size_t num_triangles = table.triangles_.size();
     // num_r and num_z fit in 31 bits each, so the product cannot overflow.
     const std::size_t num_cells = in.count(4);
@@ -372,7 +372,7 @@ class CylindricalCacheAccess {
   }
 
   // The overflow list: exactly the triangles whose range says they overflow, each once.
-  static bool read_overflow(Reader& in, CylindricalTable& table) {
+  static bool read_overflow(CacheReader& in, CylindricalTable& table) {
     const std::size_t num_triangles = table.triangles_.size();
     const std::size_t num_overflow = in.count(4);
     table.overflow_.resize(num_overflow);
@@ -413,7 +413,7 @@ class CylindricalCacheAccess {
     }
   }
 
-  static std::optional<CylindricalPoseCache> read_pose_cache(Reader& in) {
+  static std::optional<CylindricalPoseCache> read_pose_cache(CacheReader& in) {
     CylindricalPoseCache cache;
     const std::optional<QueryStatus> status = decode_status(in.u8());
     if (!status) return std::nullopt;
@@ -486,7 +486,7 @@ void save_cylindrical_table(const CylindricalTable& table, const std::filesystem
 std::optional<CylindricalTable> load_cylindrical_table(const std::filesystem::path& path) {
   const std::optional<std::vector<std::byte>> payload = read_payload(kTableKind, path);
   if (!payload) return std::nullopt;
-  Reader in(*payload);
+  CacheReader in(*payload);
   std::optional<CylindricalTable> table = detail::CylindricalCacheAccess::read_table(in);
   // Trailing bytes mean the file is not what this version writes.
   if (!table || !in.ok() || in.remaining() != 0) return std::nullopt;
@@ -502,7 +502,7 @@ void save_pose_cache(const CylindricalPoseCache& cache, const std::filesystem::p
 std::optional<CylindricalPoseCache> load_pose_cache(const std::filesystem::path& path) {
   const std::optional<std::vector<std::byte>> payload = read_payload(kPoseCacheKind, path);
   if (!payload) return std::nullopt;
-  Reader in(*payload);
+  CacheReader in(*payload);
   std::optional<CylindricalPoseCache> cache = detail::CylindricalCacheAccess::read_pose_cache(in);
   if (!cache || !in.ok() || in.remaining() != 0) return std::nullopt;
   return cache;

@@ -1,6 +1,7 @@
 // hipfai — the outside regions of the ring table (CylindricalTable::outside_every_shell).
 #include "contact/cylindrical_table.h"
 
+#include "core/numbers.h"
 #include "geometry/mesh_check.h"
 
 #include <algorithm>
@@ -10,7 +11,7 @@
 namespace hipfai::contact {
 namespace {
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
+using hipfai::kTwoPi;
 // A crossing whose tangent meets the triangle's plane at less than this (|sin| of the angle
 // between the circle and the plane) does not settle a side: the circle may only graze there.
 constexpr double kTransversal = 1e-6;

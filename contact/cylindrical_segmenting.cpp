@@ -2,6 +2,7 @@
 
 #include "contact/detail/ablation.h"
 
+#include "core/numbers.h"
 #include "core/parallel.h"
 
 #include <algorithm>
@@ -13,7 +14,7 @@
 namespace hipfai::contact {
 namespace {
 
-constexpr double kDegPerRad = 180.0 / std::numbers::pi;
+using hipfai::kDegPerRad;
 // Candidate arcs are widened by this on both sides: far more than the rounding of a pose angle
 // (|theta0 + angle| up to kIndexedAngleLimitRad: ~1e-13 rad), far less than any real arc.
 constexpr double kArcMarginRad = 1e-12;

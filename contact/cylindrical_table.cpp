@@ -16,7 +16,7 @@ namespace {
 
 // Relative widening of every bound: rounding in r_min / r / cell arithmetic is ~1e-16 relative,
 // so 1e-9 of the table's extent is far above it and far below any mesh feature.
-constexpr double kRelativePad = 1e-9;
+constexpr double kTablePad = 1e-9;
 
 bool all_finite(const geometry::TriMesh& mesh) {
   for (const Vec3& p : mesh.vertices) {
@@ -163,7 +163,7 @@ CylindricalTable::RingExtent CylindricalTable::measure_fixed() {
     l_max = std::max({l_max, a.norm(), b.norm(), c.norm()});
   }
   const double scale = std::max({1.0, extent.r_hi, std::abs(extent.z_lo), std::abs(extent.z_hi)});
-  pad_ = kRelativePad * scale;
+  pad_ = kTablePad * scale;
   l_min_ = l_min - pad_;
   l_max_ = l_max + pad_;
   return extent;

@@ -1,4 +1,5 @@
 #include "contact/oracle_cylindrical.h"
+#include "core/numbers.h"
 
 #include <cmath>
 #include <numbers>
@@ -7,8 +8,8 @@
 namespace hipfai::contact {
 namespace {
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
-constexpr double kDegPerRad = 180.0 / std::numbers::pi;
+using hipfai::kTwoPi;
+using hipfai::kDegPerRad;
 
 Vec3 local_unit_normal(const Vec3& a, const Vec3& b, const Vec3& c) {
   const Vec3 n = (b - a).cross(c - a);

@@ -1,6 +1,7 @@
 #include "contact/radial_mapping.h"
 
 #include "core/error.h"
+#include "core/numbers.h"
 
 #include <algorithm>
 #include <array>
@@ -11,7 +12,7 @@ namespace hipfai::contact {
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using hipfai::kPi;
 // Margin added to every coordinate extent (rad, or unitless for x/R): far above the ~1e-15
 // rounding of map_direction and of the watertight ray test, far below any useful cell width.
 constexpr double kMargin = 1e-8;

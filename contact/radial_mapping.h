@@ -29,6 +29,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -38,6 +39,10 @@ namespace hipfai::contact {
 using Vec3 = Eigen::Vector3d;
 
 enum class RadialMapping { kSpherical, kCartesian, kCube };
+
+// Every mapping, in declaration order.
+inline constexpr std::array<RadialMapping, 3> kRadialMappings = {RadialMapping::kSpherical, RadialMapping::kCartesian,
+                                                                RadialMapping::kCube};
 
 const char* to_string(RadialMapping mapping);
 

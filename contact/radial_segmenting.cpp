@@ -26,10 +26,6 @@ struct Adjacent {
   std::int32_t triangle = -1;
 };
 
-double max_abs(const Vec3& v) {
-  return std::max({std::abs(v.x()), std::abs(v.y()), std::abs(v.z())});
-}
-
 // Floating-point pre-filter of ray_triangle_crossing for the common case: most candidates of a
 // cell miss the ray, and two of the edge functions e = d . (p x q) then have opposite signs. Each
 // is evaluated here in plain floating point; its error is below ~6 x 3 ulp x the bound
@@ -52,7 +48,7 @@ int filter_verdict(double e_ab, double e_bc, double e_ca, double bound_ab, doubl
 }
 
 int filter_crossing(const Vec3& d, double m_d, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const double m_a = max_abs(a), m_b = max_abs(b), m_c = max_abs(c);
+  const double m_a = max_abs_component(a), m_b = max_abs_component(b), m_c = max_abs_component(c);
   const double tolerance = 1e-13 * m_d;
   return filter_verdict(d.dot(a.cross(b)), d.dot(b.cross(c)), d.dot(c.cross(a)), tolerance * m_a * m_b,
                         tolerance * m_b * m_c, tolerance * m_c * m_a);
@@ -115,15 +111,6 @@ struct Crossing {
   std::int32_t triangle;
 };
 
-bool share_a_vertex(const geometry::TriMesh& mesh, std::int32_t a, std::int32_t b) {
-  for (auto i : mesh.triangles[static_cast<std::size_t>(a)]) {
-    for (auto j : mesh.triangles[static_cast<std::size_t>(b)]) {
-      if (i == j) return true;
-    }
-  }
-  return false;
-}
-
 // The kUnion rule over every crossing of the ray (gathered from the vertex's cells). Returns
 // false when v is not inside the union.
 bool resolve_union(const geometry::TriMesh& fixed, std::vector<Crossing>& crossings, bool inside_fixed,
@@ -138,7 +125,7 @@ bool resolve_union(const geometry::TriMesh& fixed, std::vector<Crossing>& crossi
     bool duplicate = false;
     for (auto it = unique.rbegin(); it != unique.rend() && it->t >= c.t * (1.0 - 1e-12); ++it) {
       if (it->triangle == c.triangle ||
-          (it->facing == c.facing && share_a_vertex(fixed, it->triangle, c.triangle))) {
+          (it->facing == c.facing && geometry::triangles_share_a_vertex(fixed, it->triangle, c.triangle))) {
         duplicate = true;
         break;
       }
@@ -309,7 +296,7 @@ struct VertexQuery {
     const int id = kept.id;
     Adjacent adjacent;
     scratch.crossings.clear();
-    const double m_d = max_abs(direction);
+    const double m_d = max_abs_component(direction);
     bool clear_hit = false;
     auto offer_triangle = [&](std::int32_t t) {
       const RayCrossing crossing =

@@ -1,6 +1,7 @@
 #include "contact/radial_spans.h"
 
 #include "contact/radial_table.h"
+#include "contact/ray_triangle.h"
 
 #include <Eigen/Eigenvalues>
 
@@ -12,12 +13,6 @@
 namespace hipfai::contact {
 
 using Vec3 = Eigen::Vector3d;
-
-namespace {
-
-double max_abs(const Vec3& v) { return std::max({std::abs(v.x()), std::abs(v.y()), std::abs(v.z())}); }
-
-}  // namespace
 
 double distance_to_origin(const Vec3& a, const Vec3& b, const Vec3& c) {
   const Vec3 ab = b - a, ac = c - a, ap = -a;
@@ -48,7 +43,7 @@ RadialSpans::TrianglePlanes triangle_planes(const Vec3& a, const Vec3& b, const 
   planes.edge_ca = c.cross(a);
   planes.area_normal = (b - a).cross(c - a);
   planes.det = a.dot(b.cross(c));
-  const double m_a = max_abs(a), m_b = max_abs(b), m_c = max_abs(c);
+  const double m_a = max_abs_component(a), m_b = max_abs_component(b), m_c = max_abs_component(c);
   planes.bound_ab = 1e-13 * m_a * m_b;
   planes.bound_bc = 1e-13 * m_b * m_c;
   planes.bound_ca = 1e-13 * m_c * m_a;
@@ -86,7 +81,7 @@ namespace {
 // The sign of det(a, b, c) = a . (b x c) when planes.det is beyond the bound on its rounding (the
 // bound of the query's edge functions, same expression), else 0.
 int certified_orientation(const RadialSpans::TrianglePlanes& planes, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const double bound = 1e-13 * max_abs(a) * max_abs(b) * max_abs(c);
+  const double bound = 1e-13 * max_abs_component(a) * max_abs_component(b) * max_abs_component(c);
   return planes.det > bound ? 1 : (planes.det < -bound ? -1 : 0);
 }
 
@@ -327,7 +322,7 @@ ConeSeparation::ConeSeparation(const geometry::TriMesh& mesh, const Vec3& centre
       orientation_(mesh.num_triangles()) {
   for (std::size_t v = 0; v < relative_.size(); ++v) {
     relative_[v] = mesh.vertices[v] - centre;
-    scale_[v] = max_abs(relative_[v]);
+    scale_[v] = max_abs_component(relative_[v]);
   }
   for (std::size_t t = 0; t < orientation_.size(); ++t) {
     const auto& tri = mesh.triangles[t];

@@ -3,6 +3,7 @@
 #include "contact/radial_spans.h"
 
 #include "core/error.h"
+#include "core/numbers.h"
 
 #include <algorithm>
 #include <array>
@@ -13,7 +14,7 @@ namespace hipfai::contact {
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using hipfai::kPi;
 
 // A triangle whose plane passes (nearly) through O: its cone from O degenerates toward a fan in
 // that plane, which cells_of_polygon cannot bin robustly, but every direction it covers lies

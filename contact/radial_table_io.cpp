@@ -38,9 +38,9 @@ void put_vector(std::ostream& out, const std::vector<T>& values) {
 
 // A cursor over the file's bytes: every read is bounded by what is left, so a count in a damaged
 // file cannot ask for more memory than the file could fill.
-class Reader {
+class TableReader {
  public:
-  explicit Reader(std::string bytes) : bytes_(std::move(bytes)) {}
+  explicit TableReader(std::string bytes) : bytes_(std::move(bytes)) {}
   std::size_t left() const { return bytes_.size() - at_; }
   template <typename T>
   bool get(T& value) {
@@ -130,7 +130,7 @@ std::optional<contact::RadialTable> load_radial_table(const std::filesystem::pat
   if (!in) return std::nullopt;
   std::ostringstream content;
   content << in.rdbuf();
-  Reader file(content.str());
+  TableReader file(content.str());
   char magic[sizeof kMagic];
   if (!file.get(magic) || std::memcmp(magic, kMagic, sizeof kMagic) != 0) return std::nullopt;
   contact::RadialTable table;

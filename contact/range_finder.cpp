@@ -1,6 +1,7 @@
 #include "contact/range_finder.h"
 
 #include "contact/axis_reach.h"
+#include "core/numbers.h"
 #include "core/parallel.h"
 
 #include <algorithm>
@@ -12,8 +13,8 @@
 namespace hipfai::contact {
 namespace {
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
-constexpr double kDegPerRad = 180.0 / std::numbers::pi;
+using hipfai::kTwoPi;
+using hipfai::kDegPerRad;
 // Widening of the edges' angular extents: far above the rounding of atan2 and of the edge-edge
 // roots (acos near +-1 loses about sqrt(ulp), ~1e-8 rad), far below any angle that matters.
 constexpr double kAngularMarginRad = 1e-6;

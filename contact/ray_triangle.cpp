@@ -35,10 +35,6 @@ void grow_expansion(double* e, int& n, double b) {
   e[n++] = q;
 }
 
-double max_abs(const Vec3& v) {
-  return std::max({std::abs(v.x()), std::abs(v.y()), std::abs(v.z())});
-}
-
 // Exact sign of d . (p x q) (the orientation predicate) given its float evaluation `approx`:
 // a floating-point filter, then exact expansion arithmetic when the filter cannot decide. Exact
 // signs are what make the ray test watertight at shared vertices: a ray through a vertex gives
@@ -82,7 +78,7 @@ int signed_edge(const Vec3& d, const Vec3& p, const Vec3& q, double scale, doubl
 
 int edge_sign(const Vec3& direction, const Vec3& p, const Vec3& q) {
   double value = 0.0;
-  return signed_edge(direction, p, q, max_abs(direction) * max_abs(p) * max_abs(q), value);
+  return signed_edge(direction, p, q, max_abs_component(direction) * max_abs_component(p) * max_abs_component(q), value);
 }
 
 double edge_function(const Vec3& direction, const Vec3& p, const Vec3& q) {
@@ -103,7 +99,7 @@ RayCrossing ray_triangle_crossing(const Vec3& direction, const Vec3& a, const Ve
   // The decision uses exact signs; the values only give the point and weights. Opposite signs
   // on two edges already mean a miss, the common case, so it is tested first.
   double e_ab = 0.0, e_bc = 0.0, e_ca = 0.0;
-  const double m_d = max_abs(direction), m_a = max_abs(a), m_b = max_abs(b), m_c = max_abs(c);
+  const double m_d = max_abs_component(direction), m_a = max_abs_component(a), m_b = max_abs_component(b), m_c = max_abs_component(c);
   const int s_ab = signed_edge(direction, a, b, m_d * m_a * m_b, e_ab);
   const int s_bc = signed_edge(direction, b, c, m_d * m_b * m_c, e_bc);
   if (s_ab * s_bc < 0) return crossing;

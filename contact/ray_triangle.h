@@ -39,6 +39,9 @@ namespace hipfai::contact {
 
 using Vec3 = Eigen::Vector3d;
 
+// max(|x|, |y|, |z|): the scale of a vector in the error bounds of the float filters.
+inline double max_abs_component(const Vec3& v) { return v.cwiseAbs().maxCoeff(); }
+
 struct RayCrossing {
   bool hit = false;       // the RAY (t > 0) meets the closed triangle
   double t = 0.0;         // crossing point = O + t * d (t in units of |d|); 0 when !hit

@@ -173,15 +173,6 @@ struct EdgeCrossing {
   std::int32_t triangle = -1;
 };
 
-bool share_a_vertex(const TriMesh& mesh, std::int32_t a, std::int32_t b) {
-  for (const auto i : mesh.triangles[static_cast<std::size_t>(a)]) {
-    for (const auto j : mesh.triangles[static_cast<std::size_t>(b)]) {
-      if (i == j) return true;
-    }
-  }
-  return false;
-}
-
 struct EdgesThrough {
   std::size_t count = 0;
   double deepest_mm = 0.0;
@@ -221,7 +212,7 @@ EdgesThrough edges_through(const TriMesh& edges_of, const std::vector<std::uint8
       unique.clear();
       for (const EdgeCrossing& c : crossings) {
         const bool duplicate = !unique.empty() && unique.back().facing == c.facing &&
-                               c.t - unique.back().t <= 1e-12 && share_a_vertex(solid, unique.back().triangle, c.triangle);
+                               c.t - unique.back().t <= 1e-12 && geometry::triangles_share_a_vertex(solid, unique.back().triangle, c.triangle);
         if (!duplicate) unique.push_back(c);
       }
       // Inside stretches [start, end]: at least one end is a crossing, on the surface, so the

@@ -18,7 +18,7 @@ using dealii::types::global_dof_index;
 
 namespace {
 
-geometry::Vec3 to_vec3(const dealii::Point<3>& point) { return {point[0], point[1], point[2]}; }
+geometry::Vec3 point_to_vec3(const dealii::Point<3>& point) { return {point[0], point[1], point[2]}; }
 
 }  // namespace
 
@@ -297,7 +297,7 @@ VonMisesField ElasticSystem::von_mises(const dealii::Vector<double>& displacemen
             lambda * dealii::trace(strain) * dealii::unit_symmetric_tensor<3>() + 2.0 * mu * strain;
         const dealii::SymmetricTensor<2, 3> deviator = dealii::deviator(stress);
         const double value = std::sqrt(1.5 * (deviator * deviator));
-        out.push_back({to_vec3(fe_values.quadrature_point(q)), value, fe_values.JxW(q)});
+        out.push_back({point_to_vec3(fe_values.quadrature_point(q)), value, fe_values.JxW(q)});
         cell_max = std::max(cell_max, static_cast<float>(value));
       }
     }

@@ -38,6 +38,15 @@ double triangle_area(const TriMesh& mesh, std::size_t t) {
   return 0.5 * triangle_area_normal(mesh, t).norm();
 }
 
+bool triangles_share_a_vertex(const TriMesh& mesh, std::int32_t a, std::int32_t b) {
+  for (const auto i : mesh.triangles[static_cast<std::size_t>(a)]) {
+    for (const auto j : mesh.triangles[static_cast<std::size_t>(b)]) {
+      if (i == j) return true;
+    }
+  }
+  return false;
+}
+
 double mean_edge_length(const TriMesh& mesh) {
   // Each undirected edge counted once, at its first appearance in triangle order (the order of
   // the sum, so the result does not depend on how duplicates are found). Duplicates are found by

@@ -47,6 +47,9 @@ Vec3 triangle_unit_normal(const TriMesh& mesh, std::size_t t);
 
 double triangle_area(const TriMesh& mesh, std::size_t t);
 
+// Whether triangles a and b of the mesh have a vertex index in common.
+bool triangles_share_a_vertex(const TriMesh& mesh, std::int32_t a, std::int32_t b);
+
 // Mean length of the distinct edges (each shared edge counted once), mm; 0 for an empty mesh.
 double mean_edge_length(const TriMesh& mesh);
 

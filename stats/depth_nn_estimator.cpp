@@ -1,6 +1,7 @@
 #include "stats/depth_nn_estimator.h"
 
 #include "core/error.h"
+#include "core/numbers.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,7 +12,7 @@ namespace hipfai::stats {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+using hipfai::kNaN;
 
 bool finite_depths(const PenetrationDepths& d) {
   return d.curvilinear_mm.allFinite() && d.radial_mm.allFinite();

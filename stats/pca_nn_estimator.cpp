@@ -1,6 +1,7 @@
 #include "stats/pca_nn_estimator.h"
 
 #include "core/error.h"
+#include "core/numbers.h"
 #include "stats/pearson.h"
 
 #include <algorithm>
@@ -12,7 +13,7 @@ namespace hipfai::stats {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+using hipfai::kNaN;
 
 void check_shapes(const Eigen::MatrixXd& scores, const Eigen::MatrixXd& values) {
   if (scores.rows() != values.rows()) {

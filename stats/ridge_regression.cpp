@@ -1,6 +1,7 @@
 #include "stats/ridge_regression.h"
 
 #include "core/error.h"
+#include "core/numbers.h"
 
 #include <Eigen/Cholesky>
 #include <gsl/gsl_cdf.h>
@@ -18,7 +19,7 @@ std::vector<RegressionStep> ridge_estimate(const Eigen::MatrixXd& scores, const 
                 " value rows, ", target.size(), " target scores, ", score_sd.size(), " deviations)");
   }
   if (components < 1) throw_error("ridge: components = ", components);
-  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  using hipfai::kNaN;
   const Eigen::Index used = std::min<Eigen::Index>(components, scores.cols());
   Eigen::VectorXd sd = score_sd.head(used);
   for (Eigen::Index k = 0; k < used; ++k) {

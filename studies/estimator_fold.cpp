@@ -1,13 +1,10 @@
 #include "studies/estimator_fold.h"
+#include "core/stopwatch.h"
 
 #include <chrono>
 
 namespace hipfai::studies {
 namespace {
-
-double elapsed_ms(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-}
 
 }  // namespace
 
@@ -30,7 +27,7 @@ EstimatorFold run_estimator_fold(const EstimatorFoldProblem& problem, const Esti
   auto start = std::chrono::steady_clock::now();
   fold.rows = stats::leave_one_out(problem.features, case_values, problem.settings, problem.max_e_prime, {unit.hip}, {},
                                    case_depths);
-  fold.loo_ms = elapsed_ms(start);
+  fold.loo_ms = milliseconds_since(start);
   // pca_nn with e' chosen without the target: the fold's rows already hold the estimate at every e',
   // so the choice picks one of them.
   const auto m = problem.features.rows();
@@ -44,7 +41,7 @@ EstimatorFold run_estimator_fold(const EstimatorFoldProblem& problem, const Esti
   fold.chosen_e_prime = stats::select_e_prime(train_features, train_values, problem.settings,
                                               stats::EstimatorMethod::kPcaNn, problem.max_e_prime)
                             .e_prime;
-  fold.selection_ms = elapsed_ms(start);
+  fold.selection_ms = milliseconds_since(start);
   return fold;
 }
 

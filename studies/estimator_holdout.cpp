@@ -4,6 +4,7 @@
 
 #include "core/csv.h"
 #include "core/error.h"
+#include "core/numbers.h"
 #include "core/progress.h"
 #include "core/stopwatch.h"
 #include "stats/conformal_interval.h"
@@ -31,7 +32,7 @@ const char* to_string(HipGroup group) {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+using hipfai::kNaN;
 constexpr int kFreeGroup = 0, kImpingingGroup = 1;
 
 struct Rows {

@@ -1,6 +1,7 @@
 #include "studies/estimator_holdout_report.h"
 
 #include "core/atomic_file.h"
+#include "core/numbers.h"
 #include "core/text_format.h"
 #include "studies/reports/svg_plot.h"
 
@@ -15,19 +16,12 @@
 namespace hipfai::studies {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+using hipfai::kNaN;
 
 std::string num(double value, int precision = 10) {
   if (!std::isfinite(value)) return std::isinf(value) ? (value > 0 ? "inf" : "-inf") : "";
   std::ostringstream out;
   out << std::setprecision(precision) << value;
-  return out.str();
-}
-
-std::string fixed(double value, int digits = 2) {
-  if (!std::isfinite(value)) return "–";
-  std::ostringstream out;
-  out << std::fixed << std::setprecision(digits) << value;
   return out.str();
 }
 
@@ -189,7 +183,7 @@ void write_figures(const HoldoutResult& result, const HoldoutOptions& options, c
     sizes.series.push_back(held);
     sizes.series.push_back(loo);
   }
-  sizes.notes.push_back("thesis LOO: " + fixed(literature::kEstimatorThesisCase2MeanErrorPercent) + " %");
+  sizes.notes.push_back("thesis LOO: " + fixed_or(literature::kEstimatorThesisCase2MeanErrorPercent, 2, "–") + " %");
   write_svg(sizes, out_dir / "fig_error_vs_size.svg");
   if (result.refine.empty()) return;
   LineChart refine;
@@ -225,34 +219,34 @@ std::string report_md(const HoldoutResult& result, const HoldoutOptions& options
       const auto* i1 = find_summary(result, k, method, 1, HipGroup::kImpinging);
       const auto* i2 = find_summary(result, k, method, 2, HipGroup::kImpinging);
       const auto* f2 = find_summary(result, k, method, 2, HipGroup::kFree);
-      md << "| " << k << " | " << stats::to_string(method) << " | " << fixed(c1 ? c1->mean_error_percent : kNaN) << " | "
-         << fixed(loo_error(result, k, method, 1)) << " | " << fixed(c2 ? c2->mean_error_percent : kNaN) << " | "
-         << fixed(loo_error(result, k, method, 2)) << " | " << fixed(i1 ? i1->mean_error_percent : kNaN) << " | "
-         << fixed(i2 ? i2->mean_error_percent : kNaN) << " (" << (i2 ? i2->hips : 0) << ") | "
-         << fixed(f2 ? f2->mean_error_percent : kNaN) << " | "
+      md << "| " << k << " | " << stats::to_string(method) << " | " << fixed_or(c1 ? c1->mean_error_percent : kNaN, 2, "–") << " | "
+         << fixed_or(loo_error(result, k, method, 1), 2, "–") << " | " << fixed_or(c2 ? c2->mean_error_percent : kNaN, 2, "–") << " | "
+         << fixed_or(loo_error(result, k, method, 2), 2, "–") << " | " << fixed_or(i1 ? i1->mean_error_percent : kNaN, 2, "–") << " | "
+         << fixed_or(i2 ? i2->mean_error_percent : kNaN, 2, "–") << " (" << (i2 ? i2->hips : 0) << ") | "
+         << fixed_or(f2 ? f2->mean_error_percent : kNaN, 2, "–") << " | "
          << (method == stats::EstimatorMethod::kPcaNn
-                 ? fixed(literature::kEstimatorThesisMeanErrorPercent) + " / " + fixed(literature::kEstimatorThesisCase2MeanErrorPercent)
+                 ? fixed_or(literature::kEstimatorThesisMeanErrorPercent, 2, "–") + " / " + fixed_or(literature::kEstimatorThesisCase2MeanErrorPercent, 2, "–")
                  : std::string())
          << " |\n";
     }
   }
   md << "\n![error vs size](fig_error_vs_size.svg)\n\n";
   md << "## Intervals and flag (whole motion, every held-out step)\n\n"
-     << "Calibrated intervals: estimate ± h × estimate, h the " << fixed(100 * result.nominal, 0)
+     << "Calibrated intervals: estimate ± h × estimate, h the " << fixed_or(100 * result.nominal, 0, "–")
      << " % conformal quantile of the leave-one-out relative errors of the training hips, one h for steps free of "
      << "contact and one for impinging steps (stats/conformal_interval.h). *Acceptance*: the covered counts a true "
-     << fixed(100 * result.nominal, 0) << " % coverage gives with 95 % probability (binomial). The flag: the hip is "
-     << "bordering, or its step's calibrated half-width exceeds " << fixed(100 * literature::kEstimatorLargeErrorFraction, 0)
-     << " %; recall = flagged share of the steps whose error exceeds " << fixed(100 * literature::kEstimatorLargeErrorFraction, 0)
+     << fixed_or(100 * result.nominal, 0, "–") << " % coverage gives with 95 % probability (binomial). The flag: the hip is "
+     << "bordering, or its step's calibrated half-width exceeds " << fixed_or(100 * literature::kEstimatorLargeErrorFraction, 0, "–")
+     << " %; recall = flagged share of the steps whose error exceeds " << fixed_or(100 * literature::kEstimatorLargeErrorFraction, 0, "–")
      << " %.\n\n"
      << "| training hips | method | h free | h impinging | coverage (calibrated) | acceptance | coverage (own interval) | steps > 10 % | flagged steps | flag recall | bordering recall |\n"
      << "|---:|---|---:|---:|---:|---|---:|---:|---:|---:|---:|\n";
   for (const auto& c : result.coverage) {
-    md << "| " << c.training_hips << " | " << stats::to_string(c.method) << " | " << fixed(100 * c.half_width_free, 1)
-       << " % | " << fixed(100 * c.half_width_impinging, 1) << " % | " << fixed(100 * c.conformal.coverage, 1) << " % ("
+    md << "| " << c.training_hips << " | " << stats::to_string(c.method) << " | " << fixed_or(100 * c.half_width_free, 1, "–")
+       << " % | " << fixed_or(100 * c.half_width_impinging, 1, "–") << " % | " << fixed_or(100 * c.conformal.coverage, 1, "–") << " % ("
        << c.conformal.covered << "/" << c.conformal.rows << ") | " << c.acceptance.low << "-" << c.acceptance.high << " | "
-       << fixed(100 * c.native.coverage, 1) << " % | " << c.conformal.large_error << " | " << c.conformal.flagged << " | "
-       << fixed(100 * c.conformal.flag_recall, 1) << " % | " << fixed(100 * c.native.flag_recall, 1) << " % |\n";
+       << fixed_or(100 * c.native.coverage, 1, "–") << " % | " << c.conformal.large_error << " | " << c.conformal.flagged << " | "
+       << fixed_or(100 * c.conformal.flag_recall, 1, "–") << " % | " << fixed_or(100 * c.native.flag_recall, 1, "–") << " % |\n";
   }
   if (!result.refine.empty()) {
     md << "\n## Refinement vs random sampling (" << stats::to_string(options.refine_method) << ", whole motion)\n\n"
@@ -262,21 +256,21 @@ std::string report_md(const HoldoutResult& result, const HoldoutOptions& options
        << "| training hips | strategy | held-out error (%) | best draw | worst draw |\n|---:|---|---:|---:|---:|\n";
     for (const auto& curve : refine_curves(result, options.refine_method, 2)) {
       for (std::size_t r = 0; r < curve.hips.size(); ++r) {
-        md << "| " << curve.hips[r] << " | " << curve.name << " | " << fixed(curve.error[r]) << " | "
-           << (curve.name == "random" ? fixed(curve.low[r]) : std::string()) << " | "
-           << (curve.name == "random" ? fixed(curve.high[r]) : std::string()) << " |\n";
+        md << "| " << curve.hips[r] << " | " << curve.name << " | " << fixed_or(curve.error[r], 2, "–") << " | "
+           << (curve.name == "random" ? fixed_or(curve.low[r], 2, "–") : std::string()) << " | "
+           << (curve.name == "random" ? fixed_or(curve.high[r], 2, "–") : std::string()) << " |\n";
       }
     }
     md << "\n![refine](fig_refine.svg)\n";
   }
   md << "\n## Times\n\n"
-     << "- FE per hip (sample's runs): " << fixed(result.fe_s_per_hip, 1) << " s; penetration depths per hip: "
-     << fixed(result.penetration_ms_per_hip / 1e3, 2) << " s; features per hip: " << fixed(result.feature_ms_per_hip, 1)
+     << "- FE per hip (sample's runs): " << fixed_or(result.fe_s_per_hip, 1, "–") << " s; penetration depths per hip: "
+     << fixed_or(result.penetration_ms_per_hip / 1e3, 2, "–") << " s; features per hip: " << fixed_or(result.feature_ms_per_hip, 1, "–")
      << " ms\n\n| training hips | training (ms) | leave-one-out calibration (ms) | prediction per hip, "
      << std::size(stats::kEstimatorMethods) << " methods (ms) |\n|---:|---:|---:|---:|\n";
   for (const auto& t : result.timings) {
-    md << "| " << t.training_hips << " | " << fixed(t.train_ms, 1) << " | " << fixed(t.calibrate_ms, 0) << " | "
-       << fixed(t.predict_ms_per_hip, 2) << " |\n";
+    md << "| " << t.training_hips << " | " << fixed_or(t.train_ms, 1, "–") << " | " << fixed_or(t.calibrate_ms, 0, "–") << " | "
+       << fixed_or(t.predict_ms_per_hip, 2, "–") << " |\n";
   }
   return md.str();
 }
@@ -306,7 +300,7 @@ std::string holdout_summary(const HoldoutResult& result, const std::filesystem::
         const auto* s = find_summary(result, k, method, c, HipGroup::kAll);
         if (s && std::isfinite(s->mean_error_percent) && (!best || s->mean_error_percent < best->mean_error_percent)) best = s;
       }
-      if (best) text << " case " << c << " best " << stats::to_string(best->method) << " " << fixed(best->mean_error_percent) << " %";
+      if (best) text << " case " << c << " best " << stats::to_string(best->method) << " " << fixed_or(best->mean_error_percent, 2, "–") << " %";
     }
     text << " (" << result.held_out << " held-out hips)\n";
   }

@@ -2,6 +2,8 @@
 #include "studies/estimator_model_file.h"
 
 #include "core/error.h"
+#include "core/numbers.h"
+#include "core/text_format.h"
 #include "studies/results/results_file.h"
 
 #include <iomanip>
@@ -15,17 +17,11 @@ namespace hipfai::studies {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+using hipfai::kNaN;
 constexpr const char* kModelFormat = "hipfai-pressure-estimator";
 constexpr int kModelVersion = 1;
 // Value of the root attribute penetration_depths when the two depth datasets are stored.
 constexpr const char* kDepthDatasets = "/training/curvilinear_mm,/training/radial_mm";
-
-std::string exact(double value) {
-  std::ostringstream out;
-  out << std::setprecision(17) << value;
-  return out.str();
-}
 
 }  // namespace
 
@@ -57,9 +53,9 @@ void write_estimator_model(const EstimatorModel& model, const std::filesystem::p
   file.set_attribute("/", "training_hip_hashes", hashes);
   file.set_attribute("/", "settings",
                      "components=" + std::to_string(e.settings.pca.components) + ";scale_floor=" +
-                         exact(e.settings.pca.scale_floor) + ";nearest=" + std::to_string(e.settings.nearest) +
+                         digits17(e.settings.pca.scale_floor) + ";nearest=" + std::to_string(e.settings.nearest) +
                          ";knn_k=" + std::to_string(e.settings.knn_k) +
-                         ";bordering_min_variance_share=" + exact(e.settings.bordering_min_variance_share));
+                         ";bordering_min_variance_share=" + digits17(e.settings.bordering_min_variance_share));
   file.write("/motion/angle_deg", model.angle_deg, 1, "deg");
   file.write("/normalisation/mean", vec(e.pca.mean), 1, "mm");
   file.write("/normalisation/scale", vec(e.pca.scale), 1, "mm");

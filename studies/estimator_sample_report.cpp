@@ -2,6 +2,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/text_format.h"
 #include "studies/validation_study.h"
 
 #include <algorithm>
@@ -15,13 +16,7 @@
 namespace hipfai::studies {
 namespace {
 
-std::string exact(double value) {
-  char text[64];
-  const auto end = std::to_chars(text, text + sizeof text, value).ptr;
-  return std::string(text, end);
-}
-
-std::string cell(double value) { return std::isfinite(value) ? exact(value) : std::string(); }
+std::string cell(double value) { return std::isfinite(value) ? shortest(value) : std::string(); }
 
 std::string step_table(const SamplePlan& plan, const SampleFeResult& result, SampleSet set) {
   std::ostringstream csv;
@@ -40,10 +35,10 @@ std::string step_table(const SamplePlan& plan, const SampleFeResult& result, Sam
     for (std::size_t k = 0; k < result.motion.steps.size(); ++k) {
       csv << hip.name << ',' << to_string(hip.set);
       for (std::size_t p = 0; p < plan.vary.size(); ++p) {
-        if (!own_column(plan.vary[p])) csv << ',' << exact(hip.values[p]);
+        if (!own_column(plan.vary[p])) csv << ',' << shortest(hip.values[p]);
       }
-      csv << ',' << exact(hip.parameters.ce_deg) << ',' << exact(hip.parameters.alpha_deg) << ',' << k + 1 << ','
-          << exact(result.motion.steps[k].angle_deg) << ',' << cell(run.curvilinear_max_mm.at(k)) << ','
+      csv << ',' << shortest(hip.parameters.ce_deg) << ',' << shortest(hip.parameters.alpha_deg) << ',' << k + 1 << ','
+          << shortest(result.motion.steps[k].angle_deg) << ',' << cell(run.curvilinear_max_mm.at(k)) << ','
           << cell(run.radial_max_mm.at(k));
       for (const auto& measure : run.fe) csv << ',' << cell(measure.at(k));
       csv << '\n';
@@ -65,8 +60,8 @@ void write_sample_fe_tables(const SamplePlan& plan, const SampleFeResult& result
     std::string error = run.error;
     std::replace(error.begin(), error.end(), ',', ';');
     std::replace(error.begin(), error.end(), '\n', ' ');
-    csv << hip.name << ',' << to_string(hip.set) << ',' << exact(hip.parameters.ce_deg) << ','
-        << exact(hip.parameters.alpha_deg) << ',' << exact(hip.parameters.edge_mm) << ','
+    csv << hip.name << ',' << to_string(hip.set) << ',' << shortest(hip.parameters.ce_deg) << ','
+        << shortest(hip.parameters.alpha_deg) << ',' << shortest(hip.parameters.edge_mm) << ','
         << result.motion.steps.size() << ',' << to_string(level) << ',' << cell(run.penetration_ms) << ','
         << cell(run.fe_s) << ',' << (run.fe_reused ? 1 : 0) << ',' << run.fe_steps_failed << ',' << error << '\n';
   }
@@ -93,7 +88,7 @@ std::string design_csv(const SamplePlan& plan) {
   csv << '\n';
   for (const SampledHip& hip : plan.hips) {
     csv << hip.name << ',' << to_string(hip.set);
-    for (const double value : hip.values) csv << ',' << exact(value);
+    for (const double value : hip.values) csv << ',' << shortest(value);
     csv << '\n';
   }
   return csv.str();

@@ -2,15 +2,18 @@
 
 #include "core/csv.h"
 #include "core/error.h"
+#include "core/numbers.h"
 #include "core/progress.h"
+#include "core/stopwatch.h"
+#include "core/text_format.h"
 #include "core/version.h"
 #include "geometry/hip_model.h"
 #include "studies/estimator_model_file.h"
 #include "studies/pipeline/hip_source.h"
 #include "studies/pipeline/motion.h"
 #include "studies/pipeline/penetration_run.h"
-#include "studies/results/results_file.h"
 #include "studies/pipeline/segmented_hip.h"
+#include "studies/results/results_file.h"
 #include "studies/results/table_number.h"
 #include "studies/validation_study.h"
 
@@ -29,19 +32,9 @@ namespace hipfai::studies {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-double elapsed_ms(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-}
+using hipfai::kNaN;
 
 std::string hip_name(double ce, double alpha) { return parametric_hip_id(ce, alpha); }
-
-std::string exact(double value) {
-  std::ostringstream out;
-  out << std::setprecision(17) << value;
-  return out.str();
-}
 
 // Edge length per hip from a validation folder's timings.csv (absent file: empty map).
 std::map<std::pair<double, double>, double> read_edges(const std::filesystem::path& timings) {
@@ -91,7 +84,7 @@ std::vector<HipFolder> load_hip_folders(const std::filesystem::path& hips, const
   for (const auto& dir : dirs) {
     const auto start = std::chrono::steady_clock::now();
     HipFolder folder{dir, geometry::load_hip_model(dir, tissues), 0};
-    folder.load_ms = elapsed_ms(start);
+    folder.load_ms = milliseconds_since(start);
     folders.push_back(std::move(folder));
     bar.advance();
   }
@@ -212,7 +205,7 @@ void add_fe_hip(EstimatorModel& model, const std::filesystem::path& dir, const s
                                                                      : hip_model.parameters.alpha_deg;
   hip.edge_mm = hip_model.parameters.edge_mm;
   hip.dir = dir;
-  hip.load_ms = elapsed_ms(start);
+  hip.load_ms = milliseconds_since(start);
   hip.hash = hip_content_hash(hip_model, model.grid);
   const HipFeatures features = extract_hip_features(hip_model, model.grid);
   hip.features = features.values;
@@ -375,7 +368,7 @@ const HipFolder& matching_folder(const std::vector<HipFolder>& folders, const Fe
   }
   if (matches.empty()) {
     throw_error(options.hips.string(), ": no hip folder with CE ", fe_hip.ce_deg, ", alpha ", fe_hip.alpha_deg,
-                std::isnan(fe_hip.edge_mm) ? std::string() : ", edge " + exact(fe_hip.edge_mm) + " mm",
+                std::isnan(fe_hip.edge_mm) ? std::string() : ", edge " + digits17(fe_hip.edge_mm) + " mm",
                 " (the FE results have it)");
   }
   hash = hip_content_hash(matches.front()->model, grid);
@@ -473,7 +466,7 @@ TrainingHip training_hip_from_folder(const std::filesystem::path& dir, FeSweepHi
   const std::set<std::string> tissues(grid.tissues.begin(), grid.tissues.end());
   const auto start = std::chrono::steady_clock::now();
   HipFolder folder{dir, geometry::load_hip_model(dir, tissues), 0};
-  folder.load_ms = elapsed_ms(start);
+  folder.load_ms = milliseconds_since(start);
   fe.ce_deg = folder.model.parameters.ce_deg;
   fe.alpha_deg = folder.model.parameters.alpha_deg;
   TrainingHip hip = training_hip(folder, fe, hip_content_hash(folder.model, grid), grid);
@@ -559,18 +552,18 @@ HipPrediction predict_hip(const EstimatorModel& model, const std::filesystem::pa
                 model.grid.describe(), ") need every one of them (refused, not filled in)",
                 segmented ? "; a model of the bones it has: `estimator train --tissues femur_bone`" : "");
   }
-  prediction.load_ms = elapsed_ms(start);
+  prediction.load_ms = milliseconds_since(start);
   const HipFeatures features = extract_hip_features(hip, model.grid);
   prediction.feature_ms = features.extraction_ms;
   prediction.misses = features.misses;
   if (stats::needs_depths(method)) {
     start = std::chrono::steady_clock::now();
     prediction.depths = penetration_over_model_motion(model, hip, hip_dir);
-    prediction.penetration_ms = elapsed_ms(start);
+    prediction.penetration_ms = milliseconds_since(start);
   }
   start = std::chrono::steady_clock::now();
   prediction.result = stats::estimate(model.estimator, features.values, method, e_prime, prediction.depths);
-  prediction.predict_ms = elapsed_ms(start);
+  prediction.predict_ms = milliseconds_since(start);
   return prediction;
 }
 

@@ -8,6 +8,8 @@
 #include "studies/validation_study.h"
 
 #ifdef HIPFAI_WITH_FEM
+#include "core/numbers.h"
+#include "core/stopwatch.h"
 #include "studies/estimator_fold_ranks.h"
 #endif
 
@@ -20,8 +22,8 @@ namespace hipfai::studies {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr int kMethods = stats::kNumEstimatorMethods;
+using hipfai::kNaN;
+using stats::kNumEstimatorMethods;
 
 // Thesis Tables 12 and 13 (Arbabi 2009, §4.5.3.5): mean estimation error (%) per hip at e' = 10,
 // rows alpha 40..80, columns CE 0..40; NaN = "-" (hip not run over the whole motion, Table 11).
@@ -36,13 +38,9 @@ constexpr double kThesisTable13[5][5] = {{5.48, 1.66, 1.63, 2.05, 4.99},
                                          {5.06, 5.74, 8.42, 8.06, kNaN},
                                          {1.24, 3.15, kNaN, kNaN, kNaN}};
 
-double elapsed_ms(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-}
-
 // 1 when the hip's penetration depth is > 0 at one of the first `steps` steps, 0 when it is 0 at
 // every one, -1 when the FE table gave no depths for one of them.
-int impinging_within(const TrainingHip& hip, int steps) {
+int impinging_flag(const TrainingHip& hip, int steps) {
   if (hip.curvilinear_mm.size() < static_cast<std::size_t>(steps) || hip.radial_mm.size() < static_cast<std::size_t>(steps)) {
     return -1;
   }
@@ -76,7 +74,7 @@ double run_quick_fe(EstimatorValidateOptions& options) {
   throw_if_units_failed("estimator validate: --quick FE", made.failed, made.hips.size(), "hips", fe.out_dir);
   options.train.fe = {fe.out_dir};
   options.train.hips = fe.cache_dir;
-  return elapsed_ms(start) / 1000.0;
+  return milliseconds_since(start) / 1000.0;
 }
 
 // Times of the maths alone (features exist): training on every hip, and one prediction per
@@ -86,11 +84,11 @@ void time_estimator(EstimatorValidateResult& result, const stats::PenetrationDep
   const auto m = static_cast<Eigen::Index>(result.model.hips.size());
   auto start = std::chrono::steady_clock::now();
   result.retrained = stats::train_estimator(features, result.model.estimator.values, result.model.estimator.settings, depths);
-  result.train_ms = elapsed_ms(start);
+  result.train_ms = milliseconds_since(start);
   result.components = result.retrained.pca.num_components();
   constexpr int kRepeats = 200;
   result.predict_ms.fill(kNaN);
-  for (int method = 0; method < kMethods; ++method) {
+  for (int method = 0; method < kNumEstimatorMethods; ++method) {
     if (stats::needs_depths(stats::kEstimatorMethods[method]) && !depths.known()) continue;
     start = std::chrono::steady_clock::now();
     for (int r = 0; r < kRepeats; ++r) {
@@ -102,7 +100,7 @@ void time_estimator(EstimatorValidateResult& result, const stats::PenetrationDep
                                             stats::kEstimatorMethods[method], result.components, target);
       if (estimate.steps.empty()) throw_error("estimator: no steps");
     }
-    result.predict_ms[static_cast<std::size_t>(method)] = elapsed_ms(start) / kRepeats;
+    result.predict_ms[static_cast<std::size_t>(method)] = milliseconds_since(start) / kRepeats;
   }
 }
 
@@ -130,7 +128,7 @@ EstimatorHipError hip_error(const EstimatorValidateResult& result, const stats::
   error.bordering = row.result.bordering;
   error.mahalanobis = row.result.mahalanobis;
   error.outside = row.result.outside_components;
-  error.impinging = impinging_within(result.model.hips[static_cast<std::size_t>(row.hip)], steps);
+  error.impinging = impinging_flag(result.model.hips[static_cast<std::size_t>(row.hip)], steps);
   std::vector<double> absolute;
   for (int j = 0; j < steps; ++j) {
     const stats::RegressionStep& step = row.result.steps[static_cast<std::size_t>(j)];
@@ -204,7 +202,7 @@ void case_groups(EstimatorValidateResult& result, int c) {
     if (e && e->bordering) ++summary.bordering[c];
     if (e && e->impinging == 1) ++summary.impinging[c];
   }
-  for (int method = 0; method < kMethods; ++method) {
+  for (int method = 0; method < kNumEstimatorMethods; ++method) {
     std::vector<double> all, interior, border, flagged, unflagged, thesis_set;
     for (const int i : one.eligible) {
       const EstimatorHipError* e = one.find(i, method, max_e);
@@ -300,7 +298,7 @@ EstimatorValidateResult compute_estimator_validation(const EstimatorValidateOpti
     if (!options.quick_program.empty()) result.quick_fe_s = run_quick_fe(options);
     const auto train_start = std::chrono::steady_clock::now();
     result.model = train_estimator_model(options.train);
-    result.pipeline_ms = elapsed_ms(train_start);
+    result.pipeline_ms = milliseconds_since(train_start);
     result.steps = static_cast<int>(result.model.estimator.values.cols());
     result.max_e_prime = options.max_e_prime;
 

@@ -3,6 +3,7 @@
 
 #include "core/atomic_file.h"
 #include "core/literature.h"
+#include "core/text_format.h"
 #include "core/version.h"
 #include "stats/interval_coverage.h"
 #include "stats/pearson.h"
@@ -19,16 +20,9 @@ namespace hipfai::studies {
 
 namespace {
 
-constexpr int kMethods = stats::kNumEstimatorMethods;
+using stats::kNumEstimatorMethods;
 // The `method` of pca_nn rows whose e' was chosen by leave-one-out inside the training hips.
 constexpr const char* kChosenMethod = "pca_nn_cv";
-
-std::string fixed(double value, int digits = 2) {
-  if (!std::isfinite(value)) return "-";
-  std::ostringstream out;
-  out << std::fixed << std::setprecision(digits) << value;
-  return out.str();
-}
 
 std::string flag_cell(int flag) { return flag < 0 ? std::string() : std::to_string(flag); }
 
@@ -84,7 +78,7 @@ void write_hips_csv(const EstimatorValidateResult& r, const std::filesystem::pat
     const EstimatorHipError* e = find(r, 0, static_cast<int>(i), 0, r.max_e_prime);
     hips_csv << hip.name << ',' << hip.ce_deg << ',' << hip.alpha_deg << ',' << hip.edge_mm << ','
              << (r.grid_border[i] ? 1 : 0) << ',' << (e ? (e->bordering ? "1" : "0") : "") << ','
-             << (e ? fixed(e->mahalanobis, 3) : "") << ',' << (e ? std::to_string(e->outside) : "") << ','
+             << (e ? fixed_or(e->mahalanobis, 3, "-") : "") << ',' << (e ? std::to_string(e->outside) : "") << ','
              << hip.feature_ms << ',' << hip.load_ms << ',' << hip.misses << ',' << hip.hash;
     for (int k = 0; k < r.components; ++k) hips_csv << ',' << r.retrained.scores(static_cast<Eigen::Index>(i), k);
     hips_csv << '\n';
@@ -102,7 +96,7 @@ void write_error_curves(const EstimatorValidateResult& r, const std::filesystem:
                          : "Fig. 74: mean estimation error vs e', case 2 (whole motion)";
     chart.x_label = "e' (effective features used)";
     chart.y_label = "mean |error| over hips (%)";
-    for (int method = 0; method < kMethods; ++method) {
+    for (int method = 0; method < kNumEstimatorMethods; ++method) {
       if (!find(r, c, eligible.empty() ? 0 : eligible.front(), method, 1)) continue;
       Series all{method_name(method) + " all", {}, {}, false, false, false};
       Series interior{method_name(method) + " grid interior", {}, {}, true, false, false};
@@ -166,7 +160,7 @@ std::string write_fig72(const EstimatorValidateResult& r, const std::filesystem:
     fe.y.push_back(model.estimator.values(fig72_hip, j));
   }
   chart.series.push_back(fe);
-  for (int method = 0; method < kMethods; ++method) {
+  for (int method = 0; method < kNumEstimatorMethods; ++method) {
     const EstimatorHipError* e = find(r, fig72_case, fig72_hip, method, max_e);
     if (!e) continue;
     Series estimate{method_name(method), fe.x, e->estimate, false, false, false};
@@ -187,8 +181,8 @@ void md_introduction(std::ostringstream& md, const EstimatorValidateResult& r) {
      << "). "
      << "Features: " << model.grid.num_features() << " (" << model.grid.describe() << "), farthest crossing, miss = 0; "
      << "PCA e = " << r.components << " components of the " << m << " hips ("
-     << fixed(100.0 * r.retrained.pca.variances.sum() / r.retrained.pca.total_variance, 1)
-     << " % of the normalised variance; scale floor " << fixed(model.estimator.settings.pca.scale_floor, 2)
+     << fixed_or(100.0 * r.retrained.pca.variances.sum() / r.retrained.pca.total_variance, 1, "-")
+     << " % of the normalised variance; scale floor " << fixed_or(model.estimator.settings.pca.scale_floor, 2, "-")
      << " mm); Eq. 22 shortlist " << model.estimator.settings.nearest << ". Each hip is estimated by a model trained "
      << "on the others (PCA refitted without it). Error of a hip = mean over the case's steps of "
         "|estimate - FE| / FE. Methods: `pca_nn` the thesis' Eq. 20-23 (weights |CC|), `knn` mean of the "
@@ -211,25 +205,25 @@ void md_mean_errors(std::ostringstream& md, const EstimatorValidateResult& r) {
      << "| case | method | all hips | grid interior | grid border | flagged bordering | not flagged | the thesis' hips | thesis all | thesis interior |\n"
      << "|---|---|---|---|---|---|---|---|---|---|\n";
   for (int c = 0; c < 2; ++c) {
-    for (int method = 0; method < kMethods; ++method) {
+    for (int method = 0; method < kNumEstimatorMethods; ++method) {
       const EstimatorErrorGroup& g = r.cases[static_cast<std::size_t>(c)].groups[static_cast<std::size_t>(method)];
       if (g.all != g.all) continue;  // a method without rows (depth_nn without depths)
-      md << "| " << c + 1 << " (" << r.summary.hips[c] << " hips) | " << method_name(method) << " | " << fixed(g.all)
-         << " | " << fixed(g.grid_interior) << " | " << fixed(g.grid_border) << " | " << fixed(g.flagged) << " | "
-         << fixed(g.unflagged) << " | " << fixed(g.thesis_hips) << " (" << g.thesis_count << ") | "
-         << (method == 0 ? (c == 0 ? "5.14" : fixed(thesis_estimator_table_mean(1, false)) + " (Table 13)") : "")
+      md << "| " << c + 1 << " (" << r.summary.hips[c] << " hips) | " << method_name(method) << " | " << fixed_or(g.all, 2, "-")
+         << " | " << fixed_or(g.grid_interior, 2, "-") << " | " << fixed_or(g.grid_border, 2, "-") << " | " << fixed_or(g.flagged, 2, "-") << " | "
+         << fixed_or(g.unflagged, 2, "-") << " | " << fixed_or(g.thesis_hips, 2, "-") << " (" << g.thesis_count << ") | "
+         << (method == 0 ? (c == 0 ? "5.14" : fixed_or(thesis_estimator_table_mean(1, false), 2, "-") + " (Table 13)") : "")
          << " | "
-         << (method == 0 ? fixed(thesis_estimator_table_mean(c, true)) + (c == 0 ? "" : " (Table 13)") : "")
+         << (method == 0 ? fixed_or(thesis_estimator_table_mean(c, true), 2, "-") + (c == 0 ? "" : " (Table 13)") : "")
          << " |\n";
     }
   }
   md << "\nGrid border = the run's minimum/maximum CE or alpha (the thesis' \"bordering\" hips, §4.5.4); flagged "
         "bordering = the estimator's own flag (the target's PCA scores leave the training range on a component "
         "holding >= "
-     << fixed(100.0 * r.model.estimator.settings.bordering_min_variance_share, 0)
+     << fixed_or(100.0 * r.model.estimator.settings.bordering_min_variance_share, 0, "-")
      << " % of the variance, or its Mahalanobis distance over those components exceeds every training hip's). "
         "The thesis' case-2 numbers are the means of its Table 13 (20 hips; interior = CE 10-30 and alpha 50-70); "
-        "its case-1 interior mean of Table 12 is " << fixed(thesis_estimator_table_mean(0, true)) << " %.\n\n";
+        "its case-1 interior mean of Table 12 is " << fixed_or(thesis_estimator_table_mean(0, true), 2, "-") << " %.\n\n";
 }
 
 // report.md: pca_nn at the e' chosen without the target.
@@ -239,7 +233,7 @@ void md_chosen_e_prime(std::ostringstream& md, const EstimatorValidateResult& r)
         "Here, for each held-out hip, e' in 1.." << r.max_e_prime << " is the one with the smallest leave-one-out error "
         "among the other hips alone (stats::select_e_prime, ties to the smaller e'), and the hip is estimated at that "
         "e'. Rows `pca_nn_cv` of loo.csv and estimates.csv (their e_prime is the chosen one). Selection time "
-     << fixed(r.selection_ms / 1000.0, 2) << " s.\n\n"
+     << fixed_or(r.selection_ms / 1000.0, 2, "-") << " s.\n\n"
      << "| case | all hips | grid interior | grid border | flagged bordering | not flagged | e' chosen (hips) |\n"
      << "|---|---|---|---|---|---|---|\n";
   for (int c = 0; c < 2; ++c) {
@@ -251,8 +245,8 @@ void md_chosen_e_prime(std::ostringstream& md, const EstimatorValidateResult& r)
       chosen += (chosen.empty() ? "" : ", ") + std::to_string(e_prime) + " (" + std::to_string(count) + ")";
     }
     const EstimatorErrorGroup& g = one.chosen_group;
-    md << "| " << c + 1 << " | " << fixed(g.all) << " | " << fixed(g.grid_interior) << " | " << fixed(g.grid_border)
-       << " | " << fixed(g.flagged) << " | " << fixed(g.unflagged) << " | " << chosen << " |\n";
+    md << "| " << c + 1 << " | " << fixed_or(g.all, 2, "-") << " | " << fixed_or(g.grid_interior, 2, "-") << " | " << fixed_or(g.grid_border, 2, "-")
+       << " | " << fixed_or(g.flagged, 2, "-") << " | " << fixed_or(g.unflagged, 2, "-") << " | " << chosen << " |\n";
   }
   md << '\n';
 }
@@ -278,7 +272,7 @@ void md_impinging(std::ostringstream& md, const EstimatorValidateResult& r) {
      << "| case | method | impinging | not impinging | flagged bordering or impinging | neither |\n"
      << "|---|---|---|---|---|---|\n";
   for (int c = 0; c < 2; ++c) {
-    for (int method = 0; method < kMethods; ++method) {
+    for (int method = 0; method < kNumEstimatorMethods; ++method) {
       std::vector<double> impinging, clear, either, neither;
       for (const int i : r.cases[static_cast<std::size_t>(c)].eligible) {
         const EstimatorHipError* e = find(r, c, i, method, max_e);
@@ -289,7 +283,7 @@ void md_impinging(std::ostringstream& md, const EstimatorValidateResult& r) {
         (e->impinging == 1 || (flag && flag->bordering) ? either : neither).push_back(e->mean_abs);
       }
       if (impinging.empty() && clear.empty()) continue;
-      const auto cell = [](const std::vector<double>& v) { return fixed(finite_mean(v)) + " (" + std::to_string(v.size()) + ")"; };
+      const auto cell = [](const std::vector<double>& v) { return fixed_or(finite_mean(v), 2, "-") + " (" + std::to_string(v.size()) + ")"; };
       md << "| " << c + 1 << " | " << method_name(method) << " | " << cell(impinging) << " | " << cell(clear) << " | "
          << cell(either) << " | " << cell(neither) << " |\n";
     }
@@ -317,9 +311,9 @@ void md_thesis_tables(std::ostringstream& md, const EstimatorValidateResult& r) 
           const TrainingHip& hip = hip_of(r, i);
           if (hip.ce_deg != ce || hip.alpha_deg != alpha) continue;
           const EstimatorHipError* e = find(r, c, i, 0, max_e);
-          cell = fixed(e->mean_abs) + (e->bordering ? "*" : "") + (e->impinging == 1 ? "!" : "");
+          cell = fixed_or(e->mean_abs, 2, "-") + (e->bordering ? "*" : "") + (e->impinging == 1 ? "!" : "");
         }
-        md << ' ' << cell << " / " << fixed(thesis_estimator_error(c, ce, alpha)) << " |";
+        md << ' ' << cell << " / " << fixed_or(thesis_estimator_error(c, ce, alpha), 2, "-") << " |";
       }
       md << '\n';
     }
@@ -334,26 +328,26 @@ void md_per_hip(std::ostringstream& md, const EstimatorValidateResult& r) {
   md << "## Per hip: methods side by side (e' = " << max_e << ", %)\n\n"
      << "| hip | grid border | flag (case 1) | Mahalanobis |";
   for (int c = 0; c < 2; ++c) {
-    for (int method = 0; method < kMethods; ++method) {
+    for (int method = 0; method < kNumEstimatorMethods; ++method) {
       md << (method == 0 ? " case " + std::to_string(c + 1) + " " : " ") << method_name(method) << " |";
     }
     md << " best |";
   }
   md << "\n|---|---|---|---|";
-  for (int column = 0; column < 2 * (kMethods + 1); ++column) md << "---|";
+  for (int column = 0; column < 2 * (kNumEstimatorMethods + 1); ++column) md << "---|";
   md << '\n';
-  int wins[2][kMethods] = {};
+  int wins[2][kNumEstimatorMethods] = {};
   for (std::size_t i = 0; i < r.model.hips.size(); ++i) {
     const int hip = static_cast<int>(i);
     const EstimatorHipError* flag = find(r, 0, hip, 0, max_e);
     md << "| " << r.model.hips[i].name << " | " << (r.grid_border[i] ? "yes" : "no") << " | "
-       << (flag ? (flag->bordering ? "bordering" : "interior") : "-") << " | " << (flag ? fixed(flag->mahalanobis) : "-")
+       << (flag ? (flag->bordering ? "bordering" : "interior") : "-") << " | " << (flag ? fixed_or(flag->mahalanobis, 2, "-") : "-")
        << " |";
     for (int c = 0; c < 2; ++c) {
       int best = -1;
-      for (int method = 0; method < kMethods; ++method) {
+      for (int method = 0; method < kNumEstimatorMethods; ++method) {
         const EstimatorHipError* e = find(r, c, hip, method, max_e);
-        md << ' ' << (e ? fixed(e->mean_abs) : "-") << " |";
+        md << ' ' << (e ? fixed_or(e->mean_abs, 2, "-") : "-") << " |";
         if (e && (best < 0 || e->mean_abs < find(r, c, hip, best, max_e)->mean_abs)) best = method;
       }
       if (best >= 0) ++wins[c][best];
@@ -364,7 +358,7 @@ void md_per_hip(std::ostringstream& md, const EstimatorValidateResult& r) {
   md << "\nWins (lowest error per hip): ";
   for (int c = 0; c < 2; ++c) {
     md << "case " << c + 1 << ":";
-    for (int method = 0; method < kMethods; ++method) md << ' ' << method_name(method) << ' ' << wins[c][method];
+    for (int method = 0; method < kNumEstimatorMethods; ++method) md << ' ' << method_name(method) << ' ' << wins[c][method];
     md << (c == 0 ? "; " : ".\n\n");
   }
 }
@@ -384,9 +378,9 @@ void md_pca(std::ostringstream& md, const EstimatorValidateResult& r) {
     const Eigen::VectorXd score = pca.scores.col(k);
     const std::vector<double> x(score.data(), score.data() + score.size());
     const auto r_ce = stats::pearson(x, ce), r_alpha = stats::pearson(x, alpha);
-    md << "| " << k + 1 << " | " << fixed(100.0 * pca.pca.variances(k) / pca.pca.total_variance, 1) << " | "
-       << (k < pca.significant_components ? "yes" : "no") << " | " << (r_ce.defined ? fixed(r_ce.r) : "-") << " | "
-       << (r_alpha.defined ? fixed(r_alpha.r) : "-") << " | " << fixed(pca.correlations(k, r.steps - 1)) << " |\n";
+    md << "| " << k + 1 << " | " << fixed_or(100.0 * pca.pca.variances(k) / pca.pca.total_variance, 1, "-") << " | "
+       << (k < pca.significant_components ? "yes" : "no") << " | " << (r_ce.defined ? fixed_or(r_ce.r, 2, "-") : "-") << " | "
+       << (r_alpha.defined ? fixed_or(r_alpha.r, 2, "-") : "-") << " | " << fixed_or(pca.correlations(k, r.steps - 1), 2, "-") << " |\n";
   }
 }
 
@@ -427,10 +421,10 @@ void write_coverage(std::ostringstream& md, const EstimatorValidateResult& r, co
           << cover.flag_recall << '\n';
       md << "| " << c + 1 << " | " << method_name(m) << " | " << cover.rows
          << (cover.skipped > 0 ? " (" + std::to_string(cover.skipped) + " undefined)" : std::string()) << " | "
-         << (cover.rows > 0 ? fixed(100.0 * cover.coverage, 1) + " %" : std::string("-")) << " | " << cover.large_error
+         << (cover.rows > 0 ? fixed_or(100.0 * cover.coverage, 1, "-") + " %" : std::string("-")) << " | " << cover.large_error
          << " | "
          << (cover.large_error > 0 ? std::to_string(cover.large_error_flagged) + " (" +
-                                         fixed(100.0 * cover.flag_recall, 1) + " %)"
+                                         fixed_or(100.0 * cover.flag_recall, 1, "-") + " %)"
                                    : std::string("-"))
          << " |\n";
     }
@@ -448,22 +442,22 @@ void md_times(std::ostringstream& md, const EstimatorValidateResult& r) {
   const auto m = r.model.hips.size();
   const auto& predict_ms = r.predict_ms;
   md << "## Times (this machine)\n\n| what | time |\n|---|---|\n";
-  if (r.quick_fe_s > 0) md << "| FE sweep (--quick, study validate) | " << fixed(r.quick_fe_s, 1) << " s |\n";
-  md << "| load one hip's tissues (mean / max) | " << fixed(finite_mean(load_ms), 1) << " / "
-     << fixed(*std::max_element(load_ms.begin(), load_ms.end()), 1) << " ms |\n"
-     << "| features of one hip (mean / max; edge " << fixed(r.model.hips.front().edge_mm, 1) << " mm) | "
-     << fixed(finite_mean(feature_ms), 1) << " / " << fixed(*std::max_element(feature_ms.begin(), feature_ms.end()), 1)
+  if (r.quick_fe_s > 0) md << "| FE sweep (--quick, study validate) | " << fixed_or(r.quick_fe_s, 1, "-") << " s |\n";
+  md << "| load one hip's tissues (mean / max) | " << fixed_or(finite_mean(load_ms), 1, "-") << " / "
+     << fixed_or(*std::max_element(load_ms.begin(), load_ms.end()), 1, "-") << " ms |\n"
+     << "| features of one hip (mean / max; edge " << fixed_or(r.model.hips.front().edge_mm, 1, "-") << " mm) | "
+     << fixed_or(finite_mean(feature_ms), 1, "-") << " / " << fixed_or(*std::max_element(feature_ms.begin(), feature_ms.end()), 1, "-")
      << " ms |\n"
-     << "| train on " << m << " hips (PCA + correlations, features given) | " << fixed(r.train_ms, 2) << " ms |\n"
+     << "| train on " << m << " hips (PCA + correlations, features given) | " << fixed_or(r.train_ms, 2, "-") << " ms |\n"
      << "| one prediction, e' = " << r.components << ", all " << r.steps
      << " steps, depths given:";
-  for (int method = 0; method < kMethods; ++method) md << (method == 0 ? " " : " / ") << method_name(method);
+  for (int method = 0; method < kNumEstimatorMethods; ++method) md << (method == 0 ? " " : " / ") << method_name(method);
   md << " |";
-  for (int method = 0; method < kMethods; ++method) md << (method == 0 ? " " : " / ") << fixed(predict_ms[method], 3);
+  for (int method = 0; method < kNumEstimatorMethods; ++method) md << (method == 0 ? " " : " / ") << fixed_or(predict_ms[method], 3, "-");
   md << " ms |\n"
-     << "| leave-one-out, both cases, every method x e' 1.." << r.max_e_prime << " | " << fixed(r.loo_ms / 1000.0, 2)
+     << "| leave-one-out, both cases, every method x e' 1.." << r.max_e_prime << " | " << fixed_or(r.loo_ms / 1000.0, 2, "-")
      << " s |\n"
-     << "| whole training pipeline (load, features, train) | " << fixed(r.pipeline_ms / 1000.0, 2) << " s |\n\n"
+     << "| whole training pipeline (load, features, train) | " << fixed_or(r.pipeline_ms / 1000.0, 2, "-") << " s |\n\n"
      << "Files: `loo.csv`, `estimates.csv`, `hips.csv`, `coverage.csv`, `model.h5` (trained on all " << m << " hips).\n";
 }
 

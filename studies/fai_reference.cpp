@@ -1,6 +1,7 @@
 #include "studies/fai_reference.h"
 
 #include "core/error.h"
+#include "core/text_format.h"
 #include "studies/fai_study.h"
 
 #include <algorithm>
@@ -25,12 +26,6 @@ const char* name(ReferenceCell cell) {
     case ReferenceCell::kAmbiguous: return "?";
   }
   return "?";
-}
-
-std::string fixed(double value, int digits = 2) {
-  char text[64];
-  std::snprintf(text, sizeof text, "%.*f", digits, value);
-  return text;
 }
 
 }  // namespace
@@ -157,7 +152,7 @@ ReferenceComparison compare_with_thesis(const std::vector<StudyCell>& cells) {
           if (ok) ++agree;
           verdict = ok ? "agree" : "**differ**";
         }
-        md << ' ' << (ours ? "p. " + fixed(depth) : std::string("n.p.")) << " vs " << name(ref) << " -> "
+        md << ' ' << (ours ? "p. " + fixed(depth, 2) : std::string("n.p.")) << " vs " << name(ref) << " -> "
            << verdict << " |";
       }
       md << '\n';
@@ -181,7 +176,7 @@ ReferenceComparison compare_with_thesis(const std::vector<StudyCell>& cells) {
       const int diff = std::abs(band_rank(ours_band) - band_rank(theirs));
       ++result.table10_counted;
       if (diff <= 1) ++result.table10_within_one_band;
-      return fixed(value) + " (" + ours_band + ")" + (diff <= 1 ? "" : " **off by " + std::to_string(diff) + "**");
+      return fixed(value, 2) + " (" + ours_band + ")" + (diff <= 1 ? "" : " **off by " + std::to_string(diff) + "**");
     };
     md << "| " << m.name << " | " << fixed(m.ce_deg, 0) << " | " << fixed(m.alpha_deg, 0) << " | "
        << cell(curvilinear_band(c->max_curvilinear_mm), c->max_curvilinear_mm, m.curvilinear_band) << " | "
@@ -201,11 +196,11 @@ ReferenceComparison compare_with_thesis(const std::vector<StudyCell>& cells) {
     result.largest_radial_at_pure_cam = deepest_r->ce_deg == 20 && deepest_r->alpha_deg == 80;
     md << "\n" << result.table10_within_one_band << " of " << result.table10_counted
        << " bands within one band of the thesis'. Largest curvilinear depth: CE " << fixed(deepest_c->ce_deg, 0)
-       << " / alpha " << fixed(deepest_c->alpha_deg, 0) << " (" << fixed(deepest_c->max_curvilinear_mm)
+       << " / alpha " << fixed(deepest_c->alpha_deg, 0) << " (" << fixed(deepest_c->max_curvilinear_mm, 2)
        << " mm; thesis: combined cam-pincer CE 40 / alpha 80) -> "
        << (result.largest_curvilinear_at_combined ? "agree" : "**differ**") << ". Largest radial depth: CE "
        << fixed(deepest_r->ce_deg, 0) << " / alpha " << fixed(deepest_r->alpha_deg, 0) << " ("
-       << fixed(deepest_r->max_radial_mm) << " mm; thesis: pure cam CE 20 / alpha 80) -> "
+       << fixed(deepest_r->max_radial_mm, 2) << " mm; thesis: pure cam CE 20 / alpha 80) -> "
        << (result.largest_radial_at_pure_cam ? "agree" : "**differ**") << ".\n\n";
   }
   result.markdown = md.str();

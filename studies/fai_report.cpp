@@ -2,11 +2,12 @@
 #include "studies/fai_report.h"
 
 #include "core/atomic_file.h"
+#include "core/text_format.h"
 #include "core/version.h"
 #include "geometry/mesh_io.h"
 #include "studies/fai_reference.h"
-#include "studies/results/results_file.h"
 #include "studies/reports/svg_plot.h"
+#include "studies/results/results_file.h"
 
 #include <algorithm>
 #include <cmath>
@@ -18,15 +19,8 @@ namespace hipfai::studies {
 
 namespace {
 
-std::string fixed(double value, int digits = 2) {
-  std::ostringstream out;
-  out << std::fixed << std::setprecision(digits) << value;
-  return out.str();
-}
-
-std::string model_id(double ce, double alpha) { return parametric_hip_id(ce, alpha); }
-
 void write_csv(const std::filesystem::path& path, const std::string& text) { write_file_atomically(path, text); }
+
 // The figures the report links to.
 struct FaiFigures {
   std::string fig60_ce40_alpha60, fig60_ce40_alpha40;  // empty when that hip is not in the grid
@@ -93,7 +87,7 @@ void write_tables(const FaiStudyResult& result, const FaiStudyOptions& options) 
               << m.max_radial_mm << ',' << m.normalised_difference << ',' << curvilinear_band(m.max_curvilinear_mm)
               << ',' << radial_band(m.max_radial_mm) << ',' << difference_band(m.normalised_difference) << ','
               << m.penetration_ms << ',' << m.first_contact_deg << '\n';
-      const auto& run = result.runs.at(model_id(m.ce_deg, m.alpha_deg)).run;
+      const auto& run = result.runs.at(parametric_hip_id(m.ce_deg, m.alpha_deg)).run;
       for (std::size_t k = 0; k < run.steps.size(); ++k) {
         steps << m.ce_deg << ',' << m.alpha_deg << ',' << (k + 1) << ',' << result.motion.steps[k].angle_deg << ','
               << run.steps[k].curvilinear_max_mm() << ',' << run.steps[k].radial_max_mm() << ','
@@ -126,7 +120,7 @@ void write_tables(const FaiStudyResult& result, const FaiStudyOptions& options) 
 // has no such hip.
 std::string write_fig60(const FaiStudyResult& result, const FaiStudyOptions& options, double ce, double alpha,
                         const std::string& file) {
-  const auto it = result.runs.find(model_id(ce, alpha));
+  const auto it = result.runs.find(parametric_hip_id(ce, alpha));
   if (it == result.runs.end()) return std::string();
   std::vector<double> step_angles;
   for (const auto& step : result.motion.steps) step_angles.push_back(step.angle_deg);
@@ -200,7 +194,7 @@ const FaiModelSummary& shown_hip(const FaiStudyResult& result) {
 // (one VTP each) and an SVG of them; returns the SVG's file name.
 std::string write_coloured_hip(const FaiStudyResult& result, const FaiStudyOptions& options,
                                const FaiModelSummary& shown) {
-  const std::string id = model_id(shown.ce_deg, shown.alpha_deg);
+  const std::string id = parametric_hip_id(shown.ce_deg, shown.alpha_deg);
   const auto& model = result.runs.at(id);
   std::vector<geometry::TriMesh> coloured;
   for (const std::string tissue : {"labrum", "femoral_cartilage", "acetabular_cartilage"}) {
@@ -241,7 +235,7 @@ FaiFigures write_figures(const FaiStudyResult& result, const FaiStudyOptions& op
   write_fig63(result, options, "Pathology (colour: normalised difference)", "", true,
               &FaiModelSummary::normalised_difference, "fig63_pathology.svg", true);
   const FaiModelSummary& shown = shown_hip(result);
-  figures.shown_id = model_id(shown.ce_deg, shown.alpha_deg);
+  figures.shown_id = parametric_hip_id(shown.ce_deg, shown.alpha_deg);
   figures.hip = write_coloured_hip(result, options, shown);
   return figures;
 }
@@ -306,7 +300,7 @@ void write_grid_table(std::ostream& md, const FaiStudyResult& result, const FaiS
 void write_depth_tables(std::ostream& md, const FaiStudyResult& result, const FaiStudyOptions& options) {
   md << "## Maximum penetration depth over the motion (mm)\n\n";
   write_grid_table(md, result, options,
-                   [](const FaiModelSummary& m) { return fixed(m.max_curvilinear_mm) + " / " + fixed(m.max_radial_mm); });
+                   [](const FaiModelSummary& m) { return fixed(m.max_curvilinear_mm, 2) + " / " + fixed(m.max_radial_mm, 2); });
   md << "\nEach cell: curvilinear / radial.\n\n";
   md << "## Where impingement begins\n\nAngle (deg) along the motion's single axis at which the femur bone first meets "
         "the labrum (exact range finder, parts beyond R + tolerance; the motion turns "
@@ -324,9 +318,9 @@ void write_depth_tables(std::ostream& md, const FaiStudyResult& result, const Fa
     const auto* m = find_fai_model(result.models, angles.first, angles.second);
     if (!m) continue;
     md << "| " << name << " | " << fixed(angles.first, 0) << " | " << fixed(angles.second, 0) << " | "
-       << fixed(m->max_curvilinear_mm) << " mm (" << curvilinear_band(m->max_curvilinear_mm) << ") | "
-       << fixed(m->max_radial_mm) << " mm (" << radial_band(m->max_radial_mm) << ") | "
-       << fixed(m->normalised_difference) << " (" << difference_band(m->normalised_difference) << ") |\n";
+       << fixed(m->max_curvilinear_mm, 2) << " mm (" << curvilinear_band(m->max_curvilinear_mm) << ") | "
+       << fixed(m->max_radial_mm, 2) << " mm (" << radial_band(m->max_radial_mm) << ") | "
+       << fixed(m->normalised_difference, 2) << " (" << difference_band(m->normalised_difference) << ") |\n";
   }
   md << "\nBands as thesis Table 10 (curvilinear 0-5-10-15-20-25 mm, radial 0-2-4-6-8-10 mm, "
         "difference -0.4..0.4 in steps of 0.2); \"none\" means no penetrating vertex.\n\n";
@@ -349,24 +343,24 @@ void write_thesis_pattern(std::ostream& md, const FaiStudyResult& result) {
     if (m.normalised_difference < most_negative->normalised_difference) most_negative = &m;
   }
   if (normal) {
-    md << "- No penetration for the normal hip (CE 20, alpha 40): curvilinear " << fixed(normal->max_curvilinear_mm)
-       << " mm, radial " << fixed(normal->max_radial_mm) << " mm — "
+    md << "- No penetration for the normal hip (CE 20, alpha 40): curvilinear " << fixed(normal->max_curvilinear_mm, 2)
+       << " mm, radial " << fixed(normal->max_radial_mm, 2) << " mm — "
        << verdict(normal->max_curvilinear_mm == 0 && normal->max_radial_mm == 0) << ".\n";
   }
   if (dysplasia) {
     md << "- No penetration for the dysplastic hip (CE 0, alpha 40): curvilinear "
-       << fixed(dysplasia->max_curvilinear_mm) << " mm, radial " << fixed(dysplasia->max_radial_mm) << " mm — "
+       << fixed(dysplasia->max_curvilinear_mm, 2) << " mm, radial " << fixed(dysplasia->max_radial_mm, 2) << " mm — "
        << verdict(dysplasia->max_curvilinear_mm == 0 && dysplasia->max_radial_mm == 0) << ".\n";
   }
   if (combined) {
     md << "- Largest curvilinear depth for combined cam-pincer (CE 40, alpha 80): the largest is at CE "
        << fixed(most_c->ce_deg, 0) << ", alpha " << fixed(most_c->alpha_deg, 0) << " ("
-       << fixed(most_c->max_curvilinear_mm) << " mm) — "
+       << fixed(most_c->max_curvilinear_mm, 2) << " mm) — "
        << verdict(most_c->ce_deg == 40 && most_c->alpha_deg == 80) << ".\n";
   }
   if (cam) {
     md << "- Largest radial depth for pure cam (CE 20, alpha 80): the largest is at CE " << fixed(most_r->ce_deg, 0)
-       << ", alpha " << fixed(most_r->alpha_deg, 0) << " (" << fixed(most_r->max_radial_mm) << " mm) — "
+       << ", alpha " << fixed(most_r->alpha_deg, 0) << " (" << fixed(most_r->max_radial_mm, 2) << " mm) — "
        << verdict(most_r->pathology == "cam") << ".\n";
     md << "- Most negative normalised difference (radial dominating) at pure cam: found at CE "
        << fixed(most_negative->ce_deg, 0) << ", alpha " << fixed(most_negative->alpha_deg, 0) << " — "
@@ -397,7 +391,7 @@ void write_speed(std::ostream& md, const FaiStudyResult& result, const FaiStudyO
   double total_ms = 0;
   for (const auto& m : result.models) {
     total_ms += m.penetration_ms;
-    md << "| " << model_id(m.ce_deg, m.alpha_deg) << " | " << fixed(m.generate_s) << " | " << fixed(m.penetration_ms, 1)
+    md << "| " << parametric_hip_id(m.ce_deg, m.alpha_deg) << " | " << fixed(m.generate_s, 2) << " | " << fixed(m.penetration_ms, 1)
        << " | " << fixed(m.penetration_ms / result.motion.steps.size(), 2) << " |\n";
   }
   md << "\nPenetration part of all " << result.models.size() << " models x " << result.motion.steps.size()
@@ -420,10 +414,10 @@ void write_resolution_table(std::ostream& md, const FaiStudyResult& result) {
         md << " - |";
         continue;
       }
-      md << ' ' << fixed(it->second.first) << " / " << fixed(it->second.second);
+      md << ' ' << fixed(it->second.first, 2) << " / " << fixed(it->second.second, 2);
       if (finest && &row != finest && finest->maxima.count(name)) {
-        md << " (" << std::showpos << fixed(it->second.first - finest->maxima.at(name).first) << " / "
-           << fixed(it->second.second - finest->maxima.at(name).second) << std::noshowpos << ")";
+        md << " (" << std::showpos << fixed(it->second.first - finest->maxima.at(name).first, 2) << " / "
+           << fixed(it->second.second - finest->maxima.at(name).second, 2) << std::noshowpos << ")";
       }
       md << " |";
     }

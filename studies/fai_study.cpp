@@ -26,8 +26,6 @@ namespace {
 
 using Clock = SteadyClock;
 
-std::string model_id(double ce, double alpha) { return parametric_hip_id(ce, alpha); }
-
 void normalise(std::vector<FaiModelSummary>& models) {
   double max_c = 0, max_r = 0;
   for (const auto& m : models) max_c = std::max(max_c, m.max_curvilinear_mm), max_r = std::max(max_r, m.max_radial_mm);
@@ -59,7 +57,7 @@ void gather_models(FaiStudyResult& result, const std::vector<FaiUnit>& units,
     if (!runs[k]) continue;
     if (units[k].edge_mm == options.edge_mm) {
       result.models.push_back(runs[k]->summary);
-      result.runs.emplace(model_id(units[k].ce_deg, units[k].alpha_deg), std::move(*runs[k]));
+      result.runs.emplace(parametric_hip_id(units[k].ce_deg, units[k].alpha_deg), std::move(*runs[k]));
     } else {
       other_edges[{units[k].ce_deg, units[k].alpha_deg, units[k].edge_mm}] = &*runs[k];
     }
@@ -77,7 +75,7 @@ void gather_models(FaiStudyResult& result, const std::vector<FaiUnit>& units,
       if (!find_fai_model(result.models, angles.first, angles.second)) continue;
       const FaiModelRun* used = nullptr;
       if (edge == options.edge_mm) {
-        used = &result.runs.at(model_id(angles.first, angles.second));
+        used = &result.runs.at(parametric_hip_id(angles.first, angles.second));
       } else {
         const auto it = other_edges.find({angles.first, angles.second, edge});
         if (it == other_edges.end()) continue;  // its unit failed

@@ -2,6 +2,7 @@
 #include "studies/hjc_cohort_report.h"
 
 #include "core/atomic_file.h"
+#include "core/text_format.h"
 #include "core/version.h"
 #include "geometry/hjc.h"
 #include "studies/results/results_file.h"
@@ -16,13 +17,6 @@ namespace {
 
 std::string csv_escape(const std::string& s) {
   return s.find(',') == std::string::npos ? s : "\"" + s + "\"";
-}
-
-std::string fmt(double value, int digits = 3) {
-  if (!std::isfinite(value)) return "-";
-  char buffer[64];
-  std::snprintf(buffer, sizeof(buffer), "%.*f", digits, value);
-  return buffer;
 }
 
 void write_rows_csv(const HjcCohortResult& result, const std::filesystem::path& path) {
@@ -44,7 +38,7 @@ void write_summary_csv(const HjcCohortResult& result, const std::filesystem::pat
   summary_csv << "surface,perturbation,method,n,failed,mean_error_mm,sd_error_mm,max_error_mm\n";
   for (const auto& s : result.summary) {
     summary_csv << s.surface << ',' << csv_escape(s.perturbation) << ',' << s.method << ',' << s.count << ','
-                << s.failed << ',' << fmt(s.mean_mm, 4) << ',' << fmt(s.sd_mm, 4) << ',' << fmt(s.max_mm, 4) << '\n';
+                << s.failed << ',' << fixed_or(s.mean_mm, 4, "-") << ',' << fixed_or(s.sd_mm, 4, "-") << ',' << fixed_or(s.max_mm, 4, "-") << '\n';
   }
   write_file_atomically(path, summary_csv.str());
 }
@@ -74,14 +68,14 @@ void write_perturbation_row(std::ostream& md, const HjcCohortResult& result, con
     const HjcCohortSummary t = group(result, surface, perturbation, m);
     n = std::max(n, t.count + t.failed);
     if (t.count == 0) { cells << " failed |"; continue; }
-    cells << ' ' << fmt(t.mean_mm, 2) << " +- " << fmt(t.sd_mm, 2) << " (" << fmt(t.max_mm, 2) << ")"
+    cells << ' ' << fixed_or(t.mean_mm, 2, "-") << " +- " << fixed_or(t.sd_mm, 2, "-") << " (" << fixed_or(t.max_mm, 2, "-") << ")"
           << (t.failed ? " [" + std::to_string(t.failed) + " failed]" : "") << " |";
     ranking.push_back({t.mean_mm, m});
   }
   std::sort(ranking.begin(), ranking.end());
   md << ' ' << n << " |" << cells.str();
   if (ranking.size() >= 2) {
-    md << ' ' << ranking[0].second << " | " << fmt(ranking[1].first - ranking[0].first, 2) << " mm vs "
+    md << ' ' << ranking[0].second << " | " << fixed_or(ranking[1].first - ranking[0].first, 2, "-") << " mm vs "
        << ranking[1].second << " |\n";
   } else {
     md << " - | - |\n";
@@ -120,8 +114,8 @@ std::string cohort_markdown(const HjcCohortResult& result) {
   for (const std::string surface : {"articular", "bone"}) write_surface_table(md, result, surface);
   md << "## Overall (every perturbation, both surfaces)\n\n| method | n | mean error (mm) | SD | max |\n|---|---|---|---|---|\n";
   for (const auto& s : result.overall) {
-    md << "| " << s.method << " | " << s.count << " | " << fmt(s.mean_mm, 3) << " | " << fmt(s.sd_mm, 3) << " | "
-       << fmt(s.max_mm, 3) << " |\n";
+    md << "| " << s.method << " | " << s.count << " | " << fixed_or(s.mean_mm, 3, "-") << " | " << fixed_or(s.sd_mm, 3, "-") << " | "
+       << fixed_or(s.max_mm, 3, "-") << " |\n";
   }
   return md.str();
 }

@@ -3,9 +3,10 @@
 
 #include "core/atomic_file.h"
 #include "core/literature.h"
+#include "core/text_format.h"
 #include "core/version.h"
-#include "studies/results/results_file.h"
 #include "studies/reports/svg_plot.h"
+#include "studies/results/results_file.h"
 
 #include <algorithm>
 #include <cmath>
@@ -21,13 +22,6 @@ using geometry::Vec3;
 
 // The methods compared with dref (thesis Figs. 68-71).
 const std::vector<std::string> kCompared{"femoralheadsphere", "acetabulumsphere", "doublesphere", "dconst"};
-
-std::string fmt(double value, int digits = 2) {
-  if (!std::isfinite(value)) return "-";
-  char buffer[64];
-  std::snprintf(buffer, sizeof(buffer), "%.*f", digits, value);
-  return buffer;
-}
 
 double mean_of(const std::vector<double>& v) {
   return v.empty() ? std::numeric_limits<double>::quiet_NaN()
@@ -65,20 +59,20 @@ void write_bones_centres(std::ostream& md, const HjcStudyResult& result) {
     for (const auto& b : hjc.methods) spread = std::max(spread, (a.center_mm - b.center_mm).norm());
   for (const auto& m : hjc.methods) {
     const bool functional = m.name == "dconst" || m.name == "dref";
-    md << "| " << m.name << " | (" << fmt(m.center_mm.x(), 2) << ", " << fmt(m.center_mm.y(), 2) << ", "
-       << fmt(m.center_mm.z(), 2) << ") | " << (functional ? "-" : fmt(m.radius_mm, 2)) << " | " << fmt(m.rms_mm, 3)
-       << " | " << fmt(m.max_mm, 3) << " | "
-       << (functional ? fmt(m.residual_motion_rms_mm, 3) + " / " + fmt(m.residual_motion_max_mm, 3) : "-") << " | "
-       << fmt((m.center_mm - mean_centre).norm(), 2) << " |\n";
+    md << "| " << m.name << " | (" << fixed_or(m.center_mm.x(), 2, "-") << ", " << fixed_or(m.center_mm.y(), 2, "-") << ", "
+       << fixed_or(m.center_mm.z(), 2, "-") << ") | " << (functional ? "-" : fixed_or(m.radius_mm, 2, "-")) << " | " << fixed_or(m.rms_mm, 3, "-")
+       << " | " << fixed_or(m.max_mm, 3, "-") << " | "
+       << (functional ? fixed_or(m.residual_motion_rms_mm, 3, "-") + " / " + fixed_or(m.residual_motion_max_mm, 3, "-") : "-") << " | "
+       << fixed_or((m.center_mm - mean_centre).norm(), 2, "-") << " |\n";
   }
-  md << "\nSpread (largest distance between two centres): **" << fmt(spread, 2) << " mm**. For the sphere fits the "
+  md << "\nSpread (largest distance between two centres): **" << fixed_or(spread, 2, "-") << " mm**. For the sphere fits the "
      << "residual is the distance to the fitted sphere; for dconst/dref it is the inter-articular distance minus its "
      << "target after the per-pose shifts (the head is not a perfect sphere).\n\n";
 }
 
 void write_bones_frame(std::ostream& md, const Eigen::Matrix3d& frame) {
   auto axis = [&](int i) {
-    return fmt(frame(0, i), 3) + ", " + fmt(frame(1, i), 3) + ", " + fmt(frame(2, i), 3);
+    return fixed_or(frame(0, i), 3, "-") + ", " + fixed_or(frame(1, i), 3, "-") + ", " + fixed_or(frame(2, i), 3, "-");
   };
   md << "## Bone-to-bone range of motion per method (exact range finder)\n\n"
      << "Approximate hip frame (no anatomical landmarks in the CT): Z = femur principal axis towards the head ("
@@ -98,7 +92,7 @@ void write_bones_rom_table(std::ostream& md, const HjcBonesVariant& variant, con
     md << "| " << m.name << " |";
     for (const auto& [name, amplitude] : hjc_study_rotations()) {
       (void)amplitude;
-      md << ' ' << fmt(variant.rom_deg.at(m.name).at(name), 1) << " (" << variant.site.at(m.name).at(name) << ") |";
+      md << ' ' << fixed_or(variant.rom_deg.at(m.name).at(name), 1, "-") << " (" << variant.site.at(m.name).at(name) << ") |";
     }
     md << '\n';
   }
@@ -110,10 +104,10 @@ void write_bones_rom_table(std::ostream& md, const HjcBonesVariant& variant, con
       lo = std::min(lo, variant.rom_deg.at(m.name).at(name));
       hi = std::max(hi, variant.rom_deg.at(m.name).at(name));
     }
-    md << ' ' << fmt(hi - lo, 1) << " |";
+    md << ' ' << fixed_or(hi - lo, 1, "-") << " |";
   }
   md << "\n| clinical norm (AAOS 1965) |";
-  for (const auto& [name, amplitude] : hjc_study_rotations()) md << ' ' << fmt(amplitude, 0) << " |";
+  for (const auto& [name, amplitude] : hjc_study_rotations()) md << ' ' << fixed_or(amplitude, 0, "-") << " |";
   md << '\n';
 }
 
@@ -126,7 +120,7 @@ std::string bones_markdown(const HjcStudyResult& result) {
         "head-neck junction (head removed) against the socket or its rim; (r): farther out, neck or trochanter "
         "against the pelvis.\n\nClinical norms: American Academy of Orthopaedic Surgeons, Joint Motion: Method of Measuring and "
         "Recording (1965); supine rotations measured in 120 adults: ER "
-     << fmt(literature::kSupineExternalRotationDeg, 1) << ", IR " << fmt(literature::kSupineInternalRotationDeg, 1)
+     << fixed_or(literature::kSupineExternalRotationDeg, 1, "-") << ", IR " << fixed_or(literature::kSupineInternalRotationDeg, 1, "-")
      << " deg (Kouyoumdjian et al. 2012, Orthop Traumatol Surg Res 98:17). core/literature.h.\n";
   return md.str();
 }
@@ -245,7 +239,7 @@ void write_centre_errors(std::ostream& md, const HjcStudyResult& result) {
   md << "\n|---|---|---|---|---|---|\n";
   for (const auto& s : result.subjects) {
     md << "| " << s.id << " |";
-    for (const auto& m : methods) md << ' ' << fmt((s.centres_mm.at(m) - s.true_centre_mm).norm(), 2) << " |";
+    for (const auto& m : methods) md << ' ' << fixed_or((s.centres_mm.at(m) - s.true_centre_mm).norm(), 2, "-") << " |";
     md << '\n';
   }
 }
@@ -253,11 +247,11 @@ void write_centre_errors(std::ostream& md, const HjcStudyResult& result) {
 void write_dref_differences(std::ostream& md, const HjcStudyResult& result, FigureValues& fig68, FigureValues& fig69) {
   md << "\n## Differences to dref over all six rotations (thesis Eq. 13, Figs. 68-69)\n\n"
      << "Mean over subjects of each subject's mean |depth - depth_dref| (SD: mean of the subjects' SDs). Thesis "
-     << "(10 MRI subjects): radial about " << fmt(literature::kThesisHjcRadialDiffPercent, 0)
-     << " % on average; femoralheadsphere and doublesphere < " << fmt(literature::kThesisHjcSphereRadialDiffPercent, 0)
-     << " % and < " << fmt(literature::kThesisHjcSphereCurvilinearDiffMm, 2) << " mm curvilinear; dconst about "
-     << fmt(literature::kThesisHjcDconstRadialDiffPercent, 0) << " % and "
-     << fmt(literature::kThesisHjcDconstCurvilinearDiffMm, 2) << " mm.\n\n"
+     << "(10 MRI subjects): radial about " << fixed_or(literature::kThesisHjcRadialDiffPercent, 0, "-")
+     << " % on average; femoralheadsphere and doublesphere < " << fixed_or(literature::kThesisHjcSphereRadialDiffPercent, 0, "-")
+     << " % and < " << fixed_or(literature::kThesisHjcSphereCurvilinearDiffMm, 2, "-") << " mm curvilinear; dconst about "
+     << fixed_or(literature::kThesisHjcDconstRadialDiffPercent, 0, "-") << " % and "
+     << fixed_or(literature::kThesisHjcDconstCurvilinearDiffMm, 2, "-") << " mm.\n\n"
      << "| method | radial (% of dref) | radial (mm) | curvilinear (mm) | thesis radial | thesis curvilinear |\n"
      << "|---|---|---|---|---|---|\n";
   fig68.assign(kCompared.size(), {});
@@ -266,14 +260,14 @@ void write_dref_differences(std::ostream& md, const HjcStudyResult& result, Figu
     const OverallDifferences o = overall(result.subjects, kCompared[i], "dref");
     const bool small = kCompared[i] == "femoralheadsphere" || kCompared[i] == "doublesphere";
     const bool dconst = kCompared[i] == "dconst";
-    md << "| " << kCompared[i] << " | " << fmt(o.radial_percent, 1) << " +- " << fmt(o.radial_percent_sd, 1) << " | "
-       << fmt(o.radial_mm, 3) << " | " << fmt(o.curvilinear_mm, 3) << " +- " << fmt(o.curvilinear_sd, 3) << " | "
-       << (small    ? "< " + fmt(literature::kThesisHjcSphereRadialDiffPercent, 0) + " %"
-           : dconst ? "~" + fmt(literature::kThesisHjcDconstRadialDiffPercent, 0) + " %"
-                    : "~" + fmt(literature::kThesisHjcRadialDiffPercent, 0) + " % (all methods)")
+    md << "| " << kCompared[i] << " | " << fixed_or(o.radial_percent, 1, "-") << " +- " << fixed_or(o.radial_percent_sd, 1, "-") << " | "
+       << fixed_or(o.radial_mm, 3, "-") << " | " << fixed_or(o.curvilinear_mm, 3, "-") << " +- " << fixed_or(o.curvilinear_sd, 3, "-") << " | "
+       << (small    ? "< " + fixed_or(literature::kThesisHjcSphereRadialDiffPercent, 0, "-") + " %"
+           : dconst ? "~" + fixed_or(literature::kThesisHjcDconstRadialDiffPercent, 0, "-") + " %"
+                    : "~" + fixed_or(literature::kThesisHjcRadialDiffPercent, 0, "-") + " % (all methods)")
        << " | "
-       << (small    ? "< " + fmt(literature::kThesisHjcSphereCurvilinearDiffMm, 2) + " mm"
-           : dconst ? fmt(literature::kThesisHjcDconstCurvilinearDiffMm, 2) + " mm"
+       << (small    ? "< " + fixed_or(literature::kThesisHjcSphereCurvilinearDiffMm, 2, "-") + " mm"
+           : dconst ? fixed_or(literature::kThesisHjcDconstCurvilinearDiffMm, 2, "-") + " mm"
                     : std::string("-"))
        << " |\n";
     for (const auto& s : result.subjects) {
@@ -289,8 +283,8 @@ void write_truth_differences(std::ostream& md, const HjcStudyResult& result) {
      << "| centre | radial (% of truth) | radial (mm) | curvilinear (mm) |\n|---|---|---|---|\n";
   for (const auto& m : geometry::hjc_method_names()) {
     const OverallDifferences o = overall(result.subjects, m, "truth");
-    md << "| " << m << " | " << fmt(o.radial_percent, 1) << " +- " << fmt(o.radial_percent_sd, 1) << " | "
-       << fmt(o.radial_mm, 3) << " | " << fmt(o.curvilinear_mm, 3) << " +- " << fmt(o.curvilinear_sd, 3) << " |\n";
+    md << "| " << m << " | " << fixed_or(o.radial_percent, 1, "-") << " +- " << fixed_or(o.radial_percent_sd, 1, "-") << " | "
+       << fixed_or(o.radial_mm, 3, "-") << " | " << fixed_or(o.curvilinear_mm, 3, "-") << " +- " << fixed_or(o.curvilinear_sd, 3, "-") << " |\n";
   }
   md << "\n## Effect of a known centre error (true centre displaced along +-X, +-Y, +-Z of the hip frame)\n\n"
      << "| centre error | radial (% of truth) | radial (mm) | curvilinear (mm) | max curvilinear difference (mm) |\n|---|---|---|---|---|\n";
@@ -307,8 +301,8 @@ void write_truth_differences(std::ostream& md, const HjcStudyResult& result) {
         for (const double x : d.curvilinear_mm) cmax = std::max(cmax, x);
       }
     }
-    md << "| " << fmt(offset, 0) << " mm | " << fmt(mean_of(rp), 1) << " | " << fmt(mean_of(rm), 3) << " | "
-       << fmt(mean_of(cm), 3) << " | " << fmt(cmax, 2) << " |\n";
+    md << "| " << fixed_or(offset, 0, "-") << " mm | " << fixed_or(mean_of(rp), 1, "-") << " | " << fixed_or(mean_of(rm), 3, "-") << " | "
+       << fixed_or(mean_of(cm), 3, "-") << " | " << fixed_or(cmax, 2, "-") << " |\n";
   }
 }
 
@@ -316,7 +310,7 @@ void write_truth_differences(std::ostream& md, const HjcStudyResult& result) {
 std::string finite_range(const std::vector<double>& v, int digits) {
   double lo = 1e300, hi = -1e300;
   for (const double x : v) if (std::isfinite(x)) { lo = std::min(lo, x); hi = std::max(hi, x); }
-  return lo > hi ? std::string("-") : "[" + fmt(lo, digits) + ", " + fmt(hi, digits) + "]";
+  return lo > hi ? std::string("-") : "[" + fixed_or(lo, digits, "-") + ", " + fixed_or(hi, digits, "-") + "]";
 }
 
 // One row of the per-rotation table (Eq. 14-15): per compared method the mean over subjects of
@@ -340,10 +334,10 @@ std::pair<double, double> write_rotation_row(std::ostream& md, const HjcStudyRes
     fig71[i].push_back(cmm);
     if (std::isfinite(rpm)) all_rp.push_back(rpm);
     all_cm.push_back(cmm);
-    md << ' ' << fmt(rpm, 1) << ' ' << finite_range(rp_finite, 1) << " | " << fmt(cmm, 3) << ' ' << finite_range(cm, 2) << " |";
+    md << ' ' << fixed_or(rpm, 1, "-") << ' ' << finite_range(rp_finite, 1) << " | " << fixed_or(cmm, 3, "-") << ' ' << finite_range(cm, 2) << " |";
   }
   const double mr = mean_of(all_rp), mc = mean_of(all_cm);
-  md << ' ' << fmt(mr, 1) << " | " << fmt(mc, 3) << " |\n";
+  md << ' ' << fixed_or(mr, 1, "-") << " | " << fixed_or(mc, 3, "-") << " |\n";
   return {mr, mc};
 }
 

@@ -3,11 +3,13 @@
 #include "core/atomic_file.h"
 #include "core/csv.h"
 #include "core/error.h"
+#include "core/numbers.h"
+#include "core/text_format.h"
 #include "studies/fai_reference.h"
 #include "studies/fai_study.h"
-#include "studies/results/fe_step_record.h"
 #include "studies/pipeline/hip_source.h"
 #include "studies/reports/svg_plot.h"
+#include "studies/results/fe_step_record.h"
 
 #include <algorithm>
 #include <array>
@@ -24,7 +26,7 @@ namespace hipfai::studies {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+using hipfai::kNaN;
 const std::vector<std::string> kDepths{"curvilinear", "radial"};
 
 // The primary FE measure: the ball-averaged peak von Mises of the whole model (the largest over
@@ -32,13 +34,6 @@ const std::vector<std::string> kDepths{"curvilinear", "radial"};
 // sits at the singular bonded corners and grows with refinement, the ball average converges
 // (fem/peak_measures.h, docs/fem-levels.md).
 const std::string kPrimary = fe_measure_name(VonMisesMeasure{VonMisesStat::kBall, std::nullopt});
-
-std::string fixed(double value, int digits) {
-  if (!std::isfinite(value)) return "–";
-  std::ostringstream out;
-  out << std::fixed << std::setprecision(digits) << value;
-  return out.str();
-}
 
 std::string scientific(double value) {
   if (!std::isfinite(value)) return "–";
@@ -93,12 +88,12 @@ bool on_thesis_grid(double ce, double alpha) {
 
 std::string our_cell(const ValidationCorrelation* row) {
   if (row == nullptr) return "–";
-  if (row->status == "ok") return fixed(row->summary.pearson.r, 2) + ", " + scientific(row->summary.pearson.p_value);
+  if (row->status == "ok") return fixed_or(row->summary.pearson.r, 2, "–") + ", " + scientific(row->summary.pearson.p_value);
   return row->status;
 }
 
 std::string thesis_cell(const ThesisCorrelation& cell) {
-  return cell.penetrates ? fixed(cell.r, 2) + ", " + scientific(cell.p) : "n.p.";
+  return cell.penetrates ? fixed_or(cell.r, 2, "–") + ", " + scientific(cell.p) : "n.p.";
 }
 
 // Table 8 or 9 for one measure in the thesis' layout: rows CE, columns alpha.
@@ -120,7 +115,7 @@ void write_table(std::ostream& md, const std::vector<ValidationCorrelation>& row
             depth == "curvilinear" ? thesis_table8(ce, alpha) : thesis_table9(ce, alpha);
         md << " <br>thesis " << thesis_cell(thesis);
         if (thesis.penetrates && row != nullptr && row->status == "ok") {
-          md << " <br>Δr " << (row->summary.pearson.r >= thesis.r ? "+" : "") << fixed(row->summary.pearson.r - thesis.r, 2);
+          md << " <br>Δr " << (row->summary.pearson.r >= thesis.r ? "+" : "") << fixed_or(row->summary.pearson.r - thesis.r, 2, "–");
         }
       }
       md << " |";
@@ -141,7 +136,7 @@ void write_fig60(const ValidationData& data, const ValidationHipSeries& hip, con
   const std::size_t primary =
       std::find(data.measures.begin(), data.measures.end(), kPrimary) - data.measures.begin();
   LineChart chart;
-  chart.title = "CE " + fixed(hip.ce_deg, 0) + "° / alpha " + fixed(hip.alpha_deg, 0) +
+  chart.title = "CE " + fixed_or(hip.ce_deg, 0, "–") + "° / alpha " + fixed_or(hip.alpha_deg, 0, "–") +
                 "°: maximum depths and von Mises over standing-to-sitting";
   chart.x_label = "rotation along the motion (deg)";
   chart.y_label = "maximum penetration depth (mm)";
@@ -156,7 +151,7 @@ void write_fig60(const ValidationData& data, const ValidationHipSeries& hip, con
   for (const std::string& depth : kDepths) {
     const ValidationCorrelation* row = find(rows, hip.ce_deg, hip.alpha_deg, depth, kPrimary);
     chart.notes.push_back(row != nullptr && row->status == "ok"
-                              ? depth + ": r " + fixed(row->summary.pearson.r, 2) + " (p " +
+                              ? depth + ": r " + fixed_or(row->summary.pearson.r, 2, "–") + " (p " +
                                     scientific(row->summary.pearson.p_value) + ")"
                               : depth + ": " + our_cell(row));
   }
@@ -174,7 +169,7 @@ void write_scatter(const ValidationData& data, const std::string& depth, const s
   for (const ValidationHipSeries& hip : data.hips) {
     if (primary >= hip.fe.size()) continue;
     Series& s = by_ce[hip.ce_deg];
-    s.name = "CE " + fixed(hip.ce_deg, 0) + "°";
+    s.name = "CE " + fixed_or(hip.ce_deg, 0, "–") + "°";
     s.markers = true;
     const std::vector<double>& d = hip.depth(depth);
     for (std::size_t k = 0; k < d.size(); ++k) {
@@ -194,8 +189,8 @@ void write_rmap(const std::vector<ValidationCorrelation>& rows, const std::vecto
   map.column_label = "alpha (deg)";
   map.unit = "r";
   map.diverging = true;
-  for (double ce : ces) map.row_names.push_back(fixed(ce, 0));
-  for (double a : alphas) map.column_names.push_back(fixed(a, 0));
+  for (double ce : ces) map.row_names.push_back(fixed_or(ce, 0, "–"));
+  for (double a : alphas) map.column_names.push_back(fixed_or(a, 0, "–"));
   for (double ce : ces) {
     std::vector<double> values;
     std::vector<std::string> text;
@@ -203,7 +198,7 @@ void write_rmap(const std::vector<ValidationCorrelation>& rows, const std::vecto
       const ValidationCorrelation* row = find(rows, ce, alpha, depth, kPrimary);
       const bool ok = row != nullptr && row->status == "ok";
       values.push_back(ok ? row->summary.pearson.r : kNaN);
-      text.push_back(ok ? fixed(row->summary.pearson.r, 2) : (row ? row->status : "–"));
+      text.push_back(ok ? fixed_or(row->summary.pearson.r, 2, "–") : (row ? row->status : "–"));
     }
     map.values.push_back(values);
     map.cell_text.push_back(text);
@@ -375,17 +370,17 @@ void write_summary(std::ostream& md, const ValidationData& data, const std::vect
     const Moments m = moments(rs);
     const ThesisCorrelationSummary t =
         depth == "curvilinear" ? thesis_summary_curvilinear() : thesis_summary_radial();
-    md << "| " << depth << " | " << m.n << " | " << fixed(m.mean, 2) << " | " << fixed(m.sd, 2) << " | "
-       << fixed(m.min, 2) << " – " << fixed(m.max, 2) << " | " << fixed(t.mean, 2) << " | " << fixed(t.sd, 2)
-       << " | " << fixed(t.min, 2) << " – " << fixed(t.max, 2) << " |\n";
+    md << "| " << depth << " | " << m.n << " | " << fixed_or(m.mean, 2, "–") << " | " << fixed_or(m.sd, 2, "–") << " | "
+       << fixed_or(m.min, 2, "–") << " – " << fixed_or(m.max, 2, "–") << " | " << fixed_or(t.mean, 2, "–") << " | " << fixed_or(t.sd, 2, "–")
+       << " | " << fixed_or(t.min, 2, "–") << " – " << fixed_or(t.max, 2, "–") << " |\n";
     (depth == "curvilinear" ? result.mean_r_curvilinear : result.mean_r_radial) = m.mean;
   }
   {
     const Moments m = moments(all);
     const ThesisCorrelationSummary t = thesis_summary_all();
-    md << "| all | " << m.n << " | " << fixed(m.mean, 2) << " | " << fixed(m.sd, 2) << " | " << fixed(m.min, 2)
-       << " – " << fixed(m.max, 2) << " | " << fixed(t.mean, 2) << " | " << fixed(t.sd, 2) << " | "
-       << fixed(t.min, 2) << " – " << fixed(t.max, 2) << " |\n\n";
+    md << "| all | " << m.n << " | " << fixed_or(m.mean, 2, "–") << " | " << fixed_or(m.sd, 2, "–") << " | " << fixed_or(m.min, 2, "–")
+       << " – " << fixed_or(m.max, 2, "–") << " | " << fixed_or(t.mean, 2, "–") << " | " << fixed_or(t.sd, 2, "–") << " | "
+       << fixed_or(t.min, 2, "–") << " – " << fixed_or(t.max, 2, "–") << " |\n\n";
     result.mean_r_all = m.mean;
     result.ok_cells = m.n;
   }
@@ -398,7 +393,7 @@ void write_summary(std::ostream& md, const ValidationData& data, const std::vect
         if (row.depth == depth && row.measure == measure && row.status == "ok") rs.push_back(row.summary.pearson.r);
       }
       const Moments m = moments(rs);
-      md << ' ' << m.n << ", " << fixed(m.mean, 2) << " |";
+      md << ' ' << m.n << ", " << fixed_or(m.mean, 2, "–") << " |";
     }
     md << '\n';
   }
@@ -441,9 +436,9 @@ void write_across_hips(std::ostream& md, const ValidationData& data) {
       const stats::CorrelationSummary s = stats::correlate(x, y);
       const bool ok = s.status == "ok";
       md << "| " << depth << " | `" << data.measures[m] << "` | " << s.n << " | "
-         << (ok ? fixed(s.pearson.r, 2) : "–") << " | " << (ok ? scientific(s.pearson.p_value) : "–") << " | "
-         << (ok ? fixed(s.spearman.r, 2) : "–") << " | "
-         << (ok && s.interval.defined ? fixed(s.interval.low, 2) + " – " + fixed(s.interval.high, 2) : "–")
+         << (ok ? fixed_or(s.pearson.r, 2, "–") : "–") << " | " << (ok ? scientific(s.pearson.p_value) : "–") << " | "
+         << (ok ? fixed_or(s.spearman.r, 2, "–") : "–") << " | "
+         << (ok && s.interval.defined ? fixed_or(s.interval.low, 2, "–") + " – " + fixed_or(s.interval.high, 2, "–") : "–")
          << " | " << s.status << " |\n";
     }
   }
@@ -514,18 +509,18 @@ void write_stage_times(std::ostream& md, const ValidationData& data) {
     const double n_hips = data.timings.size(), n_steps = n_hips * steps;
     md << "## Time per stage: what accuracy costs\n\n";
     md << "| stage | total | per hip | per step |\n|---|---|---|---|\n";
-    md << "| generate hip (gmsh; " << generated << " generated, the rest cached) | " << fixed(generate, 1) << " s | "
-       << fixed(generated > 0 ? generate / generated : 0.0, 1) << " s | – |\n";
-    md << "| penetration tables (cylindrical + radial) | " << fixed(tables / 1e3, 2) << " s | "
-       << fixed(tables / n_hips, 1) << " ms | – |\n";
-    md << "| penetration queries (curvilinear + radial) | " << fixed(query / 1e3, 3) << " s | "
-       << fixed(query / n_hips, 1) << " ms | " << fixed(query / n_steps, 2) << " ms |\n";
-    md << "| FE, level " << level << " (mean " << fixed(dofs / n_hips, 0) << " DOFs; whole runs incl. meshing) | "
-       << fixed(fe, 0) << " s | " << fixed(fe / n_hips, 1) << " s | " << fixed(fe_steps / n_steps, 2) << " s |\n\n";
+    md << "| generate hip (gmsh; " << generated << " generated, the rest cached) | " << fixed_or(generate, 1, "–") << " s | "
+       << fixed_or(generated > 0 ? generate / generated : 0.0, 1, "–") << " s | – |\n";
+    md << "| penetration tables (cylindrical + radial) | " << fixed_or(tables / 1e3, 2, "–") << " s | "
+       << fixed_or(tables / n_hips, 1, "–") << " ms | – |\n";
+    md << "| penetration queries (curvilinear + radial) | " << fixed_or(query / 1e3, 3, "–") << " s | "
+       << fixed_or(query / n_hips, 1, "–") << " ms | " << fixed_or(query / n_steps, 2, "–") << " ms |\n";
+    md << "| FE, level " << level << " (mean " << fixed_or(dofs / n_hips, 0, "–") << " DOFs; whole runs incl. meshing) | "
+       << fixed_or(fe, 0, "–") << " s | " << fixed_or(fe / n_hips, 1, "–") << " s | " << fixed_or(fe_steps / n_steps, 2, "–") << " s |\n\n";
     if (query > 0) {
-      md << "One FE step costs " << fixed(fe_steps / n_steps / (query / n_steps / 1e3), 0)
+      md << "One FE step costs " << fixed_or(fe_steps / n_steps / (query / n_steps / 1e3), 0, "–")
          << " times one penetration step (both depths). FE steps not converged: " << failed << " of "
-         << fixed(n_steps, 0) << "; FE runs taken from the cache in the run that wrote timings.csv: " << reused
+         << fixed_or(n_steps, 0, "–") << "; FE runs taken from the cache in the run that wrote timings.csv: " << reused
          << ". Times of cached FE runs are those measured when they were solved.\n\n";
     }
   }

@@ -30,7 +30,7 @@ namespace {
 
 using Clock = SteadyClock;
 
-std::string number(double value) {
+std::string csv_number(double value) {
   if (!std::isfinite(value)) return "";
   std::ostringstream out;
   out << std::setprecision(10) << value;
@@ -118,10 +118,10 @@ void write_steps_csv(const std::vector<ValidationHip>& hips, const Motion& motio
   csv << '\n';
   for (const ValidationHip& run : hips) {
     for (std::size_t k = 0; k < motion.steps.size(); ++k) {
-      csv << run.ce << ',' << run.alpha << ',' << k + 1 << ',' << number(motion.steps[k].angle_deg) << ','
-          << number(run.curvilinear_max_mm[k]) << ',' << number(run.radial_max_mm[k]);
+      csv << run.ce << ',' << run.alpha << ',' << k + 1 << ',' << csv_number(motion.steps[k].angle_deg) << ','
+          << csv_number(run.curvilinear_max_mm[k]) << ',' << csv_number(run.radial_max_mm[k]);
       for (std::size_t m = 0; m < validation_fe_measures().size(); ++m) {
-        csv << ',' << (m < run.fe.size() ? number(run.fe[m][k]) : std::string());
+        csv << ',' << (m < run.fe.size() ? csv_number(run.fe[m][k]) : std::string());
       }
       csv << '\n';
     }
@@ -137,9 +137,9 @@ void write_timings_csv(const std::vector<ValidationHip>& hips, const ValidationO
   for (const ValidationHip& run : hips) {
     const ValidationHipTiming& t = run.timing;
     csv << run.ce << ',' << run.alpha << ',' << options.edge_mm << ',' << steps << ',' << to_string(options.fe_level) << ','
-        << number(t.generate_s) << ',' << number(t.penetration_tables_ms) << ',' << number(t.penetration_query_ms)
-        << ',' << number(t.fe_s) << ',' << number(t.fe_step_s) << ',' << (t.fe_reused ? 1 : 0) << ','
-        << t.fe_steps_failed << ',' << number(t.fe_dofs) << '\n';
+        << csv_number(t.generate_s) << ',' << csv_number(t.penetration_tables_ms) << ',' << csv_number(t.penetration_query_ms)
+        << ',' << csv_number(t.fe_s) << ',' << csv_number(t.fe_step_s) << ',' << (t.fe_reused ? 1 : 0) << ','
+        << t.fe_steps_failed << ',' << csv_number(t.fe_dofs) << '\n';
   }
   write_file_atomically(path, csv.str());
 }

@@ -3,6 +3,7 @@
 
 #include "core/atomic_file.h"
 #include "core/literature.h"
+#include "core/text_format.h"
 #include "geometry/hip_frame.h"
 #include "geometry/hip_measure.h"
 #include "studies/reports/svg_plot.h"
@@ -74,12 +75,6 @@ class PlaneDrawing {
   std::ostringstream body_;
 };
 
-std::string fixed(double value, int digits = 1) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.*f", digits, value);
-  return buffer;
-}
-
 // Keeps the segments within `reach` of `centre` (the figure's window).
 std::vector<geometry::PlaneSegment> near(const std::vector<geometry::PlaneSegment>& segments, const Vec3& centre,
                                          double reach) {
@@ -104,10 +99,10 @@ void write_coronal_ce(const AssessmentResult& r, const std::filesystem::path& pa
   const auto& ce = r.before.measures.lateral_ce;
   drawing.line(head, head + 1.6 * (ce.rim_point_mm - head), "#d35400", 2.0);
   drawing.dot(ce.rim_point_mm, "#d35400");
-  drawing.text(ce.rim_point_mm, "CE " + fixed(ce.ce_deg) + "°", "#d35400");
+  drawing.text(ce.rim_point_mm, "CE " + fixed(ce.ce_deg, 1) + "°", "#d35400");
   std::vector<std::string> notes = {"coronal plane of the anterior pelvic plane frame through the femoral head centre;",
                                     "grey: pelvis, blue: femur (neutral pose); seen from anterior"};
-  if (r.after) notes.push_back("after the resections: lateral CE " + fixed(r.after->measures.lateral_ce.ce_deg) + "°");
+  if (r.after) notes.push_back("after the resections: lateral CE " + fixed(r.after->measures.lateral_ce.ce_deg, 1) + "°");
   write_file_atomically(path, drawing.svg("Lateral centre-edge angle (Wiberg)", notes));
 }
 
@@ -131,11 +126,11 @@ void write_notzli_alpha(const AssessmentResult& r, const std::filesystem::path& 
   const Vec3 departure = r.hjc_mm + rn * (alpha.departure_point_mm - r.hjc_mm);
   drawing.line(centre, centre + 1.3 * (departure - centre), "#d35400", 2.0);
   drawing.dot(departure, "#d35400");
-  drawing.text(departure, "alpha " + fixed(alpha.alpha_deg) + "°", "#d35400");
+  drawing.text(departure, "alpha " + fixed(alpha.alpha_deg, 1) + "°", "#d35400");
   std::vector<std::string> notes = {"femur cut by Nötzli's plane (neck axis and anterior); dashed: fitted head sphere",
                                     "blue: as scanned" + std::string(r.femur_after_neutral ? ", green: after the cam resection" : "")};
-  if (r.after) notes.push_back("alpha after: " + fixed(r.after->measures.alpha.alpha_deg) + "° in Nötzli's plane, largest " +
-                               fixed(r.after->measures.alpha.max_alpha_deg) + "°");
+  if (r.after) notes.push_back("alpha after: " + fixed(r.after->measures.alpha.alpha_deg, 1) + "° in Nötzli's plane, largest " +
+                               fixed(r.after->measures.alpha.max_alpha_deg, 1) + "°");
   write_file_atomically(path, drawing.svg("Alpha angle (Nötzli) in Nötzli's plane", notes));
 }
 
@@ -217,11 +212,11 @@ void write_rom_bars(const AssessmentResult& r, const std::filesystem::path& path
     const std::string name = before[i]->limit ? before[i]->limit->name : "(start pose not reached)";
     out << "<text x='10' y='" << y + 12 << "' font-size='12'>" << name << "</text>\n";
     out << "<rect x='" << left << "' y='" << y << "' width='" << value(*before[i]) * scale
-        << "' height='12' fill='#2a6fb0'><title>" << fixed(value(*before[i])) << "</title></rect>\n";
+        << "' height='12' fill='#2a6fb0'><title>" << fixed(value(*before[i]), 1) << "</title></rect>\n";
     if (r.after) {
       const double after = value(*r.after->rom.motions()[i]);
       out << "<rect x='" << left << "' y='" << y + 13 << "' width='" << after * scale
-          << "' height='12' fill='#27ae60'><title>" << fixed(after) << "</title></rect>\n";
+          << "' height='12' fill='#27ae60'><title>" << fixed(after, 1) << "</title></rect>\n";
     }
     if (i < 6) {
       const double x = left + normal[i] * scale;

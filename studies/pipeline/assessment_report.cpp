@@ -4,6 +4,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/literature.h"
+#include "core/text_format.h"
 #include "core/version.h"
 #include "geometry/hip_measure.h"
 #include "geometry/mesh_io.h"
@@ -30,12 +31,6 @@ Json vec(const Vec3& v) { return Json::array({v.x(), v.y(), v.z()}); }
 Json frame_json(const anatomy::AnatomicalFrame& f, const std::string& source) {
   return Json{{"origin_mm", vec(f.origin_mm)}, {"right", vec(f.right)}, {"anterior", vec(f.anterior)},
               {"superior", vec(f.superior)}, {"source", source}};
-}
-
-std::string fixed(double value, int digits = 1) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.*f", digits, value);
-  return buffer;
 }
 
 Json measures_json(const anatomy::ClinicalMeasures& m) {
@@ -259,23 +254,23 @@ void write_introduction(std::ostream& md, const AssessmentResult& r, const Asses
 
 void write_measures(std::ostream& md, const anatomy::ClinicalMeasures& m) {
   md << "\n\n## Measures\n\n| measure | value | definition |\n|---|---|---|\n"
-     << "| lateral CE | " << fixed(m.lateral_ce.ce_deg) << "° | Wiberg, coronal plane of the APP frame |\n"
-     << "| acetabular inclination | " << fixed(m.acetabular_inclination_deg) << "° (anatomic "
-     << fixed(m.acetabular_inclination_anatomic_deg) << "°) | Murray 1993, radiographic |\n"
-     << "| acetabular version | " << fixed(m.acetabular_version_deg) << "° (anatomic "
-     << fixed(m.acetabular_version_anatomic_deg) << "°) | Murray 1993, radiographic |\n"
-     << "| alpha | " << fixed(m.alpha.alpha_deg) << "° | Nötzli 2002, Nötzli's plane |\n"
-     << "| largest alpha | " << fixed(m.alpha.max_alpha_deg) << "° at " << geometry::clock_label(m.alpha.max_plane_deg)
+     << "| lateral CE | " << fixed(m.lateral_ce.ce_deg, 1) << "° | Wiberg, coronal plane of the APP frame |\n"
+     << "| acetabular inclination | " << fixed(m.acetabular_inclination_deg, 1) << "° (anatomic "
+     << fixed(m.acetabular_inclination_anatomic_deg, 1) << "°) | Murray 1993, radiographic |\n"
+     << "| acetabular version | " << fixed(m.acetabular_version_deg, 1) << "° (anatomic "
+     << fixed(m.acetabular_version_anatomic_deg, 1) << "°) | Murray 1993, radiographic |\n"
+     << "| alpha | " << fixed(m.alpha.alpha_deg, 1) << "° | Nötzli 2002, Nötzli's plane |\n"
+     << "| largest alpha | " << fixed(m.alpha.max_alpha_deg, 1) << "° at " << geometry::clock_label(m.alpha.max_plane_deg)
      << " | anterosuperior sector |\n";
   if (m.head_neck_offset.measured) {
-    md << "| head-neck offset | " << fixed(m.head_neck_offset.offset_mm) << " mm (ratio " << fixed(m.head_neck_offset.ratio, 2)
+    md << "| head-neck offset | " << fixed(m.head_neck_offset.offset_mm, 1) << " mm (ratio " << fixed(m.head_neck_offset.ratio, 2)
        << ") | Eijer 2001, Nötzli's plane |\n";
   } else {
     md << "| head-neck offset | not measured: " << m.head_neck_offset.reason << " | |\n";
   }
-  md << "| neck-shaft angle | " << fixed(m.neck_shaft_deg) << "° | 3D |\n"
+  md << "| neck-shaft angle | " << fixed(m.neck_shaft_deg, 1) << "° | 3D |\n"
      << "| femoral version | "
-     << (m.femoral_version_deg ? fixed(*m.femoral_version_deg) + "°" : "not measured: " + m.femoral_version_reason)
+     << (m.femoral_version_deg ? fixed(*m.femoral_version_deg, 1) + "°" : "not measured: " + m.femoral_version_reason)
      << " | |\n\n![lateral CE](coronal_ce.svg) ![alpha](notzli_alpha.svg)\n\n![alpha profile](alpha_profile.svg)\n\n";
 }
 
@@ -301,9 +296,9 @@ std::vector<std::string> clinical_normals() {
 
 void write_clinical_motions(std::ostream& md, const AssessmentResult& r) {
   md << "## Clinical motions to bony impingement\n\nExact range finder (thesis §4.2) about the frame found; "
-        "FADIR: flexion 90° and adduction " << fixed(r.before.rom.fadir_adduction_deg) << "°, then internal rotation; "
-        "FABER: flexion " << fixed(r.before.rom.faber_flexion_deg) << "° and abduction "
-     << fixed(r.before.rom.faber_abduction_deg) << "°, then external rotation.\n\n"
+        "FADIR: flexion 90° and adduction " << fixed(r.before.rom.fadir_adduction_deg, 1) << "°, then internal rotation; "
+        "FABER: flexion " << fixed(r.before.rom.faber_flexion_deg, 1) << "° and abduction "
+     << fixed(r.before.rom.faber_abduction_deg, 1) << "°, then external rotation.\n\n"
      << "Bony limits, no soft tissue: they exceed the clinical normal ranges, which capsule and muscles limit, "
         "given beside them: (A) AAOS 1965; (C) Czuppon et al. 2017, passive range of 430 asymptomatic hips, "
         "male / female means; (Au) Audenaert et al. 2012, internal rotation on impingement testing computed on 3D "
@@ -323,13 +318,13 @@ void write_clinical_motions(std::ostream& md, const AssessmentResult& r) {
     } else if (o.limit->unlimited) {
       md << "no bony contact | | |";
     } else {
-      md << fixed(o.limit->angle_deg) << " | " << o.limit->acetabular_clock.label << " | " << o.limit->femoral_clock.label << " |";
+      md << fixed(o.limit->angle_deg, 1) << " | " << o.limit->acetabular_clock.label << " | " << o.limit->femoral_clock.label << " |";
     }
     md << " " << normal[i] << " |";
     if (r.after) {
       const auto& a = *r.after->rom.motions()[i];
       if (a.limit && o.limit && !a.limit->unlimited) {
-        md << " " << fixed(a.limit->angle_deg) << " | " << fixed(a.limit->angle_deg - o.limit->angle_deg) << " |";
+        md << " " << fixed(a.limit->angle_deg, 1) << " | " << fixed(a.limit->angle_deg - o.limit->angle_deg, 1) << " |";
       } else {
         md << " — | — |";
       }
@@ -342,19 +337,19 @@ void write_clinical_motions(std::ostream& md, const AssessmentResult& r) {
 void write_resections(std::ostream& md, const AssessmentResult& r) {
   md << "## Virtual resection\n\n| operation | requested | volume removed (mm³) | closed | manifold |\n|---|---|---|---|---|\n";
   for (const auto& s : r.resections) {
-    md << "| " << (s.kind == "cam" ? "osteochondroplasty to alpha" : "rim trimming by") << " | " << fixed(s.requested_deg)
-       << "° | " << fixed(s.removed_volume_mm3) << " | " << (s.closed ? "yes" : "NO") << " | " << (s.manifold ? "yes" : "NO")
+    md << "| " << (s.kind == "cam" ? "osteochondroplasty to alpha" : "rim trimming by") << " | " << fixed(s.requested_deg, 1)
+       << "° | " << fixed(s.removed_volume_mm3, 1) << " | " << (s.closed ? "yes" : "NO") << " | " << (s.manifold ? "yes" : "NO")
        << " |\n";
   }
   for (const auto& s : r.resections) {
     if (s.repaired_pairs == 0) continue;
     const Vec3 p = r.point_to_input(s.repaired_near_mm);
     md << "\nThe " << (s.kind == "cam" ? "femur" : "pelvis") << " had " << s.repaired_pairs
-       << " self-intersecting triangle pairs (near " << fixed(p.x()) << ", " << fixed(p.y()) << ", " << fixed(p.z())
+       << " self-intersecting triangle pairs (near " << fixed(p.x(), 1) << ", " << fixed(p.y(), 1) << ", " << fixed(p.z(), 1)
        << " mm), removed and refilled locally (CGAL) before the Boolean.\n";
   }
-  md << "\nAfter: alpha " << fixed(r.after->measures.alpha.alpha_deg) << "° (largest " << fixed(r.after->measures.alpha.max_alpha_deg)
-     << "°), lateral CE " << fixed(r.after->measures.lateral_ce.ce_deg) << "°, classification "
+  md << "\nAfter: alpha " << fixed(r.after->measures.alpha.alpha_deg, 1) << "° (largest " << fixed(r.after->measures.alpha.max_alpha_deg, 1)
+     << "°), lateral CE " << fixed(r.after->measures.lateral_ce.ce_deg, 1) << "°, classification "
      << anatomy::morphology_name(r.after->measures.morphology) << ".\n\n";
 }
 

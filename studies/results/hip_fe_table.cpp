@@ -3,6 +3,7 @@
 
 #include "core/csv.h"
 #include "core/error.h"
+#include "core/numbers.h"
 #include "studies/results/table_number.h"
 
 #include <algorithm>
@@ -15,7 +16,7 @@
 namespace hipfai::studies {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+using hipfai::kNaN;
 
 // Where a record's fields are in a row: the header read once, the rows read by index.
 struct Layout {

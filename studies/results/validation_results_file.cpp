@@ -2,6 +2,7 @@
 
 #include "core/csv.h"
 #include "core/error.h"
+#include "core/numbers.h"
 
 #include <algorithm>
 #include <cmath>
@@ -13,7 +14,7 @@ namespace hipfai::studies {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+using hipfai::kNaN;
 
 double parse_cell(const std::string& text, const std::filesystem::path& file, std::size_t line, bool allow_empty) {
   if (text.empty()) {

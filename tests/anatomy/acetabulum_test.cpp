@@ -9,6 +9,7 @@
 #include "geometry/mesh_io.h"
 #include "geometry/tri_mesh.h"
 #include "../geometry/study_hips.h"
+#include "tests/anatomy/anatomy_checks.h"
 
 #include <gtest/gtest.h>
 
@@ -17,12 +18,10 @@
 namespace hipfai::anatomy {
 namespace {
 
+using test_support::angle_deg;
+
 using geometry::kDegToRad;
 using geometry::Vec3;
-
-double angle_deg(const Vec3& a, const Vec3& b) {
-  return std::atan2(a.cross(b).norm(), a.dot(b)) * geometry::kRadToDeg;
-}
 
 TEST(Acetabulum, MurrayAnglesOfAnAxisWithKnownInclinationAndVersion) {
   // An axis built with radiographic inclination 45 and anteversion 20 (Murray 1993): its coronal

@@ -9,6 +9,7 @@
 #include "geometry/hip_frame.h"
 #include "geometry/primitive_meshes.h"
 #include "tests/geometry/study_hips.h"
+#include "tests/anatomy/anatomy_checks.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -22,14 +23,16 @@
 namespace hipfai::anatomy {
 namespace {
 
+using test_support::rotated;
+
 using geometry::TriMesh;
 using geometry::Vec3;
 
 // The thesis' coarser surface level: ranges are exact for any mesh, so the test does not need a
 // fine one, and the brute-force oracle stays fast.
-constexpr double kEdgeMm = geometry::test_support::kStudyTestEdgeMm;
+constexpr double kClinicalEdgeMm = geometry::test_support::kStudyTestEdgeMm;
 
-ClinicalRomRequest request_for(const geometry::HipModel& hip) {
+ClinicalRomRequest clinical_request_for(const geometry::HipModel& hip) {
   ClinicalRomRequest request;
   request.pelvis = &hip.tissue("acetabular_bone");
   request.femur = &hip.tissue("femur_bone");
@@ -48,15 +51,9 @@ bool intersect(const TriMesh& pelvis, const TriMesh& femur, const Vec3& centre) 
   return overlap.overlaps();
 }
 
-TriMesh rotated(const TriMesh& mesh, const Eigen::Matrix3d& rotation, const Vec3& centre) {
-  TriMesh out = mesh;
-  for (auto& v : out.vertices) v = centre + rotation * (v - centre);
-  return out;
-}
-
 TEST(ClinicalMotions, RangesMatchBruteForceStepping) {
-  const auto& hip = geometry::test_support::study_hip(30.0, 60.0, kEdgeMm);
-  const ClinicalRomRequest request = request_for(hip);
+  const auto& hip = geometry::test_support::study_hip(30.0, 60.0, kClinicalEdgeMm);
+  const ClinicalRomRequest request = clinical_request_for(hip);
   const ClinicalRom rom = clinical_range_of_motion(request);
   // The oracle poses the femur by start pose * turn and asks contact::check_start_pose whether the
   // bones intersect (vertices and edges, beyond 1 um). Every limit must be free on a 5 deg grid
@@ -100,8 +97,8 @@ double segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
 // The femoral clock is the contact point's in the femur at neutral: undoing the limit pose brings
 // the point back onto the femur's contact feature (its vertex, its triangle's plane, its edge).
 TEST(ClinicalMotions, FemoralClockIsTheContactTakenBackToNeutral) {
-  const auto& hip = geometry::test_support::study_hip(30.0, 60.0, kEdgeMm);
-  const ClinicalRomRequest request = request_for(hip);
+  const auto& hip = geometry::test_support::study_hip(30.0, 60.0, kClinicalEdgeMm);
+  const ClinicalRomRequest request = clinical_request_for(hip);
   const ClinicalRom rom = clinical_range_of_motion(request);
   const auto& femur = request.femur->vertices;
   int checked = 0;
@@ -140,8 +137,8 @@ TEST(ClinicalMotions, FemoralClockIsTheContactTakenBackToNeutral) {
 // A right hip mirrored into a left one, moved by a random rigid motion and mirrored back through
 // another plane (anatomy/side.h) is the same hip in other coordinates: same ranges and clocks.
 TEST(ClinicalMotions, MirroredAndMovedHipGivesTheSameRom) {
-  const auto& hip = geometry::test_support::study_hip(20.0, 80.0, kEdgeMm);
-  const ClinicalRomRequest original = request_for(hip);
+  const auto& hip = geometry::test_support::study_hip(20.0, 80.0, kClinicalEdgeMm);
+  const ClinicalRomRequest original = clinical_request_for(hip);
   const ClinicalRom expected = clinical_range_of_motion(original);
 
   std::mt19937 random(20260531);
@@ -198,8 +195,8 @@ TEST(ClinicalMotions, MirroredAndMovedHipGivesTheSameRom) {
 // Cam impingement: at the same CE, the hip with alpha 80 deg has less internal rotation in the
 // FADIR position than the hip with alpha 40 deg.
 TEST(ClinicalMotions, CamHipLosesFadirInternalRotation) {
-  const ClinicalRom normal = clinical_range_of_motion(request_for(geometry::test_support::study_hip(20.0, 40.0, kEdgeMm)));
-  const ClinicalRom cam = clinical_range_of_motion(request_for(geometry::test_support::study_hip(20.0, 80.0, kEdgeMm)));
+  const ClinicalRom normal = clinical_range_of_motion(clinical_request_for(geometry::test_support::study_hip(20.0, 40.0, kClinicalEdgeMm)));
+  const ClinicalRom cam = clinical_range_of_motion(clinical_request_for(geometry::test_support::study_hip(20.0, 80.0, kClinicalEdgeMm)));
   ASSERT_TRUE(normal.fadir_internal_rotation.limit) << normal.fadir_internal_rotation.reason;
   ASSERT_TRUE(cam.fadir_internal_rotation.limit) << cam.fadir_internal_rotation.reason;
   std::printf("FADIR internal rotation: alpha 40 %.2f deg, alpha 80 %.2f deg; IR at 90 flexion %.2f / %.2f deg\n",
@@ -210,8 +207,8 @@ TEST(ClinicalMotions, CamHipLosesFadirInternalRotation) {
 }
 
 TEST(ClinicalMotions, IntersectingBonesAreRefused) {
-  const auto& hip = geometry::test_support::study_hip(30.0, 60.0, kEdgeMm);
-  ClinicalRomRequest request = request_for(hip);
+  const auto& hip = geometry::test_support::study_hip(30.0, 60.0, kClinicalEdgeMm);
+  ClinicalRomRequest request = clinical_request_for(hip);
   // 6 mm deeper into the socket: more than the two 2 mm cartilage layers between the bones.
   TriMesh femur = *request.femur;
   for (auto& v : femur.vertices) v -= 6.0 * hip.acetabular_axis;
@@ -229,8 +226,8 @@ TEST(ClinicalMotions, IntersectingBonesAreRefused) {
 // A block in front of the femoral shaft stops flexion before 90 deg: the motions from 90 deg of
 // flexion have no start pose, and say why; FABER's 45 deg may still be reachable.
 TEST(ClinicalMotions, UnreachableStartPoseGivesReason) {
-  const auto& hip = geometry::test_support::study_hip(30.0, 60.0, kEdgeMm);
-  ClinicalRomRequest request = request_for(hip);
+  const auto& hip = geometry::test_support::study_hip(30.0, 60.0, kClinicalEdgeMm);
+  ClinicalRomRequest request = clinical_request_for(hip);
   const auto box = geometry::bounding_box(*request.femur);
   // Anterior of the shaft's distal end, clear of it by 5 mm at neutral.
   const TriMesh block = geometry::make_box(Vec3(box.min.x(), box.max.y() + 5.0, box.min.z()),
@@ -265,8 +262,8 @@ TEST(ClinicalMotions, UnreachableStartPoseGivesReason) {
 }
 
 TEST(ClinicalMotions, JsonHasTheTenKeys) {
-  const auto& hip = geometry::test_support::study_hip(30.0, 60.0, kEdgeMm);
-  const ClinicalRom rom = clinical_range_of_motion(request_for(hip));
+  const auto& hip = geometry::test_support::study_hip(30.0, 60.0, kClinicalEdgeMm);
+  const ClinicalRom rom = clinical_range_of_motion(clinical_request_for(hip));
   const auto json = nlohmann::json::parse(clinical_rom_json(rom));
   for (const char* key : {"flexion", "extension", "abduction", "adduction", "internal_rotation", "external_rotation",
                           "internal_rotation_at_90_flexion", "external_rotation_at_90_flexion",
@@ -282,14 +279,14 @@ TEST(ClinicalMotions, JsonHasTheTenKeys) {
 }
 
 TEST(ClinicalMotions, BadInputThrows) {
-  const auto& hip = geometry::test_support::study_hip(30.0, 60.0, kEdgeMm);
-  ClinicalRomRequest request = request_for(hip);
+  const auto& hip = geometry::test_support::study_hip(30.0, 60.0, kClinicalEdgeMm);
+  ClinicalRomRequest request = clinical_request_for(hip);
   request.hip_axes.col(0) *= -1.0;  // left-handed
   EXPECT_THROW(clinical_range_of_motion(request), Error);
-  request = request_for(hip);
+  request = clinical_request_for(hip);
   request.acetabulum.anterior = request.acetabulum.axis;
   EXPECT_THROW(clinical_range_of_motion(request), Error);
-  request = request_for(hip);
+  request = clinical_request_for(hip);
   request.femur = nullptr;
   EXPECT_THROW(clinical_range_of_motion(request), Error);
 }

@@ -11,6 +11,7 @@
 #include "geometry/mesh_io.h"
 #include "geometry/primitive_meshes.h"
 #include "tests/geometry/study_hips.h"
+#include "tests/anatomy/anatomy_checks.h"
 
 #include <gtest/gtest.h>
 
@@ -25,6 +26,8 @@
 
 namespace hipfai::anatomy {
 namespace {
+
+using test_support::angle_deg;
 
 using geometry::TriMesh;
 using geometry::Vec3;
@@ -48,10 +51,6 @@ FemurLandmarks landmarks(const TriMesh& mesh, std::optional<Vec3> hint = std::nu
   request.head_centre_hint_mm = hint;
   request.anterior_hint = anterior;
   return find_femur_landmarks(request);
-}
-
-double angle_deg(const Vec3& a, const Vec3& b) {
-  return std::atan2(a.cross(b).norm(), a.dot(b)) * geometry::kRadToDeg;
 }
 
 // Closed, outward capped cylinder from `base` along `axis` (its length), n_around x n_along
@@ -212,7 +211,7 @@ void expect_mapped(const FemurLandmarks& a, const FemurLandmarks& b, const Eigen
   }
 }
 
-Eigen::Isometry3d random_motion(std::mt19937& rng) {
+Eigen::Isometry3d random_femur_motion(std::mt19937& rng) {
   std::normal_distribution<double> normal;
   std::uniform_real_distribution<double> shift(-500.0, 500.0);
   Eigen::Isometry3d motion = Eigen::Isometry3d::Identity();
@@ -235,7 +234,7 @@ TEST(FemurLandmarks, LhdlMovedAndMirroredGiveMovedAndMirroredLandmarks) {
   const FemurLandmarks original = landmarks(femur, kLhdlHjc);
   std::mt19937 rng(20260);
   for (int trial = 0; trial < 2; ++trial) {
-    const Eigen::Isometry3d motion = random_motion(rng);
+    const Eigen::Isometry3d motion = random_femur_motion(rng);
     TriMesh moved = femur;
     geometry::apply_transform(moved, motion);
     const FemurLandmarks f = landmarks(moved, motion * kLhdlHjc);
@@ -314,7 +313,7 @@ TEST(FemurLandmarks, GeneratedProximalFemurHasItsModelsNeckAxis) {
   EXPECT_EQ(*hinted.side, Side::kRight);
 }
 
-void expect_one_line_error(const TriMesh& mesh, const std::string& fragment) {
+void expect_landmarks_error(const TriMesh& mesh, const std::string& fragment) {
   try {
     landmarks(mesh);
     ADD_FAILURE() << "no error; expected '" << fragment << "'";
@@ -329,9 +328,9 @@ void expect_one_line_error(const TriMesh& mesh, const std::string& fragment) {
 TEST(FemurLandmarks, BadInputThrowsOneLineErrors) {
   FemurLandmarksRequest request;
   EXPECT_THROW(find_femur_landmarks(request), Error);
-  expect_one_line_error(TriMesh{}, "femur");
-  expect_one_line_error(geometry::make_octasphere(Vec3(1.0, 2.0, 3.0), 24.0, 5), "no femoral neck");
-  expect_one_line_error(geometry::make_box(Vec3::Zero(), Vec3(60.0, 40.0, 200.0), 20),
+  expect_landmarks_error(TriMesh{}, "femur");
+  expect_landmarks_error(geometry::make_octasphere(Vec3(1.0, 2.0, 3.0), 24.0, 5), "no femoral neck");
+  expect_landmarks_error(geometry::make_box(Vec3::Zero(), Vec3(60.0, 40.0, 200.0), 20),
                         "no femoral head");
 }
 

@@ -5,6 +5,7 @@
 
 #include "core/error.h"
 #include "geometry/hip_model.h"
+#include "tests/anatomy/anatomy_checks.h"
 
 #include <gtest/gtest.h>
 
@@ -20,20 +21,10 @@
 namespace hipfai::anatomy {
 namespace {
 
+using test_support::expect_error;
+
 using geometry::Vec3;
 using Json = nlohmann::json;
-
-template <typename Parse>
-void expect_error(Parse&& parse, std::initializer_list<std::string> parts) {
-  try {
-    parse();
-    ADD_FAILURE() << "no error; expected one containing '" << *parts.begin() << "'";
-  } catch (const Error& error) {
-    const std::string message = error.what();
-    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
-    for (const auto& part : parts) EXPECT_NE(message.find(part), std::string::npos) << message << " / " << part;
-  }
-}
 
 Json to_json(const Vec3& v) { return Json::array({v.x(), v.y(), v.z()}); }
 

@@ -4,6 +4,7 @@
 #include "core/error.h"
 #include "geometry/mesh_check.h"
 #include "geometry/primitive_meshes.h"
+#include "tests/anatomy/anatomy_checks.h"
 
 #include <gtest/gtest.h>
 
@@ -15,20 +16,14 @@
 namespace hipfai::anatomy {
 namespace {
 
+using test_support::expect_solid;
+
 using geometry::make_box;
 using geometry::make_octasphere;
 using geometry::TriMesh;
 using geometry::Vec3;
 
 // A Boolean result must itself be a solid: closed, manifold, outward, not self-intersecting.
-void expect_solid(const TriMesh& mesh) {
-  ASSERT_FALSE(mesh.empty());
-  EXPECT_TRUE(is_closed(mesh));
-  EXPECT_TRUE(is_manifold(mesh));
-  EXPECT_FALSE(does_self_intersect(mesh));
-  EXPECT_TRUE(geometry::check_mesh(mesh).outward);
-}
-
 // Two overlapping boxes: every piece is a box, so the volumes are exact (flat faces are cut
 // exactly; only the rounding of new vertices, ~1e-15 relative, remains).
 TEST(MeshBoolean, BoxesGiveClosedFormVolumes) {
@@ -89,7 +84,7 @@ TEST(MeshBoolean, NestedAndDisjointSolids) {
 }
 
 // The error must be one line and name the input at fault.
-void expect_one_line_error(const TriMesh& bad, const std::string& needle) {
+void expect_boolean_error(const TriMesh& bad, const std::string& needle) {
   const TriMesh good = make_box(Vec3(0, 0, 0), Vec3(1, 1, 1), 1);
   try {
     (void)difference(good, bad, "good", "the bad solid");
@@ -106,7 +101,7 @@ TEST(MeshBoolean, BadInputsGiveOneLineErrors) {
   TriMesh open = make_box(Vec3(0, 0, 0), Vec3(1, 1, 1), 2);
   open.triangles.pop_back();
   EXPECT_FALSE(is_closed(open));
-  expect_one_line_error(open, "not closed");
+  expect_boolean_error(open, "not closed");
 
   // Two boxes sharing only an edge: closed, but the shared edge has four triangles.
   const TriMesh b1 = make_box(Vec3(0, 0, 0), Vec3(1, 1, 1), 1);
@@ -126,7 +121,7 @@ TEST(MeshBoolean, BadInputsGiveOneLineErrors) {
   EXPECT_TRUE(is_closed(touching));
   EXPECT_FALSE(is_manifold(touching));
   EXPECT_TRUE(does_self_intersect(touching));
-  expect_one_line_error(touching, "not manifold");
+  expect_boolean_error(touching, "not manifold");
 
   // Two overlapping boxes merged without a Boolean: closed and manifold, but self-intersecting.
   const TriMesh c2 = make_box(Vec3(0.5, 0.5, 0.5), Vec3(1.5, 1.5, 1.5), 1);
@@ -134,12 +129,12 @@ TEST(MeshBoolean, BadInputsGiveOneLineErrors) {
   EXPECT_TRUE(is_closed(overlapping));
   EXPECT_TRUE(is_manifold(overlapping));
   EXPECT_TRUE(does_self_intersect(overlapping));
-  expect_one_line_error(overlapping, "intersects itself");
+  expect_boolean_error(overlapping, "intersects itself");
 
   TriMesh inward = b1;
   for (auto& t : inward.triangles) std::swap(t[1], t[2]);
   EXPECT_LT(volume(inward), 0.0);
-  expect_one_line_error(inward, "not outward");
+  expect_boolean_error(inward, "not outward");
 
   EXPECT_THROW((void)volume(open, "open box"), Error);
 }

@@ -9,6 +9,7 @@
 #include "core/error.h"
 #include "geometry/hip_frame.h"
 #include "tests/geometry/study_hips.h"
+#include "tests/anatomy/anatomy_checks.h"
 
 #include <gtest/gtest.h>
 
@@ -17,13 +18,15 @@
 namespace hipfai::anatomy {
 namespace {
 
+using test_support::rotated;
+
 using geometry::TriMesh;
 using geometry::Vec3;
 
 // The coarse level keeps the O(#V x #T) oracles fast; the queries are exact at any level.
-constexpr double kEdgeMm = geometry::test_support::kCoarsestEdgeMm;
+constexpr double kDepthsEdgeMm = geometry::test_support::kCoarsestEdgeMm;
 
-MotionDepthsRequest request_for(const geometry::HipModel& hip) {
+MotionDepthsRequest depths_request_for(const geometry::HipModel& hip) {
   MotionDepthsRequest request;
   request.pelvis = &hip.tissue("acetabular_bone");
   request.femur = &hip.tissue("femur_bone");
@@ -33,12 +36,6 @@ MotionDepthsRequest request_for(const geometry::HipModel& hip) {
   return request;
 }
 
-TriMesh rotated(const TriMesh& mesh, const Eigen::Matrix3d& rotation, const Vec3& centre) {
-  TriMesh out = mesh;
-  for (auto& v : out.vertices) v = centre + rotation * (v - centre);
-  return out;
-}
-
 // Largest depth and count of an oracle result (every pair counts: tolerance 0).
 std::pair<double, int> summary(const contact::PenetrationResult& result) {
   EXPECT_EQ(result.status, contact::QueryStatus::kOk) << result.message;
@@ -46,8 +43,8 @@ std::pair<double, int> summary(const contact::PenetrationResult& result) {
 }
 
 TEST(MotionDepths, StepsEqualTheExhaustiveOracles) {
-  const auto& hip = geometry::test_support::study_hip(30.0, 80.0, kEdgeMm);
-  MotionDepthsRequest request = request_for(hip);
+  const auto& hip = geometry::test_support::study_hip(30.0, 80.0, kDepthsEdgeMm);
+  MotionDepthsRequest request = depths_request_for(hip);
   // Past bony impingement in flexion, in FADIR and in extension-external rotation, plus neutral.
   request.poses = {{0.0, 0.0, 0.0}, {125.0, 0.0, 0.0}, {90.0, 15.0, 40.0}, {-40.0, -20.0, -50.0}};
   const MotionDepths depths = bone_depths_over_motion(request);
@@ -114,8 +111,8 @@ double longest_edge(const TriMesh& mesh) {
 // edge-edge first contact can overlap without any vertex inside (the vertex-based depths of the
 // thesis do not see it; on this 7 mm mesh that lasts several degrees).
 TEST(MotionDepths, DepthsStartAtTheRangeOfMotion) {
-  const auto& hip = geometry::test_support::study_hip(30.0, 80.0, kEdgeMm);
-  MotionDepthsRequest request = request_for(hip);
+  const auto& hip = geometry::test_support::study_hip(30.0, 80.0, kDepthsEdgeMm);
+  MotionDepthsRequest request = depths_request_for(hip);
   ClinicalRomRequest rom_request;
   rom_request.pelvis = request.pelvis;
   rom_request.femur = request.femur;
@@ -151,11 +148,11 @@ TEST(MotionDepths, DepthsStartAtTheRangeOfMotion) {
 }
 
 TEST(MotionDepths, BadInputThrows) {
-  const auto& hip = geometry::test_support::study_hip(30.0, 80.0, kEdgeMm);
-  MotionDepthsRequest request = request_for(hip);
+  const auto& hip = geometry::test_support::study_hip(30.0, 80.0, kDepthsEdgeMm);
+  MotionDepthsRequest request = depths_request_for(hip);
   request.poses = {{std::nan(""), 0.0, 0.0}};
   EXPECT_THROW(bone_depths_over_motion(request), Error);
-  request = request_for(hip);
+  request = depths_request_for(hip);
   request.contact_tolerance_mm = -1.0;
   EXPECT_THROW(bone_depths_over_motion(request), Error);
 }

@@ -5,6 +5,7 @@
 #include "anatomy/opensim_motion.h"
 
 #include "core/error.h"
+#include "tests/anatomy/anatomy_checks.h"
 
 #include <gtest/gtest.h>
 
@@ -18,19 +19,9 @@
 namespace hipfai::anatomy {
 namespace {
 
-// Expects parse to throw hipfai::Error with a one-line message containing every part.
-template <typename Parse>
-void expect_error(Parse&& parse, std::initializer_list<std::string> parts) {
-  try {
-    parse();
-    ADD_FAILURE() << "no error; expected one containing '" << *parts.begin() << "'";
-  } catch (const Error& error) {
-    const std::string message = error.what();
-    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
-    for (const auto& part : parts) EXPECT_NE(message.find(part), std::string::npos) << message << " / " << part;
-  }
-}
+using test_support::expect_error;
 
+// Expects parse to throw hipfai::Error with a one-line message containing every part.
 // OpenSim's Storage header as Storage::writeDefaultHeader writes it (name, version, nRows,
 // nColumns, inDegrees), then endheader.
 const std::string kDegreesMot =

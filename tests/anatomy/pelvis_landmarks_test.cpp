@@ -7,6 +7,7 @@
 #include "geometry/hip_frame.h"
 #include "geometry/hjc_regions.h"
 #include "geometry/mesh_io.h"
+#include "tests/anatomy/anatomy_checks.h"
 
 #include <gtest/gtest.h>
 
@@ -16,6 +17,8 @@
 
 namespace hipfai::anatomy {
 namespace {
+
+using test_support::angle_deg;
 
 using geometry::Vec3;
 
@@ -36,11 +39,7 @@ PelvisLandmarks find(const geometry::TriMesh& mesh, const Vec3& hjc, const Vec3&
   return find_pelvis_landmarks(request);
 }
 
-double angle_deg(const Vec3& a, const Vec3& b) {
-  return std::atan2(a.cross(b).norm(), a.dot(b)) * geometry::kRadToDeg;
-}
-
-Eigen::Isometry3d random_motion(std::mt19937& rng) {
+Eigen::Isometry3d random_pelvis_motion(std::mt19937& rng) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
   t.linear() = Eigen::Quaterniond(Eigen::Vector4d(u(rng), u(rng), u(rng), u(rng)).normalized()).toRotationMatrix();
@@ -81,7 +80,7 @@ TEST(PelvisLandmarks, MoveWithTheBoneAndMirrorIntoALeftHip) {
   const PelvisLandmarks reference = find(pelvis(), kHeadCentre, Vec3::UnitZ());
   std::mt19937 rng(7);
   for (int trial = 0; trial < 3; ++trial) {
-    const Eigen::Isometry3d t = random_motion(rng);
+    const Eigen::Isometry3d t = random_pelvis_motion(rng);
     geometry::TriMesh moved = pelvis();
     geometry::apply_transform(moved, t);
     const PelvisLandmarks found = find(moved, t * kHeadCentre, t.linear() * Vec3::UnitZ());

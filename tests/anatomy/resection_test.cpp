@@ -10,6 +10,7 @@
 #include "tests/geometry/study_hips.h"
 #include "geometry/mesh_check.h"
 #include "geometry/primitive_meshes.h"
+#include "tests/anatomy/anatomy_checks.h"
 
 #include <gtest/gtest.h>
 
@@ -25,18 +26,12 @@
 namespace hipfai::anatomy {
 namespace {
 
+using test_support::expect_solid;
+
 using geometry::kDegToRad;
 using geometry::kRadToDeg;
 using geometry::TriMesh;
 using geometry::Vec3;
-
-void expect_solid(const TriMesh& mesh) {
-  ASSERT_FALSE(mesh.empty());
-  EXPECT_TRUE(is_closed(mesh));
-  EXPECT_TRUE(is_manifold(mesh));
-  EXPECT_FALSE(does_self_intersect(mesh));
-  EXPECT_TRUE(geometry::check_mesh(mesh).outward);
-}
 
 // Polar angle of x about (c, axis), deg.
 double polar_deg(const Vec3& x, const Vec3& c, const Vec3& axis) {

@@ -4,6 +4,7 @@
 #include "contact/angular_interval_index.h"
 #include "contact/arc_triangle.h"
 #include "core/error.h"
+#include "core/numbers.h"
 
 #include <gtest/gtest.h>
 
@@ -15,7 +16,7 @@
 namespace hipfai::contact {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using hipfai::kPi;
 
 bool holds(const AngularArc& arc, double x) {
   if (arc.length_rad >= 2.0 * kPi) return true;

@@ -1,5 +1,6 @@
 // Tests of the exact circle/triangle primitives against closed forms and brute force.
 #include "contact/arc_triangle.h"
+#include "core/numbers.h"
 
 #include <gtest/gtest.h>
 
@@ -13,7 +14,7 @@
 namespace hipfai::contact {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using hipfai::kPi;
 
 TEST(ArcTriangle, WrapAngleMapsToHalfOpenInterval) {
   EXPECT_DOUBLE_EQ(wrap_angle(0.0), 0.0);

@@ -86,7 +86,7 @@ int expect_same_at_hard_angles(const CylindricalTable& table, const Vec3& point,
   return found;
 }
 
-void expect_identical(const PenetrationResult& got, const PenetrationResult& want, const std::string& what) {
+void expect_identical_walk(const PenetrationResult& got, const PenetrationResult& want, const std::string& what) {
   ASSERT_EQ(got.status, want.status) << what;
   ASSERT_EQ(got.pairs.size(), want.pairs.size()) << what;
   for (std::size_t i = 0; i < got.pairs.size(); ++i) {
@@ -119,13 +119,13 @@ std::size_t expect_walk_equals_every_candidate(const CylindricalTable& table, co
       walk.mobile_clusters = (variant & 2) != 0;
       const std::string label = what + ", " + std::to_string(threads) + " thread(s)" +
                                 (walk.outside_regions ? ", regions" : "") + (walk.mobile_clusters ? ", clusters" : "");
-      expect_identical(detail::cylindrical_segmenting(table, posed, options, walk), want, label + ", posed copy");
-      expect_identical(detail::cylindrical_segmenting(table, mobile, pose, options, walk), want, label + ", pose given");
+      expect_identical_walk(detail::cylindrical_segmenting(table, posed, options, walk), want, label + ", posed copy");
+      expect_identical_walk(detail::cylindrical_segmenting(table, mobile, pose, options, walk), want, label + ", pose given");
     }
     for (const std::size_t cluster_size : {1, 5, 32}) {
       CylindricalQueryOptions walk;
       walk.num_threads = threads;
-      expect_identical(cylindrical_segmenting(table, VertexClusters::build(mobile, cluster_size), pose, walk), want,
+      expect_identical_walk(cylindrical_segmenting(table, VertexClusters::build(mobile, cluster_size), pose, walk), want,
                        what + ", clusters of " + std::to_string(cluster_size));
     }
   }
@@ -232,7 +232,7 @@ TEST(CylindricalAngularWalk, UpdatedAndReloadedTablesWalkTheirOwnCells) {
   const CylindricalTable plain = CylindricalTable::build(fixed, Vec3::Zero(), axis, no_index);
   TriMesh posed = mobile;
   geometry::apply_transform(posed, pose);
-  expect_identical(cylindrical_segmenting(plain, posed), cylindrical_segmenting(table, posed), "no index");
+  expect_identical_walk(cylindrical_segmenting(plain, posed), cylindrical_segmenting(table, posed), "no index");
 }
 
 TEST(CylindricalAngularWalk, RealCtBonesAtSeveralPoses) {

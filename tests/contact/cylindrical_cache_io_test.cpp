@@ -5,6 +5,7 @@
 #include "contact/cylindrical_cache_io.h"
 #include "contact/cylindrical_segmenting.h"
 #include "contact/cylindrical_table.h"
+#include "core/numbers.h"
 #include "geometry/mesh_io.h"
 #include "geometry/primitive_meshes.h"
 #include "random_shapes.h"
@@ -32,7 +33,7 @@ using geometry::TriMesh;
 using test_shapes::random_shape;
 using test_shapes::random_unit;
 
-constexpr double kPi = std::numbers::pi;
+using hipfai::kPi;
 constexpr std::size_t kHeaderBytes = 36;  // magic 12, kind 4, version 4, size 8, checksum 8
 
 class TempDir {
@@ -93,7 +94,7 @@ void append_u64(std::vector<char>& bytes, std::uint64_t value) {
 // object runs the same code on them, so any difference is a bug.
 bool same_bits(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
 
-void expect_identical(const PenetrationResult& got, const PenetrationResult& want, const std::string& what) {
+void expect_identical_cached(const PenetrationResult& got, const PenetrationResult& want, const std::string& what) {
   ASSERT_EQ(got.status, want.status) << what;
   ASSERT_EQ(got.pairs.size(), want.pairs.size()) << what;
   for (std::size_t i = 0; i < got.pairs.size(); ++i) {
@@ -182,7 +183,7 @@ void expect_same_pose_cache(const CylindricalPoseCache& got, const CylindricalPo
 }
 
 // Moves every 5th vertex by up to `displacement_mm`; returns the triangles that changed.
-std::vector<std::int32_t> deform(TriMesh& mesh, std::mt19937& rng, double displacement_mm) {
+std::vector<std::int32_t> deform_some(TriMesh& mesh, std::mt19937& rng, double displacement_mm) {
   std::set<std::int32_t> moved;
   for (std::size_t v = 0; v < mesh.vertices.size(); v += 5) {
     mesh.vertices[v] += random_unit(rng) * displacement_mm;
@@ -222,7 +223,7 @@ TEST(CylindricalCacheIo, TableAndPoseCacheRoundTripOnRandomScenes) {
     const bool restricted = trial % 2 == 0;
     CylindricalTable table =
         CylindricalTable::build(fixed, centre, axis, options, restricted ? &mobile : nullptr);
-    if (trial % 4 == 1) update_triangles(table, fixed, deform(fixed, rng, 20.0));
+    if (trial % 4 == 1) update_triangles(table, fixed, deform_some(fixed, rng, 20.0));
     overflow_seen += table.num_overflow_triangles();
     const std::string what = "trial " + std::to_string(trial);
 
@@ -237,7 +238,7 @@ TEST(CylindricalCacheIo, TableAndPoseCacheRoundTripOnRandomScenes) {
     for (int pose = 0; pose < 4; ++pose) {
       const TriMesh moved = posed(mobile, table, 360 * u(rng) - 180);
       const PenetrationResult want = cylindrical_segmenting(table, moved);
-      expect_identical(cylindrical_segmenting(*loaded, moved), want, what + " table query");
+      expect_identical_cached(cylindrical_segmenting(*loaded, moved), want, what + " table query");
       pairs_seen += want.pairs.size();
     }
 
@@ -251,17 +252,17 @@ TEST(CylindricalCacheIo, TableAndPoseCacheRoundTripOnRandomScenes) {
     expect_same_pose_cache(CylindricalPoseCache(*loaded, mobile), cache);
     for (int pose = 0; pose < 6; ++pose) {
       const double angle_deg = 360 * u(rng) - 180;
-      expect_identical(loaded_cache->query(angle_deg), cache.query(angle_deg), what + " pose cache");
+      expect_identical_cached(loaded_cache->query(angle_deg), cache.query(angle_deg), what + " pose cache");
     }
 
     // The private bookkeeping (cell ranges, overflow flags, pad) came back too: updating the
     // loaded table gives the same table as updating the original.
     TriMesh deformed = fixed;
-    const std::vector<std::int32_t> changed = deform(deformed, rng, 6.0);
+    const std::vector<std::int32_t> changed = deform_some(deformed, rng, 6.0);
     update_triangles(table, deformed, changed);
     update_triangles(*loaded, deformed, changed);
     expect_same_table(*loaded, table);
-    expect_identical(cylindrical_segmenting(*loaded, mobile), cylindrical_segmenting(table, mobile),
+    expect_identical_cached(cylindrical_segmenting(*loaded, mobile), cylindrical_segmenting(table, mobile),
                      what + " after update");
   }
   EXPECT_GT(pairs_seen, 100u);   // the scenes really collide
@@ -288,7 +289,7 @@ TEST(CylindricalCacheIo, NoOverlapAndInvalidTablesRoundTrip) {
     ASSERT_TRUE(loaded_cache.has_value());
     const PenetrationResult want = cache.query(10.0);
     const PenetrationResult got = loaded_cache->query(10.0);
-    expect_identical(got, want, "status round trip");
+    expect_identical_cached(got, want, "status round trip");
     EXPECT_EQ(got.message, want.message);
   }
 }
@@ -326,9 +327,9 @@ TEST(CylindricalCacheIo, RealFemurAgainstPelvisRoundTrip) {
     expect_same_pose_cache(*loaded_cache, cache);
     for (double angle_deg = -60.0; angle_deg <= 60.0; angle_deg += 20.0) {
       const PenetrationResult want = cache.query(angle_deg);
-      expect_identical(loaded_cache->query(angle_deg), want, "pose cache");
+      expect_identical_cached(loaded_cache->query(angle_deg), want, "pose cache");
       const TriMesh moved = posed(femur_points, table, angle_deg);
-      expect_identical(cylindrical_segmenting(*loaded, moved), cylindrical_segmenting(table, moved), "table");
+      expect_identical_cached(cylindrical_segmenting(*loaded, moved), cylindrical_segmenting(table, moved), "table");
       penetrating += want.pairs.size();
     }
   }

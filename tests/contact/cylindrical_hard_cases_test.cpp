@@ -5,6 +5,7 @@
 #include "contact/cylindrical_table.h"
 #include "contact/oracle_cylindrical.h"
 #include "contact/range_finder.h"
+#include "core/numbers.h"
 #include "geometry/mesh_io.h"
 #include "geometry/primitive_meshes.h"
 
@@ -23,11 +24,11 @@ namespace hipfai::contact {
 namespace {
 
 using geometry::TriMesh;
-constexpr double kPi = std::numbers::pi;
+using hipfai::kPi;
 
 // Exact equality of vertex sets, depths to 1e-9 mm (same closed form on the same coordinates up
 // to pose rounding ~1e-13 mm; see cylindrical_segmenting_test.cpp).
-void expect_same(const PenetrationResult& got, const PenetrationResult& want, const std::string& what,
+void expect_same_hard(const PenetrationResult& got, const PenetrationResult& want, const std::string& what,
                  double depth_tolerance_mm = 1e-9) {
   ASSERT_NE(got.status, QueryStatus::kInvalidInput) << what << ": " << got.message;
   ASSERT_EQ(got.pairs.size(), want.pairs.size()) << what;
@@ -43,16 +44,16 @@ PenetrationResult all_paths(const TriMesh& fixed, const TriMesh& mobile, const V
                             const Vec3& axis, const std::string& what) {
   const PenetrationResult oracle = oracle_cylindrical(fixed, mobile, centre, axis);
   EXPECT_EQ(oracle.status, QueryStatus::kOk);
-  expect_same(cylindrical_segmenting(fixed, mobile, centre, axis), oracle, what + " one-shot");
+  expect_same_hard(cylindrical_segmenting(fixed, mobile, centre, axis), oracle, what + " one-shot");
   const CylindricalTable table = CylindricalTable::build(fixed, centre, axis);
-  expect_same(cylindrical_segmenting(table, mobile), oracle, what + " table");
-  expect_same(CylindricalPoseCache(table, mobile).query(0.0), oracle, what + " pose cache");
+  expect_same_hard(cylindrical_segmenting(table, mobile), oracle, what + " table");
+  expect_same_hard(CylindricalPoseCache(table, mobile).query(0.0), oracle, what + " pose cache");
   return oracle;
 }
 
 // A mobile "mesh" made of points: each point is a zero-area triangle (i, i, i), so only the
 // vertices matter.
-TriMesh points(const std::vector<Vec3>& pts) {
+TriMesh degenerate_points(const std::vector<Vec3>& pts) {
   TriMesh mesh;
   mesh.vertices = pts;
   for (std::size_t i = 0; i < pts.size(); ++i) {
@@ -127,7 +128,7 @@ TEST(CylindricalHardCases, RingBordersAndTableEdgesFindAllCandidates) {
 TEST(CylindricalHardCases, VerticesOnTheAxisAndAtTheCentre) {
   const TriMesh fixed = geometry::make_box(Vec3(-5, -5, -5), Vec3(5, 5, 5), 2);
   const Vec3 centre = Vec3::Zero(), axis = Vec3::UnitZ();
-  const TriMesh mobile = points({Vec3(0, 0, 0), Vec3(0, 0, 2), Vec3(0, 0, -7), Vec3(1e-300, 0, 0),
+  const TriMesh mobile = degenerate_points({Vec3(0, 0, 0), Vec3(0, 0, 2), Vec3(0, 0, -7), Vec3(1e-300, 0, 0),
                                  Vec3(4.5, 2.25, 0)});
   const PenetrationResult oracle = all_paths(fixed, mobile, centre, axis, "axis");
   // Points on the axis do not move under the rotation: never reported. The last point is inside
@@ -171,7 +172,7 @@ TEST(CylindricalHardCases, SliverAndZeroAreaTriangles) {
     const PenetrationResult result = all_paths(mesh, mobile, centre, axis, what);
     // Same surface (to 1e-7 mm): same penetrating vertices; depths within the angle the sliver
     // offset can shift a crossing, r * (1e-7 / r) / sin(grazing) -- 1e-4 mm is generous.
-    expect_same(result, reference, what + " vs plain box", 1e-4);
+    expect_same_hard(result, reference, what + " vs plain box", 1e-4);
   }
 }
 
@@ -179,14 +180,14 @@ TEST(CylindricalHardCases, TangentArcs) {
   // Face x = 5 of the box [5, 7] x [-1, 1]^2 (outward normal -x). Circles of radius exactly 5
   // touch it at (5, 0, 0): the crossing is a double root and T.N = 0 (App. D first case).
   const TriMesh outside_box = geometry::make_box(Vec3(5, -1, -1), Vec3(7, 1, 1), 1);
-  const TriMesh mobile = points({Vec3(0, 5, 0), Vec3(-5, 0, 0), Vec3(5, 0, 0), Vec3(0, -5, 0)});
+  const TriMesh mobile = degenerate_points({Vec3(0, 5, 0), Vec3(-5, 0, 0), Vec3(5, 0, 0), Vec3(0, -5, 0)});
   const PenetrationResult outside = all_paths(outside_box, mobile, Vec3::Zero(), Vec3::UnitZ(), "touch");
   EXPECT_TRUE(outside.pairs.empty());
   // Box [3, 5] x [-1, 1]^2: the circle of radius 5 runs inside it near theta = 0 and touches the
   // face x = 5 (normal +x) from inside. The vertex at theta = 0.1 is inside (x = 4.975, y = 0.499)
   // and its nearest way out is back to the tangent point: depth 5 * 0.1.
   const TriMesh inside_box = geometry::make_box(Vec3(3, -1, -1), Vec3(5, 1, 1), 1);
-  const TriMesh inside = points({Vec3(5 * std::cos(0.1), 5 * std::sin(0.1), 0), Vec3(0, 5, 0)});
+  const TriMesh inside = degenerate_points({Vec3(5 * std::cos(0.1), 5 * std::sin(0.1), 0), Vec3(0, 5, 0)});
   const PenetrationResult result = all_paths(inside_box, inside, Vec3::Zero(), Vec3::UnitZ(), "tangent");
   ASSERT_EQ(result.pairs.size(), 1u);
   EXPECT_EQ(result.pairs[0].mobile_vertex, 0);
@@ -201,7 +202,7 @@ TEST(CylindricalHardCases, ArcsOfPi) {
   // (-6, 0, 0): both crossings at exactly the same distance pi - acos(5/6) -- a tie, outside.
   // (6, 0, 0): inside, depth 6 acos(5/6) either way.
   // (-5, 0, 0): radius 5 touches the face at (5, 0, 0), exactly pi away (T.A = 0 and T.N = 0).
-  const TriMesh mobile = points({Vec3(-6, 0, 0), Vec3(6, 0, 0), Vec3(-5, 0, 0)});
+  const TriMesh mobile = degenerate_points({Vec3(-6, 0, 0), Vec3(6, 0, 0), Vec3(-5, 0, 0)});
   const PenetrationResult result = all_paths(box, mobile, Vec3::Zero(), Vec3::UnitZ(), "pi");
   ASSERT_EQ(result.pairs.size(), 1u);
   EXPECT_EQ(result.pairs[0].mobile_vertex, 1);
@@ -213,17 +214,17 @@ TEST(CylindricalHardCases, ArcsOfPi) {
 TEST(CylindricalHardCases, VertexExactlyOnTheSurface) {
   const TriMesh box = geometry::make_box(Vec3(5, -4, -1), Vec3(7, 4, 1), 2);
   // On face x = 5, on the face's internal edges, on a box corner.
-  const TriMesh mobile = points({Vec3(5, 0.5, 0.25), Vec3(5, std::sqrt(11.0), 0), Vec3(5, 0, 0),
+  const TriMesh mobile = degenerate_points({Vec3(5, 0.5, 0.25), Vec3(5, std::sqrt(11.0), 0), Vec3(5, 0, 0),
                                  Vec3(5, 4, 1)});
   const PenetrationResult result = all_paths(box, mobile, Vec3::Zero(), Vec3::UnitZ(), "surface");
   EXPECT_TRUE(result.pairs.empty());  // touching is not penetrating
   // A point on the face z = 1, which is perpendicular to the axis: its circle lies in that face
   // and crosses no triangle of it, so it is judged by the face x = 5 it meets, like a point just
   // inside (documented); all paths still agree with the oracle.
-  all_paths(box, points({Vec3(6, 1, 1)}), Vec3::Zero(), Vec3::UnitZ(), "in-face circle");
+  all_paths(box, degenerate_points({Vec3(6, 1, 1)}), Vec3::Zero(), Vec3::UnitZ(), "in-face circle");
   // Moved 1e-6 mm into the solid they are reported, with the arc back to the face x = 5.
   const std::vector<Vec3> inner = {Vec3(5 + 1e-6, 0.5, 0.25), Vec3(5 + 1e-6, std::sqrt(11.0), 0)};
-  const PenetrationResult deeper = all_paths(box, points(inner), Vec3::Zero(), Vec3::UnitZ(), "pushed");
+  const PenetrationResult deeper = all_paths(box, degenerate_points(inner), Vec3::Zero(), Vec3::UnitZ(), "pushed");
   ASSERT_EQ(deeper.pairs.size(), 2u);
   for (std::size_t i = 0; i < 2; ++i) {
     const double r = std::hypot(inner[i].x(), inner[i].y());
@@ -268,7 +269,7 @@ TEST(CylindricalHardCases, CoordinatesFarFromTheOrigin) {
   for (Vec3& p : far_mobile.vertices) p += shift;
   const PenetrationResult far = all_paths(far_fixed, far_mobile, centre + shift, axis, "far");
   // Translation by 1e4 mm rounds coordinates by ~1e-12 mm; depths agree far within 1e-6 mm.
-  expect_same(far, near_origin, "far vs near", 1e-6);
+  expect_same_hard(far, near_origin, "far vs near", 1e-6);
   // Rotation centre 1e4 mm from the meshes: radii ~1e4 mm, arcs are nearly straight lines.
   const PenetrationResult distant_centre =
       all_paths(fixed, mobile, Vec3(0, 1e4, 0), Vec3(1, 0, 0), "distant centre");
@@ -321,7 +322,7 @@ TEST(CylindricalHardCases, RealFemurAgainstPelvis) {
           mapped.pairs.push_back(copy);
         }
       }
-      expect_same(mapped, oracle, "axis (" + std::to_string(axis.x()) + ", " + std::to_string(axis.y()) +
+      expect_same_hard(mapped, oracle, "axis (" + std::to_string(axis.x()) + ", " + std::to_string(axis.y()) +
                                       ") angle " + std::to_string(angle_deg));
       penetrating += oracle.pairs.size();
     }

@@ -4,6 +4,7 @@
 // vertex starts or stops penetrating), with the default and a zero touching tolerance, on closed
 // random shapes, on a box whose circles run through its edges and corners, on a reloaded cache
 // and on the real CT bones.
+#include "core/numbers.h"
 #include "contact/cylindrical_cache_io.h"
 #include "contact/cylindrical_segmenting.h"
 #include "contact/cylindrical_table.h"
@@ -26,9 +27,9 @@ namespace {
 using geometry::TriMesh;
 using test_shapes::random_shape;
 using test_shapes::random_unit;
-constexpr double kDegPerRad = 180.0 / std::numbers::pi;
+using hipfai::kDegPerRad;
 
-void expect_identical(const PenetrationResult& got, const PenetrationResult& want, const std::string& what) {
+void expect_identical_indexed(const PenetrationResult& got, const PenetrationResult& want, const std::string& what) {
   ASSERT_EQ(got.status, want.status) << what;
   ASSERT_EQ(got.pairs.size(), want.pairs.size()) << what;
   for (std::size_t i = 0; i < got.pairs.size(); ++i) {
@@ -65,7 +66,7 @@ std::size_t expect_index_equals_full_pass(const CylindricalPoseCache& cache, con
   std::size_t reported = 0;
   for (const double angle : angles) {
     const PenetrationResult full = cache.query_every_vertex(angle);
-    expect_identical(cache.query(angle), full, what + ", angle " + std::to_string(angle) + " deg");
+    expect_identical_indexed(cache.query(angle), full, what + ", angle " + std::to_string(angle) + " deg");
     reported += full.pairs.size();
   }
   return reported;
@@ -106,7 +107,7 @@ TEST(CylindricalPoseIndex, WithoutTheIndexTheQueryIsTheFullPass) {
   EXPECT_GT(indexed.num_candidate_arcs(), 0u);
   std::size_t reported = 0;
   for (double angle = -180.0; angle < 180.0; angle += 7.5) {
-    expect_identical(plain.query(angle), indexed.query(angle), "angle " + std::to_string(angle));
+    expect_identical_indexed(plain.query(angle), indexed.query(angle), "angle " + std::to_string(angle));
     reported += plain.query(angle).pairs.size();
   }
   EXPECT_GT(reported, 0u);
@@ -160,10 +161,10 @@ TEST(CylindricalPoseIndex, ReloadedCacheOnTheRealCtBones) {
   ASSERT_TRUE(loaded.has_value());
   EXPECT_EQ(loaded->num_candidate_arcs(), cache.num_candidate_arcs());
   for (const double angle : angles) {
-    expect_identical(loaded->query(angle), cache.query_every_vertex(angle), "reloaded, angle " + std::to_string(angle));
+    expect_identical_indexed(loaded->query(angle), cache.query_every_vertex(angle), "reloaded, angle " + std::to_string(angle));
   }
   // Angles beyond the index's range take the full pass; the answer is the same.
-  expect_identical(cache.query(1e6 + 30.0), cache.query_every_vertex(1e6 + 30.0), "huge angle");
+  expect_identical_indexed(cache.query(1e6 + 30.0), cache.query_every_vertex(1e6 + 30.0), "huge angle");
 }
 
 }  // namespace

@@ -25,7 +25,7 @@ using test_shapes::random_unit;
 // Same vertex set (exact), depths equal to 1e-9 mm: both sides evaluate the same closed form on
 // coordinates that differ only by the rounding of the pose (~1e-13 mm), so 1e-9 is generous while
 // any wrong triangle or missed crossing changes the depth by far more.
-void expect_same(const PenetrationResult& got, const PenetrationResult& want, const std::string& what) {
+void expect_same_segmenting(const PenetrationResult& got, const PenetrationResult& want, const std::string& what) {
   ASSERT_NE(got.status, QueryStatus::kInvalidInput) << what << ": " << got.message;
   ASSERT_EQ(want.status, QueryStatus::kOk) << what;
   ASSERT_EQ(got.pairs.size(), want.pairs.size()) << what;
@@ -56,16 +56,16 @@ TEST(CylindricalSegmenting, EqualsOracleOnRandomScenes) {
     CylindricalTableOptions table_options;
     table_options.resolution_r_mm = geometry::mean_edge_length(fixed) * (0.3 + 3 * u(rng));
     table_options.resolution_z_mm = geometry::mean_edge_length(fixed) * (0.3 + 3 * u(rng));
-    expect_same(cylindrical_segmenting(fixed, posed, centre, axis, {}, table_options), oracle,
+    expect_same_segmenting(cylindrical_segmenting(fixed, posed, centre, axis, {}, table_options), oracle,
                 what + " one-shot");
     const CylindricalTable full = CylindricalTable::build(fixed, centre, axis, table_options);
-    expect_same(cylindrical_segmenting(full, posed), oracle, what + " full table");
+    expect_same_segmenting(cylindrical_segmenting(full, posed), oracle, what + " full table");
     // Pre-processing split: table restricted to the mobile mesh at pose 0, queried at the angle.
     const CylindricalTable restricted =
         CylindricalTable::build(fixed, centre, axis, table_options, &mobile);
     const CylindricalPoseCache cache(restricted, mobile);
-    expect_same(cache.query(angle_deg), oracle, what + " pose cache");
-    expect_same(cache.query(angle_deg + 720.0), oracle, what + " pose cache +2 turns");
+    expect_same_segmenting(cache.query(angle_deg), oracle, what + " pose cache");
+    expect_same_segmenting(cache.query(angle_deg + 720.0), oracle, what + " pose cache +2 turns");
   }
   EXPECT_GT(total_penetrating, 500u);  // the scenes really collide
 }
@@ -80,7 +80,7 @@ TEST(CylindricalSegmenting, PoseCacheSweepEqualsOracle) {
   for (double angle = -180.0; angle < 180.0; angle += 22.5) {
     TriMesh posed = mobile;
     geometry::rotate_about_axis(posed, centre, axis, angle * std::numbers::pi / 180);
-    expect_same(cache.query(angle), oracle_cylindrical(fixed, posed, centre, axis),
+    expect_same_segmenting(cache.query(angle), oracle_cylindrical(fixed, posed, centre, axis),
                 "angle " + std::to_string(angle));
   }
 }
@@ -140,8 +140,8 @@ TEST(CylindricalSegmenting, UpdatedTableEqualsRebuild) {
     const CylindricalTable rebuilt = CylindricalTable::build(fixed, centre, axis);
     const PenetrationResult oracle = oracle_cylindrical(fixed, mobile, centre, axis);
     const std::string what = "displacement " + std::to_string(displacement);
-    expect_same(cylindrical_segmenting(table, mobile), oracle, what + " updated");
-    expect_same(cylindrical_segmenting(rebuilt, mobile), oracle, what + " rebuilt");
+    expect_same_segmenting(cylindrical_segmenting(table, mobile), oracle, what + " updated");
+    expect_same_segmenting(cylindrical_segmenting(rebuilt, mobile), oracle, what + " rebuilt");
     EXPECT_FALSE(oracle.pairs.empty()) << what;
     if (displacement > 10.0) {
       EXPECT_GT(table.num_overflow_triangles(), 0u);
@@ -163,9 +163,9 @@ TEST(CylindricalSegmenting, NeighbourCellsCoverSmallDeformations) {
   const PenetrationResult oracle = oracle_cylindrical(fixed, mobile, centre, axis);
   ASSERT_FALSE(oracle.pairs.empty());
   table.set_neighbour_cells(3);
-  expect_same(cylindrical_segmenting(table, mobile), oracle, "k = 3");
+  expect_same_segmenting(cylindrical_segmenting(table, mobile), oracle, "k = 3");
   const CylindricalPoseCache cache(table, mobile);
-  expect_same(cache.query(0.0), oracle, "k = 3 pose cache");
+  expect_same_segmenting(cache.query(0.0), oracle, "k = 3 pose cache");
   // Without the neighbours the stale bins miss crossings somewhere (this is why k is needed).
   table.set_neighbour_cells(0);
   const PenetrationResult stale = cylindrical_segmenting(table, mobile);
@@ -217,7 +217,7 @@ TEST(CylindricalSegmenting, InvalidAndDisjointInput) {
   update_triangles(revived, moved, all);
   const PenetrationResult oracle = oracle_cylindrical(moved, far, Vec3::Zero(), Vec3::UnitZ());
   ASSERT_FALSE(oracle.pairs.empty());
-  expect_same(cylindrical_segmenting(revived, far), oracle, "revived");
+  expect_same_segmenting(cylindrical_segmenting(revived, far), oracle, "revived");
 }
 
 }  // namespace

@@ -18,15 +18,15 @@ using geometry::Vec3;
 // A sphere (mobile, radius 10) rotating inside a box-shaped socket whose top is pushed down into
 // it: the sphere's vertices near the top penetrate. A threshold between the sphere's inner and
 // outer vertices makes both methods answer for some of them.
-struct Scene {
+struct HybridScene {
   TriMesh fixed;
   TriMesh mobile;
   Vec3 centre{0.3, -0.2, 0.1};
   Vec3 axis = Vec3(0.2, 1.0, 0.1).normalized();
 };
 
-Scene make_scene() {
-  Scene scene;
+HybridScene make_scene() {
+  HybridScene scene;
   // A closed torus-like fixed shell is awkward; a thick box slab cutting the sphere's top cap
   // is a closed fixed solid both methods handle: mobile vertices inside the slab penetrate.
   scene.fixed = geometry::make_box(Vec3(-15, -15, 7), Vec3(15, 15, 20), 12);
@@ -40,7 +40,7 @@ Scene make_scene() {
 
 // Independent reference: each band's vertices answered by that method's exhaustive oracle.
 TEST(HybridSegmenting, EachBandMatchesItsMethodsOracle) {
-  const Scene scene = make_scene();
+  const HybridScene scene = make_scene();
   const auto cylindrical_table = CylindricalTable::build(scene.fixed, scene.centre, scene.axis);
   RadialTableOptions radial_options;
   radial_options.table_size = 2000;
@@ -79,7 +79,7 @@ TEST(HybridSegmenting, EachBandMatchesItsMethodsOracle) {
 // Both methods must agree on WHICH vertices penetrate a closed solid (only the depths differ,
 // thesis Fig. 41): with every band radial, or every band cylindrical, the vertex sets are equal.
 TEST(HybridSegmenting, BothMethodsFindTheSameVertices) {
-  const Scene scene = make_scene();
+  const HybridScene scene = make_scene();
   const auto cylindrical_table = CylindricalTable::build(scene.fixed, scene.centre, scene.axis);
   RadialTableOptions radial_options;
   radial_options.table_size = 2000;
@@ -96,7 +96,7 @@ TEST(HybridSegmenting, BothMethodsFindTheSameVertices) {
 }
 
 TEST(HybridSegmenting, RejectsBadThresholds) {
-  const Scene scene = make_scene();
+  const HybridScene scene = make_scene();
   const auto cylindrical_table = CylindricalTable::build(scene.fixed, scene.centre, scene.axis);
   const auto radial_table = build_radial_table(scene.fixed, scene.centre, {});
   HybridOptions options;

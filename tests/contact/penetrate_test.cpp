@@ -23,7 +23,7 @@ namespace {
 
 using geometry::TriMesh;
 
-void expect_identical(const PenetrationResult& got, const PenetrationResult& want, const std::string& what) {
+void expect_identical_runs(const PenetrationResult& got, const PenetrationResult& want, const std::string& what) {
   ASSERT_EQ(got.status, want.status) << what;
   ASSERT_EQ(got.pairs.size(), want.pairs.size()) << what;
   for (std::size_t i = 0; i < got.pairs.size(); ++i) {
@@ -38,10 +38,10 @@ void expect_identical(const PenetrationResult& got, const PenetrationResult& wan
 
 // A socket (spherical shell 10..12 mm, inner surface wound inward) and an off-centre ball in it,
 // turned about two axes through the centre: both depths find pairs at every step.
-struct Scene {
+struct PenetrateScene {
   TriMesh socket, ball;
   std::vector<PenetrationStep> steps;
-  Scene() {
+  PenetrateScene() {
     TriMesh inner = geometry::make_octasphere(Vec3(0.5, 0, 0), 10.0, 4);
     for (auto& t : inner.triangles) std::swap(t[1], t[2]);
     const TriMesh outer = geometry::make_octasphere(Vec3(0.5, 0, 0), 12.0, 4);
@@ -71,7 +71,7 @@ struct Scene {
   }
 };
 
-void expect_as_direct_methods(const Scene& scene, const PenetrationResponse& response, const std::string& what) {
+void expect_as_direct_methods(const PenetrateScene& scene, const PenetrationResponse& response, const std::string& what) {
   ASSERT_EQ(response.status, QueryStatus::kOk) << response.message;
   ASSERT_EQ(response.steps.size(), scene.steps.size());
   const PenetrationRequest request = scene.request();
@@ -85,16 +85,16 @@ void expect_as_direct_methods(const Scene& scene, const PenetrationResponse& res
     const CylindricalPoseCache cache(CylindricalTable::build(scene.socket, Vec3::Zero(), step.axis, no_index, &scene.ball),
                                      scene.ball);
     const std::string label = what + ", step " + std::to_string(k);
-    expect_identical(response.steps[k].curvilinear, cache.query(step.angle_deg), label + " curvilinear");
+    expect_identical_runs(response.steps[k].curvilinear, cache.query(step.angle_deg), label + " curvilinear");
     TriMesh posed = scene.ball;
     for (Vec3& v : posed.vertices) v = step.rotation * v;
-    expect_identical(response.steps[k].radial, radial_segmenting(table, scene.socket, posed, radial), label + " radial");
+    expect_identical_runs(response.steps[k].radial, radial_segmenting(table, scene.socket, posed, radial), label + " radial");
     EXPECT_GT(response.steps[k].radial.pairs.size(), 0u) << label;
   }
 }
 
 TEST(Penetrate, AnswersAsTheMethodsItChooses) {
-  const Scene scene;
+  const PenetrateScene scene;
   const PenetrationResponse response = penetrate(scene.request());
   expect_as_direct_methods(scene, response, "built");
   EXPECT_EQ(response.curvilinear_preprocessing.built, 2);  // one pose cache per distinct axis
@@ -102,7 +102,7 @@ TEST(Penetrate, AnswersAsTheMethodsItChooses) {
 }
 
 TEST(Penetrate, CacheFolderIsMadeAndReused) {
-  const Scene scene;
+  const PenetrateScene scene;
   PenetrationRequest request = scene.request();
   request.cache_dir = std::filesystem::temp_directory_path() / ("hipfai_penetrate_" + std::to_string(::getpid())) / "cache";
   request.fixed_key = "socket";

@@ -7,7 +7,9 @@
 #include "contact/radial_segmenting.h"
 #include "contact/radial_table.h"
 
+#include "core/numbers.h"
 #include "geometry/primitive_meshes.h"
+#include "tests/contact/random_shapes.h"
 
 #include <gtest/gtest.h>
 
@@ -20,17 +22,12 @@
 namespace hipfai::contact {
 namespace {
 
+using test_shapes::flipped;
+
 using geometry::TriMesh;
-constexpr double kPi = std::numbers::pi;
-constexpr std::array<RadialMapping, 3> kMappings = {RadialMapping::kSpherical,
-                                                    RadialMapping::kCartesian, RadialMapping::kCube};
+using hipfai::kPi;
 
-TriMesh flipped(TriMesh mesh) {
-  for (auto& t : mesh.triangles) std::swap(t[1], t[2]);
-  return mesh;
-}
-
-TriMesh points(const std::vector<Vec3>& vertices) {
+TriMesh bare_points(const std::vector<Vec3>& vertices) {
   TriMesh mesh;
   mesh.vertices = vertices;
   return mesh;
@@ -41,7 +38,7 @@ TriMesh points(const std::vector<Vec3>& vertices) {
 PenetrationResult check_all(const TriMesh& fixed, const TriMesh& mobile, const Vec3& centre,
                             RadialConfiguration configuration) {
   const PenetrationResult expected = oracle_radial(fixed, mobile, centre, configuration);
-  for (const auto mapping : kMappings) {
+  for (const auto mapping : kRadialMappings) {
     for (const std::int64_t size : {7, 600, 5000}) {
       const RadialTable table = build_radial_table(fixed, centre, {mapping, size});
       for (const int threads : {1, 2}) {
@@ -88,7 +85,7 @@ TriMesh patch(int half, double height, const Vec3& offset = Vec3::Zero()) {
 TEST(RadialHardCases, DirectionsOnCellBordersAndTableEdges) {
   const TriMesh socket = flipped(geometry::make_octasphere(Vec3::Zero(), 25.0, 3));
   std::vector<Vec3> vertices;
-  for (const auto mapping : kMappings) {
+  for (const auto mapping : kRadialMappings) {
     const RadialGrid grid = make_radial_grid(mapping, 600);
     // Cell centres (the ray-sampling directions).
     for (int cell = 0; cell < grid.num_cells(); cell += 7) {
@@ -136,7 +133,7 @@ TEST(RadialHardCases, DirectionsOnCellBordersAndTableEdges) {
                             30 * std::sin(polar) * std::sin(azimuth), 30 * std::cos(polar));
     }
   }
-  const TriMesh mobile = points(vertices);
+  const TriMesh mobile = bare_points(vertices);
   const auto expected =
       check_all(socket, mobile, Vec3::Zero(), RadialConfiguration::kMobileInsideFixed);
   // Every vertex is 30 mm out, beyond the 25 mm socket: all penetrate. The crossing lies on a
@@ -160,7 +157,7 @@ TEST(RadialHardCases, RaysThroughSeamAndPolesOfTheFixedMesh) {
   const TriMesh head = geometry::make_octasphere(Vec3::Zero(), 25.0, 4);
   std::vector<Vec3> vertices;
   for (const auto& v : head.vertices) vertices.push_back(v * 0.5);  // inside: FixedInsideMobile
-  const auto expected = check_all(head, points(vertices), Vec3::Zero(),
+  const auto expected = check_all(head, bare_points(vertices), Vec3::Zero(),
                                   RadialConfiguration::kFixedInsideMobile);
   ASSERT_EQ(expected.pairs.size(), vertices.size());
   for (const auto& pair : expected.pairs) EXPECT_NEAR(pair.depth_mm, 12.5, 1e-9);
@@ -168,7 +165,7 @@ TEST(RadialHardCases, RaysThroughSeamAndPolesOfTheFixedMesh) {
 
 TEST(RadialHardCases, VertexAtTheCentreHasNoRayAndNeverPenetrates) {
   const TriMesh socket = flipped(geometry::make_octasphere(Vec3(1, 1, 1), 25.0, 2));
-  const TriMesh mobile = points({Vec3(1, 1, 1), Vec3(1, 1, 40), Vec3(1, 1, 1), Vec3(1, -40, 1)});
+  const TriMesh mobile = bare_points({Vec3(1, 1, 1), Vec3(1, 1, 40), Vec3(1, 1, 1), Vec3(1, -40, 1)});
   for (const auto configuration :
        {RadialConfiguration::kMobileInsideFixed, RadialConfiguration::kFixedInsideMobile}) {
     const auto expected = check_all(socket, mobile, Vec3(1, 1, 1), configuration);
@@ -218,7 +215,7 @@ TEST(RadialHardCases, SliverAndZeroAreaTrianglesNeitherMissNorProduceNaN) {
   vertices.push_back(Vec3(0, 0, 20));
   vertices.push_back(Vec3(4.0, -4.0, 20));  // through the fan's apex (2, -2)
   const auto expected =
-      check_all(mesh, points(vertices), Vec3::Zero(), RadialConfiguration::kMobileInsideFixed);
+      check_all(mesh, bare_points(vertices), Vec3::Zero(), RadialConfiguration::kMobileInsideFixed);
   // Closed form: a vertex v at z = 20 whose ray meets the patch (|x/2| <= 2, -2 <= y/2 <= 2,
   // x/2 <= 4) penetrates by |v| / 2 (the plane z = 10 halves the ray).
   std::size_t inside = 0;
@@ -234,7 +231,7 @@ TEST(RadialHardCases, SliverAndZeroAreaTrianglesNeitherMissNorProduceNaN) {
 TEST(RadialHardCases, VertexExactlyOnTheSurfaceDoesNotPenetrate) {
   const TriMesh socket = patch(3, 10.0);
   // On the surface (plane z = 10, at a vertex, on an edge, inside a face), then just beyond it.
-  const TriMesh mobile = points({Vec3(1, 2, 10), Vec3(0.5, 0.5, 10), Vec3(0.25, 0.75, 10),
+  const TriMesh mobile = bare_points({Vec3(1, 2, 10), Vec3(0.5, 0.5, 10), Vec3(0.25, 0.75, 10),
                                  Vec3(1, 2, 10.000001), Vec3(1, 2, 9.999999)});
   const auto expected =
       check_all(socket, mobile, Vec3::Zero(), RadialConfiguration::kMobileInsideFixed);
@@ -252,7 +249,7 @@ TEST(RadialHardCases, RaysThroughSharedEdgesAndVerticesAreCountedOnce) {
     for (int i = -6; i <= 6; ++i) vertices.push_back(Vec3(i * 0.5, j * 0.5, 10) * 2.0);
   }
   const auto expected =
-      check_all(socket, points(vertices), Vec3::Zero(), RadialConfiguration::kMobileInsideFixed);
+      check_all(socket, bare_points(vertices), Vec3::Zero(), RadialConfiguration::kMobileInsideFixed);
   ASSERT_EQ(expected.pairs.size(), vertices.size());  // no miss (the rim is included)
   for (const auto& pair : expected.pairs) {
     EXPECT_NEAR(pair.depth_mm, vertices[static_cast<std::size_t>(pair.mobile_vertex)].norm() / 2,
@@ -275,7 +272,7 @@ TEST(RadialHardCases, OpenMeshWithHolesReportsOnlyWhereThereIsSurface) {
     for (int i = -10; i <= 10; ++i) vertices.push_back(Vec3(i * 0.5, j * 0.5, 10) * 2.0);
   }
   const auto expected =
-      check_all(socket, points(vertices), Vec3::Zero(), RadialConfiguration::kMobileInsideFixed);
+      check_all(socket, bare_points(vertices), Vec3::Zero(), RadialConfiguration::kMobileInsideFixed);
   // Closed form: the ray meets surface iff its patch point (x/2, y/2) is in [-4, 4]^2 and not in
   // the open hole (-1, 1)^2 (the hole's rim belongs to the kept triangles).
   std::size_t count = 0;
@@ -300,7 +297,7 @@ TEST(RadialHardCases, TwoNestedLayersUseTheNormalsFig40) {
   std::vector<Vec3> vertices;
   const Vec3 direction = Vec3(0.3, -0.5, 0.8).normalized();
   for (const double r : radii) vertices.push_back(r * direction);
-  const TriMesh mobile = points(vertices);
+  const TriMesh mobile = bare_points(vertices);
   // Sag of a level-4 chord at radius R: R (1 - cos(pi / 64)) < 0.044 mm at R = 36.
   const double sag = 0.044;
   {
@@ -338,7 +335,7 @@ TEST(RadialHardCases, TrianglesWhosePlanePassesThroughTheCentre) {
   std::normal_distribution<double> g;
   std::vector<Vec3> vertices;
   for (int i = 0; i < 400; ++i) vertices.push_back(15.0 * Vec3(g(rng), g(rng), g(rng)));
-  const TriMesh mobile = points(vertices);
+  const TriMesh mobile = bare_points(vertices);
   // O = (0, 0, 0) inside the face y = 0 of the box.
   const TriMesh box = geometry::make_box(Vec3(-10, 0, -10), Vec3(10, 20, 10), 3);
   const RadialTable table = build_radial_table(box, Vec3::Zero(), {RadialMapping::kCube, 500});
@@ -375,8 +372,8 @@ TEST(RadialHardCases, TrianglesNearlyInAPlaneThroughTheCentreAreBinned) {
       vertices.emplace_back(px, height, pz);
       vertices.emplace_back(px, 0.001 * across(rng) + height, pz);
     }
-    const TriMesh mobile = points(vertices);
-    for (const auto mapping : kMappings) {
+    const TriMesh mobile = bare_points(vertices);
+    for (const auto mapping : kRadialMappings) {
       // 1e-6 x ~33 mm = 3.3e-5 mm: every bottom triangle is "nearly through O", but with the
       // centre >= 5 mm from each, the band half-width asin(h / d) is tiny: none stays always-checked.
       const RadialTable table = build_radial_table(box, Vec3::Zero(), {mapping, 5000});
@@ -401,7 +398,7 @@ TEST(RadialHardCases, CoordinatesFarFromTheOrigin) {
   }
   vertices.push_back(far);  // at the centre
   const auto expected =
-      check_all(socket, points(vertices), far, RadialConfiguration::kMobileInsideFixed);
+      check_all(socket, bare_points(vertices), far, RadialConfiguration::kMobileInsideFixed);
   std::size_t count = 0;
   for (int j = -8; j <= 8; ++j) {
     for (int i = -8; i <= 8; ++i) count += std::abs(i * 0.5) <= 3 && std::abs(j * 0.5) <= 3;

@@ -1,6 +1,7 @@
 // Tests of the three mapping functions and of the exact cell coverage of triangles
 // (contact/radial_mapping.h).
 #include "contact/radial_mapping.h"
+#include "core/numbers.h"
 
 #include <gtest/gtest.h>
 
@@ -14,9 +15,7 @@
 namespace hipfai::contact {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-constexpr std::array<RadialMapping, 3> kMappings = {RadialMapping::kSpherical,
-                                                    RadialMapping::kCartesian, RadialMapping::kCube};
+using hipfai::kPi;
 
 TEST(RadialMapping, TableDimensionFollowsEq8) {
   EXPECT_EQ(make_radial_grid(RadialMapping::kSpherical, 4096).dimension, 64);
@@ -57,7 +56,7 @@ TEST(RadialMapping, ClosedFormCoordinates) {
 }
 
 TEST(RadialMapping, CellCentreDirectionsMapBackToTheirCell) {
-  for (const auto mapping : kMappings) {
+  for (const auto mapping : kRadialMappings) {
     const RadialGrid grid = make_radial_grid(mapping, 3000);
     for (int cell = 0; cell < grid.num_cells(); ++cell) {
       const Vec3 d = cell_centre_direction(grid, cell);
@@ -144,7 +143,7 @@ TEST(RadialMapping, TriangleCellsAreExactOnSeamPolesBordersAndSingularities) {
       {"near centre", Vec3(1, -0.5, 0.3), Vec3(-0.4, 1, 0.35), Vec3(-0.6, -0.8, 0.4)},
       {"huge", Vec3(30, -30, 5), Vec3(-30, 30, 5), Vec3(-30, -30, 5)},
   };
-  for (const auto mapping : kMappings) {
+  for (const auto mapping : kRadialMappings) {
     for (const std::int64_t size : {6, 600, 20000}) {
       const RadialGrid grid = make_radial_grid(mapping, size);
       for (const auto& c : cases) {
@@ -159,7 +158,7 @@ TEST(RadialMapping, TriangleCellsAreExactForRandomTriangles) {
   std::mt19937_64 rng(2024);
   std::normal_distribution<double> g;
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  for (const auto mapping : kMappings) {
+  for (const auto mapping : kRadialMappings) {
     const RadialGrid grid = make_radial_grid(mapping, 5000);
     for (int k = 0; k < 300; ++k) {
       const Vec3 centre = Vec3(g(rng), g(rng), g(rng)).normalized() * (5 + 45 * u(rng));
@@ -229,7 +228,7 @@ TEST(RadialMapping, CapCellsContainEveryDirectionInTheCap) {
   std::mt19937_64 rng(5);
   std::normal_distribution<double> g;
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  for (const auto mapping : kMappings) {
+  for (const auto mapping : kRadialMappings) {
     const RadialGrid grid = make_radial_grid(mapping, 2000);
     for (int k = 0; k < 100; ++k) {
       Vec3 d = Vec3(g(rng), g(rng), g(rng)).normalized();

@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "geometry/primitive_meshes.h"
+#include "tests/contact/random_shapes.h"
 
 #include <gtest/gtest.h>
 
@@ -22,10 +23,10 @@
 namespace hipfai::contact {
 namespace {
 
+using test_shapes::flipped;
+
 using geometry::TriMesh;
 
-constexpr std::array<RadialMapping, 3> kMappings = {RadialMapping::kSpherical,
-                                                    RadialMapping::kCartesian, RadialMapping::kCube};
 constexpr std::array<RadialConfiguration, 2> kConfigurations = {
     RadialConfiguration::kMobileInsideFixed, RadialConfiguration::kFixedInsideMobile};
 
@@ -40,7 +41,7 @@ Eigen::Isometry3d random_pose(std::mt19937_64& rng, double translation_mm) {
 }
 
 // Octasphere whose vertices are moved radially by up to +-`noise` of the radius.
-TriMesh perturbed_sphere(const Vec3& centre, double radius, int levels, double noise,
+TriMesh noisy_sphere(const Vec3& centre, double radius, int levels, double noise,
                          std::mt19937_64& rng) {
   TriMesh mesh = geometry::make_octasphere(centre, radius, levels);
   std::uniform_real_distribution<double> u(-noise, noise);
@@ -48,13 +49,8 @@ TriMesh perturbed_sphere(const Vec3& centre, double radius, int levels, double n
   return mesh;
 }
 
-TriMesh flipped(TriMesh mesh) {
-  for (auto& t : mesh.triangles) std::swap(t[1], t[2]);
-  return mesh;
-}
-
 // Identical vertex sets, identical triangles (same tie rule), depths within 1e-9 mm.
-void expect_same(const PenetrationResult& got, const PenetrationResult& expected,
+void expect_same_radial(const PenetrationResult& got, const PenetrationResult& expected,
                  const std::string& what) {
   ASSERT_EQ(got.status, QueryStatus::kOk) << what << ": " << got.message;
   ASSERT_EQ(got.pairs.size(), expected.pairs.size()) << what;
@@ -67,44 +63,44 @@ void expect_same(const PenetrationResult& got, const PenetrationResult& expected
   }
 }
 
-struct Scene {
+struct RadialScene {
   std::string name;
   TriMesh fixed, mobile;
   Vec3 centre;
 };
 
 // Random scenes with penetrations in both configurations.
-std::vector<Scene> random_scenes(std::mt19937_64& rng) {
-  std::vector<Scene> scenes;
+std::vector<RadialScene> random_scenes(std::mt19937_64& rng) {
+  std::vector<RadialScene> scenes;
   std::normal_distribution<double> g;
   for (int k = 0; k < 4; ++k) {
     const Eigen::Isometry3d frame = random_pose(rng, 30.0);
     const Vec3 centre = frame.translation();
     const Vec3 jitter = 0.8 * Vec3(g(rng), g(rng), g(rng));
     // Nested perturbed spheres: the mobile one moved off-centre so some vertices cross.
-    Scene nested{"nested spheres " + std::to_string(k),
-                 perturbed_sphere(centre, 25.0, 3, 0.03, rng),
-                 perturbed_sphere(centre + jitter, 24.0, 3, 0.03, rng), centre + 0.5 * jitter};
+    RadialScene nested{"nested spheres " + std::to_string(k),
+                 noisy_sphere(centre, 25.0, 3, 0.03, rng),
+                 noisy_sphere(centre + jitter, 24.0, 3, 0.03, rng), centre + 0.5 * jitter};
     geometry::apply_transform(nested.mobile, Eigen::Isometry3d(Eigen::Translation3d(centre)) *
                                                  random_pose(rng, 0.0) *
                                                  Eigen::Translation3d(-centre));
     scenes.push_back(nested);
     // Socket: a thick shell (outer sphere + inverted inner sphere), a sphere sliding inside.
-    TriMesh inner = flipped(perturbed_sphere(centre, 24.0, 3, 0.02, rng));
-    TriMesh outer = perturbed_sphere(centre, 28.0, 2, 0.02, rng);
-    Scene shell{"shell " + std::to_string(k), geometry::merge_meshes({&inner, &outer}),
-                perturbed_sphere(centre + jitter, 24.5, 3, 0.03, rng), centre};
+    TriMesh inner = flipped(noisy_sphere(centre, 24.0, 3, 0.02, rng));
+    TriMesh outer = noisy_sphere(centre, 28.0, 2, 0.02, rng);
+    RadialScene shell{"shell " + std::to_string(k), geometry::merge_meshes({&inner, &outer}),
+                noisy_sphere(centre + jitter, 24.5, 3, 0.03, rng), centre};
     scenes.push_back(shell);
     // Box and torus against spheres, randomly rotated and translated.
     const Eigen::Isometry3d pose = random_pose(rng, 3.0);
-    Scene box{"box " + std::to_string(k), geometry::make_box(Vec3(-12, -14, -10), Vec3(13, 11, 12), 5),
-              perturbed_sphere(Vec3(1, 0, 0), 14.0, 3, 0.05, rng), Vec3(0.5, -0.3, 0.2)};
+    RadialScene box{"box " + std::to_string(k), geometry::make_box(Vec3(-12, -14, -10), Vec3(13, 11, 12), 5),
+              noisy_sphere(Vec3(1, 0, 0), 14.0, 3, 0.05, rng), Vec3(0.5, -0.3, 0.2)};
     geometry::apply_transform(box.fixed, frame * pose);
     geometry::apply_transform(box.mobile, frame);
     box.centre = frame * box.centre;
     scenes.push_back(box);
-    Scene torus{"torus " + std::to_string(k), geometry::make_torus(Vec3::Zero(), 20.0, 6.0, 24, 12),
-                perturbed_sphere(Vec3(0, 0, 0), 19.0, 3, 0.1, rng), Vec3(0.2, 0.1, -0.3)};
+    RadialScene torus{"torus " + std::to_string(k), geometry::make_torus(Vec3::Zero(), 20.0, 6.0, 24, 12),
+                noisy_sphere(Vec3(0, 0, 0), 19.0, 3, 0.1, rng), Vec3(0.2, 0.1, -0.3)};
     geometry::apply_transform(torus.fixed, frame * pose);
     geometry::apply_transform(torus.mobile, frame);
     torus.centre = frame * torus.centre;
@@ -122,14 +118,14 @@ TEST(RadialSegmenting, EqualsOracleOnRandomScenesAllMappingsBothConfigurations) 
       const auto expected = oracle_radial(scene.fixed, scene.mobile, scene.centre, configuration);
       total_pairs[configuration == RadialConfiguration::kMobileInsideFixed ? 0 : 1] +=
           expected.pairs.size();
-      for (const auto mapping : kMappings) {
+      for (const auto mapping : kRadialMappings) {
         for (const std::int64_t size : {16, 2000}) {
           const RadialTable table = build_radial_table(scene.fixed, scene.centre, {mapping, size});
           for (const int threads : {1, 2}) {
             RadialQueryOptions options;
             options.configuration = configuration;
             options.num_threads = threads;
-            expect_same(radial_segmenting(table, scene.fixed, scene.mobile, options), expected,
+            expect_same_radial(radial_segmenting(table, scene.fixed, scene.mobile, options), expected,
                         scene.name + " " + to_string(mapping) + " " + to_string(configuration) +
                             " size " + std::to_string(size));
           }
@@ -152,10 +148,10 @@ TEST(RadialSegmenting, RoleSwapEqualsOracleWithRolesExchanged) {
       const auto expected =
           oracle_radial(scene.mobile, scene.fixed, scene.centre, swapped(configuration));
       total += expected.pairs.size();
-      for (const auto mapping : kMappings) {
+      for (const auto mapping : kRadialMappings) {
         RadialQueryOptions options;
         options.configuration = configuration;
-        expect_same(radial_swap_roles(scene.fixed, scene.mobile, scene.centre, {mapping, 500},
+        expect_same_radial(radial_swap_roles(scene.fixed, scene.mobile, scene.centre, {mapping, 500},
                                       options),
                     expected, scene.name + " swapped " + to_string(mapping));
       }
@@ -167,9 +163,9 @@ TEST(RadialSegmenting, RoleSwapEqualsOracleWithRolesExchanged) {
 TEST(RadialSegmenting, TableIsReusedAcrossPoses) {
   std::mt19937_64 rng(44);
   const Vec3 centre(1, 2, 3);
-  const TriMesh fixed = flipped(perturbed_sphere(centre, 25.0, 4, 0.01, rng));  // socket
-  const TriMesh head = perturbed_sphere(centre + Vec3(0.3, 0, 0), 24.8, 3, 0.01, rng);
-  for (const auto mapping : kMappings) {
+  const TriMesh fixed = flipped(noisy_sphere(centre, 25.0, 4, 0.01, rng));  // socket
+  const TriMesh head = noisy_sphere(centre + Vec3(0.3, 0, 0), 24.8, 3, 0.01, rng);
+  for (const auto mapping : kRadialMappings) {
     const RadialTable table = build_radial_table(fixed, centre, {mapping, 4000});
     std::size_t hits = 0;
     for (int pose = 0; pose < 5; ++pose) {
@@ -178,7 +174,7 @@ TEST(RadialSegmenting, TableIsReusedAcrossPoses) {
       const auto expected =
           oracle_radial(fixed, mobile, centre, RadialConfiguration::kMobileInsideFixed);
       hits += expected.pairs.size();
-      expect_same(radial_segmenting(table, fixed, mobile, {}), expected, "pose");
+      expect_same_radial(radial_segmenting(table, fixed, mobile, {}), expected, "pose");
     }
     EXPECT_GT(hits, 20u);
   }
@@ -193,8 +189,8 @@ TEST(RadialSegmenting, UpdateTrianglesEqualsFullRebuild) {
   std::mt19937_64 rng(45);
   std::normal_distribution<double> g;
   const Vec3 centre(0, 0, 0);
-  for (const auto mapping : kMappings) {
-    TriMesh fixed = flipped(perturbed_sphere(centre, 25.0, 3, 0.01, rng));
+  for (const auto mapping : kRadialMappings) {
+    TriMesh fixed = flipped(noisy_sphere(centre, 25.0, 3, 0.01, rng));
     RadialTable table = build_radial_table(fixed, centre, {mapping, 1500});
     // Move a tenth of the vertices far in non-radial directions.
     std::set<int> moved;
@@ -218,8 +214,8 @@ TEST(RadialSegmenting, UpdateTrianglesEqualsFullRebuild) {
       ASSERT_EQ(sorted(table.cells[c]), sorted(rebuilt.cells[c])) << "cell " << c;
     }
     EXPECT_EQ(sorted(table.always_candidates), sorted(rebuilt.always_candidates));
-    const TriMesh mobile = perturbed_sphere(Vec3(0.5, 0, 0), 24.5, 3, 0.02, rng);
-    expect_same(radial_segmenting(table, fixed, mobile, {}),
+    const TriMesh mobile = noisy_sphere(Vec3(0.5, 0, 0), 24.5, 3, 0.02, rng);
+    expect_same_radial(radial_segmenting(table, fixed, mobile, {}),
                 oracle_radial(fixed, mobile, centre, RadialConfiguration::kMobileInsideFixed),
                 "after update");
     EXPECT_THROW(update_triangles(table, fixed, std::vector<std::int32_t>{-1}), std::exception);
@@ -231,14 +227,14 @@ TEST(RadialSegmenting, RadialDeformationNeedsNoUpdateAndNeighbourSearchCoversSma
   std::normal_distribution<double> g;
   std::uniform_real_distribution<double> u(0.0, 1.0);
   const Vec3 centre(2, -1, 0.5);
-  for (const auto mapping : kMappings) {
-    const TriMesh original = flipped(perturbed_sphere(centre, 25.0, 3, 0.01, rng));
+  for (const auto mapping : kRadialMappings) {
+    const TriMesh original = flipped(noisy_sphere(centre, 25.0, 3, 0.01, rng));
     const RadialTable table = build_radial_table(original, centre, {mapping, 3000});
-    const TriMesh mobile = perturbed_sphere(centre + Vec3(0.4, 0.2, 0), 24.6, 4, 0.02, rng);
+    const TriMesh mobile = noisy_sphere(centre + Vec3(0.4, 0.2, 0), 24.6, 4, 0.02, rng);
     // 1) Radial deformation (§3.3.4): directions unchanged, the old table stays exact.
     TriMesh radial = original;
     for (auto& v : radial.vertices) v = centre + (v - centre) * (1.0 + 0.03 * (u(rng) - 0.5));
-    expect_same(radial_segmenting(table, radial, mobile, {}),
+    expect_same_radial(radial_segmenting(table, radial, mobile, {}),
                 oracle_radial(radial, mobile, centre, RadialConfiguration::kMobileInsideFixed),
                 "radial deformation");
     // 2) Every vertex turned about O by up to 0.4 of the neighbour radius (one nominal cell):
@@ -255,19 +251,19 @@ TEST(RadialSegmenting, RadialDeformationNeedsNoUpdateAndNeighbourSearchCoversSma
     const auto expected =
         oracle_radial(turned, mobile, centre, RadialConfiguration::kMobileInsideFixed);
     EXPECT_GT(expected.pairs.size(), 10u);
-    expect_same(radial_segmenting(table, turned, mobile, neighbours), expected,
+    expect_same_radial(radial_segmenting(table, turned, mobile, neighbours), expected,
                 std::string("neighbour search ") + to_string(mapping));
   }
 }
 
 TEST(RadialSegmenting, InvalidInputIsAStatusNotACrash) {
   std::mt19937_64 rng(47);
-  const TriMesh fixed = perturbed_sphere(Vec3::Zero(), 25.0, 2, 0.0, rng);
+  const TriMesh fixed = noisy_sphere(Vec3::Zero(), 25.0, 2, 0.0, rng);
   const RadialTable table = build_radial_table(fixed, Vec3::Zero(), {});
-  TriMesh mobile = perturbed_sphere(Vec3::Zero(), 20.0, 1, 0.0, rng);
+  TriMesh mobile = noisy_sphere(Vec3::Zero(), 20.0, 1, 0.0, rng);
   mobile.vertices[3].x() = std::nan("");
   EXPECT_EQ(radial_segmenting(table, fixed, mobile, {}).status, QueryStatus::kInvalidInput);
-  TriMesh other = perturbed_sphere(Vec3::Zero(), 25.0, 1, 0.0, rng);
+  TriMesh other = noisy_sphere(Vec3::Zero(), 25.0, 1, 0.0, rng);
   const auto mismatch = radial_segmenting(table, other, other, {});
   EXPECT_EQ(mismatch.status, QueryStatus::kInvalidInput);
   EXPECT_NE(mismatch.message.find("triangles"), std::string::npos);
@@ -296,7 +292,7 @@ TEST(RadialSegmenting, SphereVersusCubeTable2MatchesClosedFormWithTimings) {
     geometry::rotate_about_axis(sphere, Vec3::Zero(), Vec3(1, 2, 3).normalized(), 0.37);
     std::size_t expected_count = 0;
     for (const auto& v : sphere.vertices) expected_count += v.z() > bottom ? 1 : 0;
-    for (const auto mapping : kMappings) {
+    for (const auto mapping : kRadialMappings) {
       const auto t0 = std::chrono::steady_clock::now();
       const RadialTable table =
           build_radial_table(box, Vec3::Zero(), {mapping, std::int64_t(box.num_triangles())});
@@ -307,7 +303,7 @@ TEST(RadialSegmenting, SphereVersusCubeTable2MatchesClosedFormWithTimings) {
       two_threads.num_threads = 2;
       const auto result2 = radial_segmenting(table, box, sphere, two_threads);
       const auto t3 = std::chrono::steady_clock::now();
-      expect_same(result2, result, "two threads");
+      expect_same_radial(result2, result, "two threads");
       ASSERT_EQ(result.pairs.size(), expected_count) << to_string(mapping) << " level " << level;
       for (const auto& pair : result.pairs) {
         const Vec3& v = sphere.vertices[static_cast<std::size_t>(pair.mobile_vertex)];
@@ -316,7 +312,7 @@ TEST(RadialSegmenting, SphereVersusCubeTable2MatchesClosedFormWithTimings) {
         EXPECT_NEAR(pair.depth_mm, v.norm() - bottom * v.norm() / v.z(), 1e-9);
       }
       if (level <= 4) {
-        expect_same(result,
+        expect_same_radial(result,
                     oracle_radial(box, sphere, Vec3::Zero(), RadialConfiguration::kMobileInsideFixed),
                     "sphere-cube");
       }

@@ -22,7 +22,7 @@ namespace {
 using geometry::TriMesh;
 
 // Bit-for-bit equality: culling may only skip work.
-void expect_identical(const PenetrationResult& culled, const PenetrationResult& full, const std::string& what) {
+void expect_identical_culled(const PenetrationResult& culled, const PenetrationResult& full, const std::string& what) {
   ASSERT_EQ(culled.status, QueryStatus::kOk) << what << ": " << culled.message;
   ASSERT_EQ(full.status, QueryStatus::kOk) << what << ": " << full.message;
   ASSERT_EQ(culled.pairs.size(), full.pairs.size()) << what;
@@ -49,7 +49,7 @@ void expect_culling_exact(const RadialTable& table, const TriMesh& fixed, const 
   for (auto configuration : {RadialConfiguration::kMobileInsideFixed, RadialConfiguration::kFixedInsideMobile}) {
     for (auto rule : {RadialCrossingRule::kAdjacent, RadialCrossingRule::kUnion, RadialCrossingRule::kBeyond}) {
       const std::string name = what + " " + to_string(configuration) + " " + to_string(rule);
-      expect_identical(query(table, fixed, mobile, configuration, rule, true),
+      expect_identical_culled(query(table, fixed, mobile, configuration, rule, true),
                        query(table, fixed, mobile, configuration, rule, false), name);
     }
   }
@@ -71,7 +71,7 @@ void expect_pose_query_exact(const RadialTable& table, const TriMesh& fixed, con
         for (std::size_t k = 0; k < poses.size(); ++k) {
           TriMesh posed = mobile;
           geometry::apply_transform(posed, poses[k]);
-          expect_identical(prepared.query(poses[k]), query(table, fixed, posed, configuration, rule, false),
+          expect_identical_culled(prepared.query(poses[k]), query(table, fixed, posed, configuration, rule, false),
                            what + " pose " + std::to_string(k) + " " + to_string(configuration) + " threads " +
                                std::to_string(threads));
         }
@@ -320,7 +320,7 @@ TEST(RadialSpansOnGeneratedHip, RotationQueryEqualsTheQueryOnTheMeshTurnedAboutT
       TriMesh posed = femur;
       for (auto& v : posed.vertices) v = centre + rotation * (v - centre);
       const auto full = query(table, socket, posed, RadialConfiguration::kMobileInsideFixed, rule, false);
-      expect_identical(prepared.query_rotation(rotation), full,
+      expect_identical_culled(prepared.query_rotation(rotation), full,
                        std::string(to_string(rule)) + " " + std::to_string(angle_deg) + " deg");
       any = any || !full.pairs.empty();
     }
@@ -748,7 +748,7 @@ void expect_hints_exact(const RadialTable& table, const TriMesh& fixed, const st
   for (auto configuration : {RadialConfiguration::kMobileInsideFixed, RadialConfiguration::kFixedInsideMobile}) {
     options.configuration = configuration;
     const RadialPoseQuery prepared(table, fixed, mobile, options);
-    expect_identical(prepared.query(Eigen::Isometry3d::Identity()),
+    expect_identical_culled(prepared.query(Eigen::Isometry3d::Identity()),
                      query(table, fixed, mobile, configuration, RadialCrossingRule::kAdjacent, false), what + " pose query");
   }
 }

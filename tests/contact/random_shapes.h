@@ -9,8 +9,15 @@
 #include <Eigen/Geometry>
 
 #include <random>
+#include <utility>
 
 namespace hipfai::contact::test_shapes {
+
+// The mesh with every triangle's orientation reversed (normals inward).
+inline geometry::TriMesh flipped(geometry::TriMesh mesh) {
+  for (auto& t : mesh.triangles) std::swap(t[1], t[2]);
+  return mesh;
+}
 
 inline Eigen::Isometry3d random_pose(std::mt19937& rng, double translation_mm) {
   std::normal_distribution<double> normal(0.0, 1.0);

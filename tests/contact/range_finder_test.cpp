@@ -1,8 +1,10 @@
 // The joint range finder against closed forms, the exhaustive oracle, and ever finer stepping.
-#include "contact/range_finder.h"
 #include "contact/oracle_cylindrical.h"
+#include "contact/range_finder.h"
+#include "core/numbers.h"
 #include "geometry/mesh_io.h"
 #include "geometry/primitive_meshes.h"
+#include "tests/contact/random_shapes.h"
 
 #include <gtest/gtest.h>
 
@@ -16,8 +18,10 @@
 namespace hipfai::contact {
 namespace {
 
+using test_shapes::random_unit;
+
 using geometry::TriMesh;
-constexpr double kPi = std::numbers::pi;
+using hipfai::kPi;
 constexpr double kDeg = 180.0 / kPi;
 
 // Face x = 5 of this box is met by circles of radius 6 (about z through the origin) at
@@ -83,14 +87,9 @@ TEST(RangeFinder, RestingContactLimitsOnlyTheEnteringDirection) {
   EXPECT_NEAR(oracle.anticlockwise_deg, range.anticlockwise_deg, 1e-9);
 }
 
-Vec3 random_unit(std::mt19937& rng) {
-  std::normal_distribution<double> normal(0.0, 1.0);
-  return Vec3(normal(rng), normal(rng), normal(rng)).normalized();
-}
-
 // Collision-free start: a small perturbed sphere (mobile) beside a box or torus (fixed), with a
 // random centre between them and a random axis.
-struct Scene {
+struct RangeScene {
   TriMesh fixed, mobile;
   Vec3 centre, axis;
 };
@@ -134,17 +133,17 @@ bool surfaces_intersect(const TriMesh& fixed, const TriMesh& mobile, const Vec3&
   return false;
 }
 
-bool penetrates(const Scene& scene, double angle_deg) {
+bool penetrates(const RangeScene& scene, double angle_deg) {
   TriMesh posed = scene.mobile;
   geometry::rotate_about_axis(posed, scene.centre, scene.axis, angle_deg / kDeg);
   return !oracle_cylindrical(scene.fixed, posed, scene.centre, scene.axis).pairs.empty() ||
          !oracle_cylindrical(posed, scene.fixed, scene.centre, scene.axis).pairs.empty();
 }
 
-Scene random_scene(std::mt19937& rng, int levels) {
+RangeScene random_scene(std::mt19937& rng, int levels) {
   std::uniform_real_distribution<double> u(0.0, 1.0);
   for (;;) {
-    Scene scene;
+    RangeScene scene;
     scene.fixed = u(rng) < 0.5 ? geometry::make_box(Vec3(-4, -3, -5), Vec3(4, 3, 5), 2)
                                : geometry::make_torus(Vec3::Zero(), 6.0, 2.0, 12, 6);
     scene.mobile = geometry::make_octasphere(Vec3::Zero(), 3.0 + 2 * u(rng), levels);
@@ -162,7 +161,7 @@ TEST(RangeFinder, EqualsOracleOnRandomScenes) {
   std::mt19937 rng(31);
   int limited = 0;
   for (int trial = 0; trial < 25; ++trial) {
-    const Scene scene = random_scene(rng, 3);
+    const RangeScene scene = random_scene(rng, 3);
     // The oracle enumerates vertex contacts only: compare the finder's vertex passes with it.
     RangeOfMotionOptions vertex_contacts;
     vertex_contacts.include_edge_edge = false;
@@ -187,7 +186,7 @@ TEST(RangeFinder, FinerSteppingConvergesToTheRangeFromAbove) {
   std::mt19937 rng(77);
   int checked = 0, edge_limited = 0;
   for (int trial = 0; trial < 4; ++trial) {
-    const Scene scene = random_scene(rng, 2);
+    const RangeScene scene = random_scene(rng, 2);
     const RangeOfMotion range = range_of_motion(scene.fixed, scene.mobile, scene.centre, scene.axis);
     edge_limited += (range.anticlockwise_limit.kind == ContactKind::kEdgeOnEdge) +
                     (range.clockwise_limit.kind == ContactKind::kEdgeOnEdge);
@@ -256,7 +255,7 @@ TEST(RangeFinder, EdgeEdgeFirstContactOfSharpRims) {
 
 TEST(RangeFinder, FanAndSphereOfAxes) {
   std::mt19937 rng(5);
-  const Scene scene = random_scene(rng, 2);
+  const RangeScene scene = random_scene(rng, 2);
   RangeOfMotionOptions vertex_contacts;  // the oracle enumerates vertex contacts only
   vertex_contacts.include_edge_edge = false;
   const std::vector<AxisRangeOfMotion> fan =

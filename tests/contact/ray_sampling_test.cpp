@@ -6,6 +6,7 @@
 #include "contact/ray_sampling.h"
 
 #include "geometry/primitive_meshes.h"
+#include "tests/contact/random_shapes.h"
 
 #include <gtest/gtest.h>
 
@@ -18,9 +19,9 @@
 namespace hipfai::contact {
 namespace {
 
+using test_shapes::flipped;
+
 using geometry::TriMesh;
-constexpr std::array<RadialMapping, 3> kMappings = {RadialMapping::kSpherical,
-                                                    RadialMapping::kCartesian, RadialMapping::kCube};
 
 // Small triangle perpendicular to unit `axis` at distance `distance`, normal facing O.
 void add_facing_triangle(TriMesh& mesh, const Vec3& axis, double distance, double half_size) {
@@ -39,7 +40,7 @@ void add_facing_triangle(TriMesh& mesh, const Vec3& axis, double distance, doubl
 // a plane-distance variant would: the vertex is in front of the stored triangle's plane);
 // radial segmenting finds it.
 TEST(RaySampling, Fig19MissThatRadialSegmentingFinds) {
-  for (const auto mapping : kMappings) {
+  for (const auto mapping : kRadialMappings) {
     const RadialGrid grid = make_radial_grid(mapping, 24);
     const int cell = cell_of_direction(grid, Vec3(0.2, 0.1, 1.0));
     const Vec3 centre_direction = cell_centre_direction(grid, cell);
@@ -77,11 +78,6 @@ TEST(RaySampling, Fig19MissThatRadialSegmentingFinds) {
   }
 }
 
-TriMesh flipped(TriMesh mesh) {
-  for (auto& t : mesh.triangles) std::swap(t[1], t[2]);
-  return mesh;
-}
-
 // Where ray sampling answers on a single-layer socket, it agrees with the oracle (same triangle,
 // same depth); it never reports a vertex the oracle does not. Its miss rate falls as the table
 // grows.
@@ -98,7 +94,7 @@ TEST(RaySampling, AgreesWhereItAnswersAndMissRateFallsWithTableSize) {
   std::map<int, PenetrationPair> truth;
   for (const auto& pair : oracle.pairs) truth[pair.mobile_vertex] = pair;
   std::printf("\n%-10s %9s %8s %8s %10s\n", "mapping", "cells", "oracle", "found", "miss_rate");
-  for (const auto mapping : kMappings) {
+  for (const auto mapping : kRadialMappings) {
     double first_miss_rate = -1.0, last_miss_rate = -1.0;
     for (const std::int64_t size : {64, 1024, 16384, 262144}) {
       const auto table = build_ray_sampling_table(socket, centre, {mapping, size},
@@ -133,7 +129,7 @@ TEST(RaySampling, AcceleratedTableEqualsFullScan) {
   for (auto& v : socket.vertices) v *= 1.0 + u(rng);
   const TriMesh torus = geometry::make_torus(Vec3(0, 0, 3), 18.0, 4.0, 16, 8);
   const TriMesh fixed = geometry::merge_meshes({&socket, &torus});
-  for (const auto mapping : kMappings) {
+  for (const auto mapping : kRadialMappings) {
     for (const auto configuration :
          {RadialConfiguration::kMobileInsideFixed, RadialConfiguration::kFixedInsideMobile}) {
       const Vec3 centre(0.2, -0.1, 0.3);

@@ -10,6 +10,7 @@
 #include "geometry/mesh_parts.h"
 #include "tests/geometry/mesh_inside.h"
 #include "tests/geometry/study_hips.h"
+#include "geometry/hjc_regions.h"
 
 #include <gmsh.h>
 #include <gtest/gtest.h>
@@ -30,17 +31,6 @@ using test_support::InsideTester;
 
 const HipModel& hip(double ce, double alpha, double edge_mm) {
   return test_support::study_hip(ce, alpha, edge_mm);
-}
-
-// Per-vertex outward normals (area weighted).
-std::vector<Vec3> vertex_normals(const TriMesh& mesh) {
-  std::vector<Vec3> normals(mesh.vertices.size(), Vec3::Zero());
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-    const Vec3 n = triangle_area_normal(mesh, t);
-    for (auto v : mesh.triangles[t]) normals[static_cast<std::size_t>(v)] += n;
-  }
-  for (auto& n : normals) n.normalize();
-  return normals;
 }
 
 // Vertices of `a`, pushed `depth_mm` into `a`, that lie inside `b`: a volume overlap of a and b

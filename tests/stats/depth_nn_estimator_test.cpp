@@ -1,6 +1,7 @@
 #include "stats/depth_nn_estimator.h"
 
 #include "core/error.h"
+#include "core/numbers.h"
 #include "stats/knn_regression.h"
 
 #include <gtest/gtest.h>
@@ -11,7 +12,7 @@
 namespace hipfai::stats {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+using hipfai::kNaN;
 
 // Separable synthetic hips: value(i, j) = level_i x profile(j) x factor(c, r), factor = 1 + c + r
 // in contact and 1 without. Two clusters on one score: hips 0-4 at score 0 with level 2, hips 5-9

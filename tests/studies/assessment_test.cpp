@@ -27,7 +27,7 @@ namespace {
 using geometry::Vec3;
 namespace fs = std::filesystem;
 
-const fs::path kScratch = fs::path(HIPFAI_BINARY_DIR) / "test-scratch" / "assessment";
+const fs::path kAssessmentScratch = fs::path(HIPFAI_BINARY_DIR) / "test-scratch" / "assessment";
 const std::string kRealHip = std::string(HIPFAI_SOURCE_DIR) + "/meshes/real-hips/LHDL_CT/";
 
 // A generated hip (bones only) with its model.json, generated once per (ce, alpha).
@@ -47,7 +47,7 @@ const GeneratedHip& generated(double ce, double alpha) {
   p.edge_mm = 3.0;
   const geometry::HipModel model = geometry::generate_hip(p).model;
   // One folder per process: CTest runs this file's tests in parallel processes.
-  const fs::path dir = kScratch / ("hip-" + std::to_string(static_cast<int>(ce)) + "-" + std::to_string(static_cast<int>(alpha)) +
+  const fs::path dir = kAssessmentScratch / ("hip-" + std::to_string(static_cast<int>(ce)) + "-" + std::to_string(static_cast<int>(alpha)) +
                                    "-" + std::to_string(::getpid()));
   geometry::write_hip_model(model, dir);
   GeneratedHip hip;
@@ -156,7 +156,7 @@ TEST(Assessment, TheRealBonesFromTheFrameFoundOnThem) {
   for (std::size_t i = 0; i < a.size(); ++i) EXPECT_NEAR(a[i], b[i], 0.01) << i;
 
   // The output folder, whole.
-  const fs::path out = kScratch / ("lhdl-" + std::to_string(::getpid()));
+  const fs::path out = kAssessmentScratch / ("lhdl-" + std::to_string(::getpid()));
   write_assessment(r, {"femur_r.ply", "pelvis_no_sacrum.ply", "", ""}, out);
   std::ifstream file(out / "assessment.json");
   const nlohmann::json j = nlohmann::json::parse(file);

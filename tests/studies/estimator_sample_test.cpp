@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "geometry/hip_model.h"
 #include "studies/estimator_sample_report.h"
+#include "tests/core/scratch_folder.h"
 
 #include <gtest/gtest.h>
 
@@ -17,13 +18,6 @@ namespace hipfai::studies {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 std::vector<std::string> lines_of(const std::string& text) {
   std::vector<std::string> lines;
@@ -133,7 +127,7 @@ TEST(EstimatorSample, TinyRunMakesFiveHipsAndARerunSkipsThem) {
     EXPECT_EQ(first[h].status, SampleHipOutcome::Status::kGenerated) << sample_hip_line(plan, h, first[h]);
   }
 
-  const auto lines = lines_of(read_text(out / "design.csv"));
+  const auto lines = lines_of(test::file_contents(out / "design.csv"));
   ASSERT_EQ(lines.size(), 6u);
   EXPECT_EQ(lines[0], "name,set,ce_deg,alpha_deg");
   std::set<std::string> train_values, held_out_values;

@@ -24,7 +24,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path scratch(const std::string& name) {
+fs::path estimator_scratch(const std::string& name) {
   const fs::path dir = fs::path(HIPFAI_BINARY_DIR) / "test-scratch" / ("estimator-" + name);
   fs::remove_all(dir);
   fs::create_directories(dir);
@@ -111,7 +111,7 @@ TEST(EstimatorStudy, ImpingingHipsAreThoseWithPenetrationInTheCaseSteps) {
   // The sphere study with the penetration depths of `study validate`: hips of radius >= 25 mm
   // "impinge" from step 3 of 4 (curvilinear depth for 25, radial for 26), the others never. Case 1
   // (steps 1-2) has no impinging hip; case 2 (steps 1-4) has those two.
-  const fs::path dir = scratch("impinging");
+  const fs::path dir = estimator_scratch("impinging");
   fs::create_directories(dir / "fe");
   write_sphere_study(dir, {20, 21, 22, 23, 24, 25, 26}, 4, 10.0);
   {
@@ -156,7 +156,7 @@ TEST(EstimatorStudy, ImpingingHipsAreThoseWithPenetrationInTheCaseSteps) {
 }
 
 TEST(EstimatorStudy, LeaveOneOutOnSphereHipsAndModelFile) {
-  const fs::path dir = scratch("spheres");
+  const fs::path dir = estimator_scratch("spheres");
   fs::create_directories(dir / "fe");
   write_sphere_study(dir, {20, 21, 22, 23, 24, 25, 26}, 4, 10.0);
   EstimatorValidateOptions options = sphere_validate_options(dir, 3);
@@ -239,9 +239,9 @@ void expect_error(const std::function<void()>& call, const std::string& needle) 
   }
 }
 
-// Training options on a sphere study of radii 20, 22, 24, 26 mm written into scratch(name).
+// Training options on a sphere study of radii 20, 22, 24, 26 mm written into estimator_scratch(name).
 EstimatorTrainOptions four_sphere_training(const std::string& name, int steps) {
-  const fs::path dir = scratch(name);
+  const fs::path dir = estimator_scratch(name);
   fs::create_directories(dir / "fe");
   write_sphere_study(dir, {20, 22, 24, 26}, steps, 10.0);
   EstimatorTrainOptions train;
@@ -349,7 +349,7 @@ TEST(EstimatorStudy, DepthNnComputesTheTargetsPenetrationAndKeepsTheDepthsInTheM
       }
     }
   };
-  const fs::path dir = scratch("depth-nn");
+  const fs::path dir = estimator_scratch("depth-nn");
   std::vector<double> angles;
   for (const MotionStep& step : standing_to_sitting(4).steps) angles.push_back(step.angle_deg);
   write_study(dir, angles);
@@ -404,7 +404,7 @@ TEST(EstimatorStudy, DepthNnComputesTheTargetsPenetrationAndKeepsTheDepthsInTheM
   write_estimator_model(plain_model, dir / "plain.h5");
   EXPECT_FALSE(read_estimator_model(dir / "plain.h5").estimator.depths.known());
   // Another motion: predict does not know its axis and refuses depth_nn.
-  const fs::path other = scratch("depth-nn-other");
+  const fs::path other = estimator_scratch("depth-nn-other");
   write_study(other, {10, 20, 30, 40});
   train.fe = {other / "fe"};
   train.hips = other / "hips";
@@ -451,7 +451,7 @@ void write_sweep_model(const fs::path& dir, const std::string& model, const std:
 }
 
 TEST(EstimatorStudy, ReadsAFemSweepFolder) {
-  const fs::path dir = scratch("fem-sweep");
+  const fs::path dir = estimator_scratch("fem-sweep");
   {
     std::ofstream summary(dir / "summary.csv");
     summary << "model,exit_status,steps,converged\nce10_alpha50,0,3,3\nce20_alpha60,0,3,3\nce30_alpha70,1,0,0\n";

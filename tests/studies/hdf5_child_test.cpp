@@ -23,7 +23,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path scratch(const std::string& name) {
+fs::path hdf5_scratch_file(const std::string& name) {
   const fs::path dir = fs::temp_directory_path() / ("hipfai_hdf5_child_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   return dir / name;
@@ -39,7 +39,7 @@ std::string message_of(const std::function<void()>& read) {
 }
 
 TEST(Hdf5Child, SoundFileIsReadValuesAndErrorsAlike) {
-  const fs::path file = scratch("sound.h5");
+  const fs::path file = hdf5_scratch_file("sound.h5");
   {
     ResultsFile out(file);
     out.write("/steps/angle_deg", {0.0, 1.5, 3.0}, 1, "deg");
@@ -70,9 +70,9 @@ TEST(Hdf5Child, SoundFileIsReadValuesAndErrorsAlike) {
 }
 
 TEST(Hdf5Child, FilesHdf5RefusesAreTheReadersErrors) {
-  const fs::path text = scratch("text.h5");
+  const fs::path text = hdf5_scratch_file("text.h5");
   std::ofstream(text) << "not HDF5\n";
-  for (const fs::path& file : {text, scratch("missing.h5")}) {
+  for (const fs::path& file : {text, hdf5_scratch_file("missing.h5")}) {
     try {
       (void)read_dataset(file, "/x");
       ADD_FAILURE() << file << " was read";

@@ -16,7 +16,7 @@
 namespace hipfai::studies {
 namespace {
 
-std::filesystem::path scratch(const std::string& name) {
+std::filesystem::path runner_scratch(const std::string& name) {
   const auto path = std::filesystem::temp_directory_path() / ("hipfai_runner_" + name);
   std::filesystem::remove_all(path);
   return path;
@@ -79,9 +79,9 @@ Scene radial_scene(int sub_motions) {
 // A radial-only scene runs no cylindrical stage; re-running with only the motion changed reuses
 // the generated hip and both radial tables from the cache.
 TEST(SceneRunner, RadialOnlyRunsOnlyItsStagesAndReusesTheCache) {
-  const auto cache = scratch("cache");
+  const auto cache = runner_scratch("cache");
   SceneRunOptions options;
-  options.out_dir = scratch("out1");
+  options.out_dir = runner_scratch("out1");
   options.cache_dir = cache;
   const Scene first = radial_scene(10);
   const auto a = run_scene(first, motion_of(first), options);
@@ -104,7 +104,7 @@ TEST(SceneRunner, RadialOnlyRunsOnlyItsStagesAndReusesTheCache) {
   EXPECT_FALSE(steps.has("fe_status"));
 
   const Scene second = radial_scene(6);
-  options.out_dir = scratch("out2");
+  options.out_dir = runner_scratch("out2");
   const auto b = run_scene(second, motion_of(second), options);
   EXPECT_EQ(b.log.executed_count(StageKind::kGenerateHip), 0);
   EXPECT_EQ(b.log.reused_count(StageKind::kGenerateHip), 1);
@@ -128,9 +128,9 @@ TEST(SceneRunner, RadialOnlyRunsOnlyItsStagesAndReusesTheCache) {
 // Curvilinear depth: the pose caches (table + crossings per axis) come from the cache on a re-run
 // whose motion has the same axis (standing to sitting with fewer sub-motions).
 TEST(SceneRunner, CurvilinearPoseCachesAreReused) {
-  const auto cache = scratch("cache_curvilinear");
+  const auto cache = runner_scratch("cache_curvilinear");
   SceneRunOptions options;
-  options.out_dir = scratch("out3");
+  options.out_dir = runner_scratch("out3");
   options.cache_dir = cache;
   Scene scene = radial_scene(10);
   scene.outputs = {Output::kCurvilinearDepth};
@@ -185,9 +185,9 @@ Scene fe_scene(std::set<Output> outputs) {
 // and results.h5 carry its per-step values, and a second scene on the same hip, motion and level
 // takes them from the cache, identical, whatever else it asks for.
 TEST(SceneRunner, FeSceneRunsTheFeOnceAndReusesItFromTheCache) {
-  const auto cache = scratch("cache_fe");
+  const auto cache = runner_scratch("cache_fe");
   SceneRunOptions options;
-  options.out_dir = scratch("fe_out1");
+  options.out_dir = runner_scratch("fe_out1");
   options.cache_dir = cache;
   options.progress = false;
   const Scene fe_only = fe_scene({Output::kVonMises, Output::kContactPressure});
@@ -240,7 +240,7 @@ TEST(SceneRunner, FeSceneRunsTheFeOnceAndReusesItFromTheCache) {
 
   // Same hip, motion and level, with a penetration output and von Mises only: the FE comes from the
   // cache, the radial stages run, the pressure columns are left out.
-  options.out_dir = scratch("fe_out2");
+  options.out_dir = runner_scratch("fe_out2");
   const Scene mixed = fe_scene({Output::kRadialDepth, Output::kVonMises});
   const auto b = run_scene(mixed, motion_of(mixed), options);
   EXPECT_EQ(b.log.executed_count(StageKind::kFiniteElement), 0);

@@ -37,7 +37,7 @@ namespace fs = std::filesystem;
 using geometry::TriMesh;
 using geometry::Vec3;
 
-const fs::path kScratch = fs::path(HIPFAI_BINARY_DIR) / "test-scratch" / "soft_tissue_model";
+const fs::path kTissueScratch = fs::path(HIPFAI_BINARY_DIR) / "test-scratch" / "soft_tissue_model";
 const std::string kLhdl = std::string(HIPFAI_SOURCE_DIR) + "/meshes/real-hips/LHDL_CT/";
 
 // Vertices of `tissue` inside `solid` farther than `tolerance_mm` from its surface, skipping the
@@ -146,8 +146,8 @@ TEST(SoftTissueModel, TheRealBonesGiveAValidModelFolder) {
   EXPECT_EQ(vertices_inside(lab, ac, shared, 0.2), 0u);
 
   // The folder, read back.
-  const fs::path dir = kScratch / "lhdl";
-  fs::create_directories(kScratch);
+  const fs::path dir = kTissueScratch / "lhdl";
+  fs::create_directories(kTissueScratch);
   write_soft_tissue_model(result, kLhdl + "femur_r.ply", kLhdl + "pelvis_no_sacrum.ply", dir);
   EXPECT_TRUE(fs::exists(dir / "soft_tissue.md"));
   const geometry::HipModel back = geometry::load_hip_model(dir);
@@ -342,7 +342,7 @@ void expect_one_line_error(const TriMesh& femur, const std::string& femur_name, 
 }
 
 TEST(SoftTissueModel, BonesWithoutAHeadAreAOneLineError) {
-  fs::create_directories(kScratch);
+  fs::create_directories(kTissueScratch);
   const TriMesh pelvis = geometry::read_mesh(kLhdl + "pelvis_no_sacrum.ply");
   TriMesh square;
   square.vertices = {Vec3(0, 0, 0), Vec3(40, 0, 0), Vec3(40, 40, 0), Vec3(0, 40, 0)};
@@ -353,7 +353,7 @@ TEST(SoftTissueModel, BonesWithoutAHeadAreAOneLineError) {
 // Bones that already intersect in the neutral pose (the femur pushed 8 mm into the acetabulum) make
 // the tissues meaningless: a one-line error, no folder.
 TEST(SoftTissueModel, IntersectingBonesAreAOneLineError) {
-  fs::create_directories(kScratch);
+  fs::create_directories(kTissueScratch);
   const TriMesh pelvis = geometry::read_mesh(kLhdl + "pelvis_no_sacrum.ply");
   TriMesh femur = geometry::read_mesh(kLhdl + "femur_r.ply");
   for (Vec3& v : femur.vertices) v += Vec3(8.0, 0.0, 0.0);  // medial for this right hip (CT +x is left)

@@ -3,6 +3,7 @@
 #include "studies/validation_study.h"
 
 #include "studies/validation_report.h"
+#include "tests/core/scratch_folder.h"
 
 #include <gtest/gtest.h>
 
@@ -14,13 +15,6 @@
 
 namespace hipfai::studies {
 namespace {
-
-std::string read_text(const std::filesystem::path& file) {
-  std::ifstream in(file);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 #ifdef HIPFAI_WITH_FEM
 TEST(ValidationStudy, QuickRunEndToEndAndFromTheCache) {
@@ -44,7 +38,7 @@ TEST(ValidationStudy, QuickRunEndToEndAndFromTheCache) {
     EXPECT_EQ(hip.fe_steps_failed, 0) << "CE " << hip.ce_deg << " alpha " << hip.alpha_deg;
     EXPECT_GT(hip.fe_dofs, 1000.0);
   }
-  const std::string steps = read_text(options.out_dir / "steps.csv");
+  const std::string steps = test::file_contents(options.out_dir / "steps.csv");
   // Header + 2 hips x 6 steps, every FE value finite and positive for the primary measure.
   std::istringstream lines(steps);
   std::string line;
@@ -69,7 +63,7 @@ TEST(ValidationStudy, QuickRunEndToEndAndFromTheCache) {
   options.out_dir = root / "out2";
   const ValidationResult second = run_validation_study(options);
   for (const auto& hip : second.hips) EXPECT_TRUE(hip.fe_reused);
-  EXPECT_EQ(read_text(options.out_dir / "steps.csv"), steps);
+  EXPECT_EQ(test::file_contents(options.out_dir / "steps.csv"), steps);
 }
 #endif
 
