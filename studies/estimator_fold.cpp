@@ -1,12 +1,10 @@
 #include "studies/estimator_fold.h"
+
 #include "core/stopwatch.h"
 
 #include <chrono>
 
 namespace hipfai::studies {
-namespace {
-
-}  // namespace
 
 std::vector<EstimatorFoldUnit> estimator_fold_units(const EstimatorFoldProblem& problem) {
   std::vector<EstimatorFoldUnit> units;

@@ -6,7 +6,6 @@
 #include "core/text_format.h"
 #include "studies/results/results_file.h"
 
-#include <iomanip>
 #include <limits>
 #include <map>
 #include <sstream>

@@ -21,7 +21,6 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
-#include <iomanip>
 #include <limits>
 #include <map>
 #include <numbers>
