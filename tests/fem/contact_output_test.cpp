@@ -1,6 +1,7 @@
 // fem::write_contact_vtu: the fields of a contact solve in one .vtu file, on the small layer.
 #include "fem/contact_output.h"
 #include "layer_fixture.h"
+#include "core/error.h"
 
 #include <gtest/gtest.h>
 
@@ -33,6 +34,39 @@ TEST(FemContactOutput, WritesTheFieldsToVtu) {
     EXPECT_NE(text.str().find(name), std::string::npos) << name;
   }
   std::filesystem::remove(file);
+}
+
+// A node that is the slave of two pairs (the hip model's articular nodes face the femoral
+// cartilage and, where it is absent, the femur's bone) shows its whole pressure, the nearer gap
+// and active if either pair holds it; the second pair, inactive, must not wipe out the first.
+TEST(FemContactOutput, ANodeInTwoPairsShowsTheSumOfItsPressures) {
+  SlaveNode cartilage_pair;
+  cartilage_pair.pair = 0;
+  cartilage_pair.dofs = {3, 4, 5};
+  SlaveNode bone_pair = cartilage_pair;
+  bone_pair.pair = 1;
+  SlaveNode alone;
+  alone.dofs = {6, 7, 8};
+  const std::vector<SlaveNode> nodes = {cartilage_pair, bone_pair, alone};
+  const ContactFields fields{{1.25, 0.0, 0.0}, {-0.002, 0.8, 0.3}, {true, false, false}};
+  const dealii::Vector<double> values = contact_dof_fields(9, nodes, fields);
+  EXPECT_DOUBLE_EQ(values[3], 1.25);   // pressure: 1.25 + 0
+  EXPECT_DOUBLE_EQ(values[4], -0.002); // the nearer gap
+  EXPECT_DOUBLE_EQ(values[5], 1.0);    // active in the cartilage pair
+  EXPECT_DOUBLE_EQ(values[6], 0.0);
+  EXPECT_DOUBLE_EQ(values[7], 0.3);
+  EXPECT_DOUBLE_EQ(values[8], 0.0);
+  for (const unsigned int dof : {0u, 1u, 2u}) EXPECT_DOUBLE_EQ(values[dof], 0.0);
+  // Both pairs active (a node pressed by cartilage and bone): the pressures add.
+  const ContactFields both{{1.0, 0.5, 0.0}, {-0.001, -0.003, 0.3}, {true, true, false}};
+  const dealii::Vector<double> summed = contact_dof_fields(9, nodes, both);
+  EXPECT_DOUBLE_EQ(summed[3], 1.5);
+  EXPECT_DOUBLE_EQ(summed[4], -0.003);
+  // No solve yet: zeros; fields that do not match the nodes, or a dof out of range: an error.
+  const dealii::Vector<double> none = contact_dof_fields(9, nodes, ContactFields());
+  EXPECT_DOUBLE_EQ(none.l2_norm(), 0.0);
+  EXPECT_THROW(contact_dof_fields(9, nodes, ContactFields{{1.0}, {0.0}, {true}}), Error);
+  EXPECT_THROW(contact_dof_fields(8, nodes, fields), Error);
 }
 
 }  // namespace
