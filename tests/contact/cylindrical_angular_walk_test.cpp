@@ -16,6 +16,7 @@
 #include "geometry/mesh_io.h"
 #include "geometry/primitive_meshes.h"
 #include "random_shapes.h"
+#include "tests/oracle_sample.h"
 
 #include <gtest/gtest.h>
 
@@ -151,12 +152,12 @@ TEST(CylindricalAngularWalk, NearestCrossingEqualsEveryCandidateOnRandomScenes) 
     options.resolution_z_mm = geometry::mean_edge_length(fixed) * (0.3 + 3 * u(rng));
     const CylindricalTable table = CylindricalTable::build(fixed, centre, axis, options);
     const std::string what = "trial " + std::to_string(trial);
-    for (std::size_t v = 0; v < mobile.vertices.size(); v += 11) {
+    for (std::size_t v = 0; v < mobile.vertices.size(); v += 11 * static_cast<std::size_t>(test::kOracleThinning)) {
       found += expect_same_at_hard_angles(table, mobile.vertices[v], what);
     }
     expect_walk_equals_every_candidate(table, mobile, random_pose(rng, 3.0), what);
   }
-  EXPECT_GT(found, 2000);  // the circles really cross the shapes
+  EXPECT_GT(found, 2000 / test::kOracleThinning);  // the circles really cross the shapes
 }
 
 TEST(CylindricalAngularWalk, OnePassQueryEqualsEveryCandidateOnCollidingScenes) {
@@ -241,10 +242,12 @@ TEST(CylindricalAngularWalk, RealCtBonesAtSeveralPoses) {
   const TriMesh femur = geometry::read_mesh(folder + "femur_r.ply");
   const Vec3 hjc(143.80, 243.46, -432.58);
   std::size_t reported = 0;
+  int pose_index = 0;  // thinned: every kOracleThinning-th of the 15 (axis, angle) poses
   for (const Vec3& direction : {Vec3(1.0, 0.3, 0.2), Vec3(0.1, 1.0, -0.3), Vec3(0.2, -0.1, 1.0)}) {
     const Vec3 axis = direction.normalized();
     const CylindricalTable table = CylindricalTable::build(pelvis, hjc, axis, {}, &femur);
     for (const double angle_deg : {-60.0, -25.0, 15.0, 40.0, 75.0}) {
+      if (pose_index++ % test::kOracleThinning != 0) continue;
       Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
       pose.linear() = Eigen::AngleAxisd(angle_deg * std::numbers::pi / 180.0, axis).toRotationMatrix();
       pose = Eigen::Translation3d(hjc) * pose * Eigen::Translation3d(-hjc);

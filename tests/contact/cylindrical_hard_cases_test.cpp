@@ -8,6 +8,7 @@
 #include "core/numbers.h"
 #include "geometry/mesh_io.h"
 #include "geometry/primitive_meshes.h"
+#include "tests/oracle_sample.h"
 
 #include <gtest/gtest.h>
 
@@ -303,11 +304,13 @@ TEST(CylindricalHardCases, RealFemurAgainstPelvis) {
                 << cache.num_crossings() << " crossings\n";
       // Oracle subsample (it is O(V x T)): every 150th femur vertex whose circle meets the
       // pelvis, plus every 4th vertex reported penetrating; other vertices' circles cross no
-      // triangle, which the oracle checks on every 2000th femur vertex.
+      // triangle, which the oracle checks on every 2000th femur vertex (each stride times the
+      // thinning of tests/oracle_sample.h).
+      const auto thin = static_cast<std::size_t>(test::kOracleThinning);
       std::set<std::int32_t> chosen;
-      for (std::size_t i = 0; i < cache.tracked().size(); i += 150) chosen.insert(cache.tracked()[i].vertex);
-      for (std::size_t i = 0; i < result.pairs.size(); i += 4) chosen.insert(result.pairs[i].mobile_vertex);
-      for (std::size_t v = 0; v < femur.vertices.size(); v += 2000) chosen.insert(static_cast<std::int32_t>(v));
+      for (std::size_t i = 0; i < cache.tracked().size(); i += 150 * thin) chosen.insert(cache.tracked()[i].vertex);
+      for (std::size_t i = 0; i < result.pairs.size(); i += 4 * thin) chosen.insert(result.pairs[i].mobile_vertex);
+      for (std::size_t v = 0; v < femur.vertices.size(); v += 2000 * thin) chosen.insert(static_cast<std::int32_t>(v));
       const std::vector<std::int32_t> original(chosen.begin(), chosen.end());
       TriMesh posed;
       for (std::int32_t v : original) posed.vertices.push_back(femur.vertices[static_cast<std::size_t>(v)]);
