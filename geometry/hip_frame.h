@@ -29,6 +29,8 @@
 // measures which one the thesis' cam results follow (the joint coordinate system).
 #pragma once
 
+#include "core/numbers.h"
+
 #include <Eigen/Geometry>
 
 #include <cmath>
@@ -36,8 +38,9 @@
 
 namespace hipfai::geometry {
 
-inline constexpr double kDegToRad = std::numbers::pi / 180.0;
-inline constexpr double kRadToDeg = 180.0 / std::numbers::pi;
+// The angle conversions of core/numbers.h, under the names the geometry code uses.
+inline constexpr double kDegToRad = kRadPerDeg;
+inline constexpr double kRadToDeg = kDegPerRad;
 
 struct HipFrameAxes {
   Eigen::Vector3d flexion_axis{1.0, 0.0, 0.0};
