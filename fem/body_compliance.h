@@ -232,6 +232,8 @@ class BodyCompliance {
   std::vector<int> node_of_dof_;
   std::vector<NodeDofs> node_dofs_;
   std::vector<int> body_of_node_, surface_index_;
+  // The connected piece of each node (nodes joined through their cells): a representative node.
+  std::vector<int> piece_of_node_;
   std::vector<int> body_index_of_dof_;  // index into the body's dofs, -1 for none
   std::vector<Body> bodies_;
   std::size_t layout_key_ = 0;
