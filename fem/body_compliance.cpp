@@ -1,5 +1,6 @@
 #include "fem/body_compliance.h"
 
+#include "core/disjoint_sets.h"
 #include "core/error.h"
 #include "fem/rank_team.h"
 
@@ -111,21 +112,15 @@ void BodyCompliance::begin_run(const ElasticSystem& system, const ContactConstra
     }
     // The connected pieces (a labrum open at the notch is a body in two): nodes joined through
     // their cells, each piece named by one of its nodes.
-    piece_of_node_.resize(node_dofs_.size());
-    std::iota(piece_of_node_.begin(), piece_of_node_.end(), 0);
-    const auto root = [this](int node) {
-      while (piece_of_node_[node] != node) node = piece_of_node_[node] = piece_of_node_[piece_of_node_[node]];
-      return node;
-    };
+    DisjointSets pieces(node_dofs_.size());
     for (const auto& cell : dof_handler.active_cell_iterators()) {
       cell->get_dof_indices(dofs);
-      const int first = root(node_of_dof_[dofs[system.system_index(0, 0)]]);
-      for (unsigned int i = 1; i < n_base; ++i) {
-        const int other = root(node_of_dof_[dofs[system.system_index(i, 0)]]);
-        if (other != first) piece_of_node_[other] = first;
-      }
+      const auto first = static_cast<std::size_t>(node_of_dof_[dofs[system.system_index(0, 0)]]);
+      for (unsigned int i = 1; i < n_base; ++i)
+        pieces.unite(static_cast<std::size_t>(node_of_dof_[dofs[system.system_index(i, 0)]]), first);
     }
-    for (std::size_t p = 0; p < piece_of_node_.size(); ++p) piece_of_node_[p] = root(static_cast<int>(p));
+    piece_of_node_.resize(node_dofs_.size());
+    for (std::size_t p = 0; p < piece_of_node_.size(); ++p) piece_of_node_[p] = static_cast<int>(pieces.find(p));
 
     // Contact-surface nodes: on a slave or deformable master boundary of a contact pair.
     std::set<dealii::types::boundary_id> contact_ids;
@@ -157,30 +152,33 @@ void BodyCompliance::begin_run(const ElasticSystem& system, const ContactConstra
   std::vector<bool> is_bonded(n_dofs, false);
   for (const BondedDof& dof : constraints.bonded_dofs()) is_bonded[dof.dof] = true;
   for (std::size_t b = 0; b < bodies_.size(); ++b) {
-    std::map<int, std::vector<dealii::Point<3>>> held;  // per piece, its bonded nodes
-    std::map<int, std::size_t> piece_nodes;
+    struct Piece {
+      std::size_t nodes = 0;
+      std::vector<dealii::Point<3>> held;  // its bonded nodes
+    };
+    std::map<int, Piece> pieces;
     for (const int node : bodies_[b].nodes) {
-      const int piece = piece_of_node_[node];
-      ++piece_nodes[piece];
-      std::vector<dealii::Point<3>>& points = held[piece];
+      Piece& piece = pieces[piece_of_node_[node]];
+      ++piece.nodes;
       const NodeDofs& dofs = node_dofs_[node];
       if (is_bonded[dofs[0]] && is_bonded[dofs[1]] && is_bonded[dofs[2]])
-        points.push_back(system.support_points()[dofs[0]]);
+        piece.held.push_back(system.support_points()[dofs[0]]);
     }
-    for (const auto& [piece, points] : held) {
+    for (const auto& [id, piece] : pieces) {
+      const std::vector<dealii::Point<3>>& points = piece.held;
       bool spans_a_plane = false;
       for (std::size_t i = 2; i < points.size() && !spans_a_plane; ++i) {
         const double area = dealii::cross_product_3d(points[1] - points[0], points[i] - points[0]).norm();
         spans_a_plane = area > 1e-12 * std::max(1.0, points[1].distance(points[0]) * points[i].distance(points[0]));
       }
       if (spans_a_plane) continue;
-      if (held.size() == 1) {
+      if (pieces.size() == 1) {
         throw_error("fem: the substructured solver needs every deformable body bonded to a bone; '",
                     model.bodies[b].name, "' is held only by its contacts (use --solver direct)");
       }
       throw_error("fem: the substructured solver needs every deformable body bonded to a bone; a piece of '",
-                  model.bodies[b].name, "' (", piece_nodes[piece], " of its ", bodies_[b].nodes.size(), " nodes, one of ",
-                  held.size(), " pieces) is held only by its contacts (use --solver direct)");
+                  model.bodies[b].name, "' (", piece.nodes, " of its ", bodies_[b].nodes.size(), " nodes, one of ",
+                  pieces.size(), " pieces) is held only by its contacts (use --solver direct)");
     }
   }
 

@@ -29,7 +29,8 @@ struct ContactFields {
 // the femur's bone where the cartilage is absent) shows the sum of its pairs' pressures (its whole
 // normal force over its area, which each pair takes over the same slave surface), the smallest of
 // their gaps and 1 where any pair holds it active.
-// Empty `fields` (no solve yet): zeros. Throws hipfai::Error when `fields` does not have one value per node or a dof is not below n_dofs.
+// Empty `fields` (no solve yet): zeros. Throws hipfai::Error when `fields` does not have one
+// value per node or a dof is not below n_dofs.
 dealii::Vector<double> contact_dof_fields(std::size_t n_dofs, const std::vector<SlaveNode>& nodes,
                                           const ContactFields& fields);
 

@@ -1,5 +1,7 @@
 #include "geometry/mesh_check.h"
 
+#include "core/disjoint_sets.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -22,22 +24,6 @@ std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
 bool has_repeated_index(const Triangle& tri) {
   return tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2];
 }
-
-class DisjointSets {
- public:
-  explicit DisjointSets(std::size_t n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), 0); }
-  std::size_t find(std::size_t i) {
-    while (parent_[i] != i) {
-      parent_[i] = parent_[parent_[i]];  // path halving keeps the trees shallow
-      i = parent_[i];
-    }
-    return i;
-  }
-  void unite(std::size_t a, std::size_t b) { parent_[find(a)] = find(b); }
-
- private:
-  std::vector<std::size_t> parent_;
-};
 
 // Angle at corner p between the edges to q and r, radians, in [0, pi].
 double corner_angle(const Vec3& p, const Vec3& q, const Vec3& r) {

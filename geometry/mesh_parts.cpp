@@ -1,31 +1,17 @@
 // hipfai — a triangle mesh split into its connected parts (see mesh_parts.h).
 #include "geometry/mesh_parts.h"
 
+#include "core/disjoint_sets.h"
+
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
-#include <numeric>
 
 namespace hipfai::geometry {
 
-namespace {
-
-// Union-find over the vertices, with path halving.
-struct VertexSets {
-  std::vector<std::size_t> parent;
-  explicit VertexSets(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), std::size_t{0}); }
-  std::size_t find(std::size_t v) {
-    while (parent[v] != v) v = parent[v] = parent[parent[v]];
-    return v;
-  }
-  void unite(std::size_t a, std::size_t b) { parent[find(a)] = find(b); }
-};
-
-}  // namespace
-
 std::vector<TriMesh> connected_parts(const TriMesh& mesh) {
   const std::size_t n = mesh.vertices.size();
-  VertexSets sets(n);
+  DisjointSets sets(n);
   std::vector<char> used(n, 0);
   for (const Triangle& tri : mesh.triangles) {
     for (const std::int32_t v : tri) used[static_cast<std::size_t>(v)] = 1;
