@@ -9,7 +9,13 @@ namespace hipfai {
 
 class DisjointSets {
  public:
-  explicit DisjointSets(std::size_t n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), std::size_t{0}); }
+  explicit DisjointSets(std::size_t n = 0) { reset(n); }
+
+  // Makes 0..n-1 singletons again, keeping the storage (for a loop over many small sets).
+  void reset(std::size_t n) {
+    parent_.resize(n);
+    std::iota(parent_.begin(), parent_.end(), std::size_t{0});
+  }
 
   // The representative of i's set.
   std::size_t find(std::size_t i) {

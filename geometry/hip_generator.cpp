@@ -46,13 +46,33 @@ void start_gmsh_model(const std::string& name) {
   gmsh::option::setNumber("General.Terminal", gmsh_verbose() ? 1 : 0);
 }
 
-DimTags ball(const Vec3& centre, double radius) {
+// OCC spheres have their poles and seam on the Z axis through the centre; ball() turns them about
+// a generic axis, so that the seam does not run into the hip's features (the surface mesher fails
+// on seam curves cut into tiny pieces there). The solid itself is unchanged. With
+// `other_seam_half` the sphere is first turned half a turn about its own axis: the same poles, the
+// seam on the other half of the same great circle.
+constexpr std::array<double, 3> kGenericTurnAxis = {0.3, 0.5, 0.81};
+constexpr double kGenericTurnRad = 0.9;
+
+DimTags ball(const Vec3& centre, double radius, bool other_seam_half = false) {
   DimTags sphere = {{3, occ::addSphere(centre.x(), centre.y(), centre.z(), radius)}};
-  // OCC spheres have their poles and seam on the Z axis through the centre; turned about a
-  // generic axis, the seam no longer runs into the hip's features (the surface mesher fails on
-  // seam curves cut into tiny pieces there). The solid itself is unchanged.
-  occ::rotate(sphere, centre.x(), centre.y(), centre.z(), 0.3, 0.5, 0.81, 0.9);
+  if (other_seam_half) occ::rotate(sphere, centre.x(), centre.y(), centre.z(), 0.0, 0.0, 1.0, std::numbers::pi);
+  occ::rotate(sphere, centre.x(), centre.y(), centre.z(), kGenericTurnAxis[0], kGenericTurnAxis[1],
+              kGenericTurnAxis[2], kGenericTurnRad);
   return sphere;
+}
+
+// The angle (rad), seen from a ball()'s centre, from the direction d to that ball's seam: the half
+// great circle from pole to pole through the turned +X (through the turned -X: other_seam_half).
+double angle_to_seam(const Vec3& d, bool other_seam_half) {
+  const Eigen::Matrix3d turn =
+      Eigen::AngleAxisd(kGenericTurnRad, Vec3(kGenericTurnAxis[0], kGenericTurnAxis[1], kGenericTurnAxis[2]).normalized())
+          .toRotationMatrix();
+  const Vec3 pole = turn.col(2), normal = turn.col(1);
+  const Vec3 seam = other_seam_half ? Vec3(-turn.col(0)) : Vec3(turn.col(0));
+  const Vec3 u = d.normalized();
+  if (u.dot(seam) >= 0.0) return std::asin(std::min(1.0, std::abs(u.dot(normal))));
+  return std::acos(std::min(1.0, std::abs(u.dot(pole))));
 }
 
 DimTags cylinder(const Vec3& base, const Vec3& axis, double radius) {
@@ -340,10 +360,24 @@ std::pair<DimTags, DimTags> femur_solids(const HipParameters& p) {
   const double head_radius = inner + shift;
   const double junction = circle_apart_from_cam(p, std::min(p.alpha_deg, p.normal_alpha_deg)) * kDegToRad;
 
+  // The head's two spheres (head ball, R ball) meet the junction plane and each other on circles
+  // about n: between the junction and the margin the bone's head is a band of the R sphere. Where
+  // the seam of ball() comes within that band's outer circle of n, as a retroverted neck brings
+  // about (femoral version below about -4 deg at CCD 110-146: the seam 35-40 deg from n, through
+  // the cut-away neck cap, so that it cuts the band twice), OpenCASCADE's booleans leave faces gmsh
+  // cannot mesh ("Impossible to mesh periodic surface"), fail, or do not finish. The femoral spheres
+  // then take the seam's other half if that lies farther from n: 58 deg or more over the
+  // generator's whole range of neck-shaft angle and version (the poles, where ball() always has
+  // them, 57 deg or more). Hips whose seam stays outside the band, the study grid's among them (the
+  // default neck: 53 deg), are built as before. (Poles on the neck axis instead, the head's circles
+  // then parallels and the seam opposite the cam, failed on 2 of 30 random hips, version -10 to 6 deg.)
+  const bool other_seam_half =
+      angle_to_seam(n, false) <= std::max(junction, edge) && angle_to_seam(n, true) > angle_to_seam(n, false);
+  auto femoral_ball = [&](const Vec3& centre, double r) { return ball(centre, r, other_seam_half); };
   // Bone head: head ball within the R sphere, cut by the plane normal to n through the circle at
   // the junction angle; neck side of that plane is left to the neck cylinder, so the contour
   // leaves the sphere inwards there (a 90 - junction deg kink, easy to measure).
-  DimTags head = intersect(ball(shift * n, head_radius), ball(Vec3::Zero(), radius));
+  DimTags head = intersect(femoral_ball(shift * n, head_radius), femoral_ball(Vec3::Zero(), radius));
   head = intersect(head, cylinder(radius * std::cos(junction) * n, -(3.0 * radius) * n, 2.0 * radius));
   DimTags bone = fuse(head, cylinder(Vec3::Zero(), p.neck_length_mm * n, p.neck_radius_mm));
   // Shaft stub along -Z, starting above the end of the neck so the tilted neck end is buried.
@@ -352,7 +386,7 @@ std::pair<DimTags, DimTags> femur_solids(const HipParameters& p) {
   bone = fuse(bone, cylinder(neck_end + above * Vec3::UnitZ(),
                              -(above + p.shaft_length_mm) * Vec3::UnitZ(), p.shaft_radius_mm));
 
-  DimTags cartilage_tools = ball(shift * n, head_radius);
+  DimTags cartilage_tools = femoral_ball(shift * n, head_radius);
   if (p.alpha_deg > p.normal_alpha_deg) {
     // The cam's cross-section in each clock plane: a circle of radius rc standing h out of the R
     // sphere, centre distance D = R + h - rc from the HJC; its intersection with the R sphere
@@ -364,7 +398,7 @@ std::pair<DimTags, DimTags> femur_solids(const HipParameters& p) {
     for (const auto& dim_tag : cam_solids(p)) cartilage_tools.push_back(dim_tag);
   }
   // The cartilage lens: R ball minus the head ball (and minus the cam, which replaces it).
-  return {bone, cut(ball(Vec3::Zero(), radius), cartilage_tools)};
+  return {bone, cut(femoral_ball(Vec3::Zero(), radius), cartilage_tools)};
 }
 
 // The direction in the meridian plane of `towards` (perpendicular to the acetabular axis a) at

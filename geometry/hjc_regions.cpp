@@ -1,5 +1,6 @@
 #include "geometry/hjc_regions.h"
 
+#include "core/disjoint_sets.h"
 #include "core/error.h"
 #include "geometry/hip_frame.h"
 #include "geometry/mesh_io.h"
@@ -30,35 +31,26 @@ std::vector<double> vertex_areas(const TriMesh& mesh) {
 std::vector<std::int32_t> largest_component(const TriMesh& mesh, const std::vector<char>& keep,
                                             const std::vector<double>& area) {
   const std::size_t n = mesh.num_vertices();
-  std::vector<std::int32_t> parent(n);
-  for (std::size_t v = 0; v < n; ++v) parent[v] = static_cast<std::int32_t>(v);
-  auto find = [&](std::int32_t v) {
-    while (parent[static_cast<std::size_t>(v)] != v) {
-      parent[static_cast<std::size_t>(v)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(v)])];
-      v = parent[static_cast<std::size_t>(v)];
-    }
-    return v;
-  };
+  DisjointSets sets(n);
   for (const Triangle& t : mesh.triangles) {
     for (int k = 0; k < 3; ++k) {
-      const std::int32_t a = t[static_cast<std::size_t>(k)], b = t[static_cast<std::size_t>((k + 1) % 3)];
-      if (!keep[static_cast<std::size_t>(a)] || !keep[static_cast<std::size_t>(b)]) continue;
-      const std::int32_t ra = find(a), rb = find(b);
-      if (ra != rb) parent[static_cast<std::size_t>(ra)] = rb;
+      const auto a = static_cast<std::size_t>(t[static_cast<std::size_t>(k)]);
+      const auto b = static_cast<std::size_t>(t[static_cast<std::size_t>((k + 1) % 3)]);
+      if (keep[a] && keep[b]) sets.unite(a, b);
     }
   }
-  std::unordered_map<std::int32_t, double> component_area;
+  std::unordered_map<std::size_t, double> component_area;
   for (std::size_t v = 0; v < n; ++v) {
-    if (keep[v]) component_area[find(static_cast<std::int32_t>(v))] += area[v];
+    if (keep[v]) component_area[sets.find(v)] += area[v];
   }
-  std::int32_t best = -1;
+  std::size_t best = n;
   double best_area = -1.0;
   for (const auto& [root, a] : component_area) {
     if (a > best_area) { best_area = a; best = root; }
   }
   std::vector<std::int32_t> result;
   for (std::size_t v = 0; v < n; ++v) {
-    if (keep[v] && find(static_cast<std::int32_t>(v)) == best) result.push_back(static_cast<std::int32_t>(v));
+    if (keep[v] && sets.find(v) == best) result.push_back(static_cast<std::int32_t>(v));
   }
   return result;
 }

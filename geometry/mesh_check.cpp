@@ -6,7 +6,6 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <numeric>
 #include <vector>
 
 namespace hipfai::geometry {
@@ -143,7 +142,7 @@ void count_non_manifold_vertices(const TriMesh& mesh, MeshReport& report) {
 
   std::vector<std::int32_t> link_vertices;
   std::vector<int> degree;
-  std::vector<std::size_t> parent;
+  DisjointSets link_pieces;
   std::vector<std::pair<std::size_t, std::size_t>> link_edges;
   for (std::size_t v = 0; v < n; ++v) {
     if (start[v] == start[v + 1]) continue;
@@ -170,19 +169,14 @@ void count_non_manifold_vertices(const TriMesh& mesh, MeshReport& report) {
       link_edges.emplace_back(local(tri[(corner + 1) % 3]), local(tri[(corner + 2) % 3]));
     }
     degree.assign(link_vertices.size(), 0);
-    parent.resize(link_vertices.size());
-    std::iota(parent.begin(), parent.end(), 0);
-    auto find = [&](std::size_t i) {
-      while (parent[i] != i) i = parent[i] = parent[parent[i]];
-      return i;
-    };
+    link_pieces.reset(link_vertices.size());
     for (const auto& [a, b] : link_edges) {
       ++degree[a];
       ++degree[b];
-      parent[find(a)] = find(b);
+      link_pieces.unite(a, b);
     }
     std::size_t roots = 0;
-    for (std::size_t i = 0; i < link_vertices.size(); ++i) roots += find(i) == i ? 1 : 0;
+    for (std::size_t i = 0; i < link_vertices.size(); ++i) roots += link_pieces.find(i) == i ? 1 : 0;
     const bool branching = std::any_of(degree.begin(), degree.end(), [](int d) { return d > 2; });
     if (roots > 1 || branching) ++report.non_manifold_vertices;
   }
