@@ -10,6 +10,7 @@
 // (GeneratorSweep.DISABLED_RandomHips: minutes to hours) runs only on request, through
 // scripts/generator-sweep, and writes one CSV row per hip.
 #include "core/error.h"
+#include "core/literature.h"
 #include "geometry/hip_generator.h"
 #include "geometry/hip_model.h"
 #include "geometry/mesh_check.h"
@@ -205,7 +206,10 @@ double uniform(std::mt19937_64& engine, double lo, double hi) {
 
 // The random sweep: HIPFAI_SWEEP_HIPS hips (default 100), CE uniform in [0, 45] and alpha in
 // [40, 80] (real values, from HIPFAI_SWEEP_SEED, default 1), at HIPFAI_SWEEP_EDGE_MM (default 2);
-// one CSV row per hip to HIPFAI_SWEEP_CSV (default generator_sweep.csv), written as it goes.
+// one CSV row per hip to HIPFAI_SWEEP_CSV (default generator_sweep.csv), written as it goes. With
+// HIPFAI_SWEEP_NECK=1 each hip also draws its neck-shaft angle in [110, 146.2] and femoral version
+// in [-10, 40] deg (the ranges `estimator sample --vary` takes) from a second engine, so hip k keeps
+// the CE and alpha of the sweep without it.
 TEST(GeneratorSweep, DISABLED_RandomHips) {
   const int hips = static_cast<int>(env_number("HIPFAI_SWEEP_HIPS", 100));
   const double edge_mm = env_number("HIPFAI_SWEEP_EDGE_MM", 2.0);
@@ -215,12 +219,20 @@ TEST(GeneratorSweep, DISABLED_RandomHips) {
   ASSERT_TRUE(csv) << "cannot write the sweep CSV";
   csv << "hip,ce_deg,alpha_deg,edge_mm,status,ce_measured_deg,alpha_measured_deg,ce_error_deg,alpha_error_deg,"
          "surfaces_clean,labrum_pieces,deepest_overlap_mm,overlap_tolerance_mm,vertices,seconds,surface_algorithm,"
-         "mesher_failures\n";
+         "mesher_failures,neck_shaft_angle_deg,femoral_anteversion_deg\n";
+  const bool vary_neck = env_number("HIPFAI_SWEEP_NECK", 0.0) != 0.0;
   std::mt19937_64 engine(seed);
+  std::seed_seq neck_seed{seed, std::uint64_t{1}};
+  std::mt19937_64 neck_engine(neck_seed);
   for (int k = 0; k < hips; ++k) {
     const double ce = uniform(engine, 0.0, 45.0);
     const double alpha = uniform(engine, 40.0, 80.0);
-    const HipCheck check = generate_and_check(ce, alpha, edge_mm);
+    HipParameters base;
+    if (vary_neck) {
+      base.neck_shaft_angle_deg = uniform(neck_engine, 110.0, literature::kAdultNeckShaftAngleMaxDeg);
+      base.femoral_anteversion_deg = uniform(neck_engine, -10.0, 40.0);
+    }
+    const HipCheck check = generate_and_check(ce, alpha, edge_mm, base);
     auto csv_field = [](std::string text) {
       std::replace(text.begin(), text.end(), ',', ';');
       std::replace(text.begin(), text.end(), '\n', ' ');
@@ -232,10 +244,12 @@ TEST(GeneratorSweep, DISABLED_RandomHips) {
         << check.ce_measured_deg - ce << ',' << check.alpha_measured_deg - alpha << ','
         << (check.surfaces_clean ? 1 : 0) << ',' << check.labrum_pieces << ',' << check.deepest_overlap_mm << ',' << check.overlap_tolerance_mm << ','
         << check.vertices << ',' << std::setprecision(4) << check.seconds << ',' << check.surface_algorithm << ','
-        << csv_field(check.mesher_failures) << '\n'
+        << csv_field(check.mesher_failures) << ',' << std::setprecision(10) << base.neck_shaft_angle_deg << ','
+        << base.femoral_anteversion_deg << '\n'
         << std::flush;
     std::ostringstream label;
-    label << "hip " << k << ": CE " << ce << " / alpha " << alpha << " at " << edge_mm << " mm";
+    label << "hip " << k << ": CE " << ce << " / alpha " << alpha << " / CCD " << base.neck_shaft_angle_deg
+          << " / version " << base.femoral_anteversion_deg << " at " << edge_mm << " mm";
     expect_clean(check, label.str());
   }
 }
