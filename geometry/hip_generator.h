@@ -16,7 +16,9 @@
 //   acetabular_bone      pelvis block intersected with the socket half-space x . a <= 0, minus the
 //                        R + t_a ball.
 //   acetabular_cartilage shell R .. R + t_a in the socket half-space, minus the fossa cylinder
-//                        (horseshoe open inferiorly).
+//                        (horseshoe open inferiorly). Both acetabular solids are cut back to
+//                        labrum_neck_clearance_mm outside the neck cylinder where a deep socket's
+//                        rim reaches it in the neutral pose (not on the study grid).
 //   labrum               triangle (R, 0), (R + base, 0), tip on the R sphere at labrum_height along
 //                        a, revolved about a; interrupted at the inferior notch and kept
 //                        labrum_neck_clearance_mm outside the neck cylinder (shallow sockets
@@ -28,8 +30,9 @@
 // Coincidences the B-rep cannot carry are kept out of every (CE, alpha) of the range: a circle of
 // the head (margin, junction) on a foot of the cam is moved 0.01 deg off it, the cam's clip is
 // kept 1 mm off its section's centre, a rim cone within 1e-4 rad of a plane is built as the plane,
-// and the cam's end balls are sewn to its sweep along their tangent circles instead of fused with
-// it (hip_generator.cpp says why each).
+// the cam's end balls are sewn to its sweep along their tangent circles instead of fused with it,
+// and a femoral sphere whose seam would cross the head's band takes the seam's other half
+// (hip_generator.cpp says why each).
 #pragma once
 
 #include "geometry/hip_model.h"

@@ -49,7 +49,8 @@ struct HipParameters {
   double labrum_base_mm = literature::kLabrumBaseWidthMm;
   // The labrum stops this far [0, 5] mm outside the femoral neck's cylinder: where a shallow socket
   // (CE 0-10 deg) brings the posteroinferior rim over the neck in the neutral pose, the labrum is
-  // left out there rather than standing inside the bone (see hip_generator.h). A modelling choice.
+  // left out there rather than standing inside the bone (see hip_generator.h); where a deep socket's
+  // rim reaches the neck, its cartilage and bone stop as far outside it. A modelling choice.
   double labrum_neck_clearance_mm = 1.0;
   // Neck-shaft (CCD) angle, [110, 150] deg (literature::kNeckShaftAngleDeg).
   double neck_shaft_angle_deg = literature::kNeckShaftAngleDeg;

@@ -191,6 +191,25 @@ TEST(GeneratorCoincidences, RetrovertedNecksGenerate) {
   }
 }
 
+// Deep sockets whose rim reached the femoral neck in the neutral pose: the labrum was cut back
+// over the neck's sector, the acetabular cartilage and the bone's rim were not, and stood 0.45-3.1
+// mm inside the femur bone (hip_generator.cpp). A hip of the sensitivity study (CE 40 pure pincer,
+// femoral version 20; and with hemisphere_ce_deg 15) and one of `scripts/generator-sweep --neck
+// --seed 3` (CE 43.7, CCD 119.4, version 26.5). Each must now be apart in the neutral pose.
+TEST(GeneratorCoincidences, DeepSocketsStopShortOfTheNeck) {
+  HipParameters version_20;
+  version_20.femoral_anteversion_deg = 20.0;
+  expect_clean(generate_and_check(40.0, 40.0, 2.0, version_20), "CE 40 / alpha 40 / version 20, 2 mm");
+  HipParameters shallow_hemisphere;
+  shallow_hemisphere.hemisphere_ce_deg = 15.0;
+  expect_clean(generate_and_check(40.0, 40.0, 2.0, shallow_hemisphere), "CE 40 / alpha 40 / hemisphere CE 15, 2 mm");
+  HipParameters varus_anteverted;
+  varus_anteverted.neck_shaft_angle_deg = 119.4030345;
+  varus_anteverted.femoral_anteversion_deg = 26.47750761;
+  expect_clean(generate_and_check(43.68839479, 65.52682913, 2.0, varus_anteverted),
+               "CE 43.7 / alpha 65.5 / CCD 119.4 / version 26.5, 2 mm");
+}
+
 // One value of an environment variable, or the default.
 double env_number(const char* name, double fallback) {
   const char* text = std::getenv(name);
