@@ -70,6 +70,10 @@ std::vector<bool> ActiveSetStrategy::initial(const std::vector<SlaveNode>& nodes
                     ? was_active
                     : was_active || predicted[n] <= gap_tolerance_;
   }
+  // Nothing closed: the least open node starts closed. A body under a load (a free direction)
+  // cannot be balanced without a contact, and where nothing presses it the loop opens it again.
+  if (!nodes.empty() && std::none_of(active.begin(), active.end(), [](bool a) { return a; }))
+    active[std::min_element(predicted.begin(), predicted.end()) - predicted.begin()] = true;
   one_constraint_per_node(nodes, active, predicted);
   return active;
 }

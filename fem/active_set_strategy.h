@@ -45,7 +45,8 @@ class ActiveSetStrategy {
   // A new run with these nodes; gap_tolerance: gaps below it count as closed (mm).
   void begin_run(const ActiveSetSettings& settings, double gap_tolerance);
   // The starting set: predicted from the last converged displacement when there is one of the
-  // same dof layout (n_dofs), else the last converged set, else the geometric overlap.
+  // same dof layout (n_dofs), else the last converged set, else the geometric overlap; never
+  // empty (with every node open, the least open one starts closed).
   std::vector<bool> initial(const std::vector<SlaveNode>& nodes,
                             const std::vector<dealii::Tensor<1, 3>>& translations,
                             dealii::types::global_dof_index n_dofs) const;

@@ -95,6 +95,20 @@ class TensorLagrange {
       }
     }
   }
+  // The piecewise-linear hats on the same grid (1 at their node, 0 at the neighbours), for
+  // value(): the bilinear functions of the element's sub-grid, never negative. A coordinate a
+  // round-off outside the cell (a face's own, 0 or 1) counts as on it.
+  void hats_at(const dealii::Point<3>& p, std::array<std::array<double, 8>, 3>& l) const {
+    for (unsigned int d = 0; d < 3; ++d) {
+      const double x = std::clamp(p[d], nodes_.front(), nodes_.back());
+      std::size_t k = 0;  // the grid interval [nodes_[k], nodes_[k + 1]] holding x
+      while (k + 2 < nodes_.size() && x > nodes_[k + 1]) ++k;
+      l[d].fill(0.0);
+      const double t = (x - nodes_[k]) / (nodes_[k + 1] - nodes_[k]);
+      l[d][k] = 1.0 - t;
+      l[d][k + 1] = t;
+    }
+  }
   double value(unsigned int i, const std::array<std::array<double, 8>, 3>& l) const {
     return l[0][index_[i][0]] * l[1][index_[i][1]] * l[2][index_[i][2]];
   }
@@ -106,11 +120,13 @@ class TensorLagrange {
 };
 
 // Mortar integrals of the slave nodes against a deformable master, per node: M_sj per component
-// (keyed by master dof), the integral of phi_s (x_s - x_m) and the covered part of D_s.
+// (keyed by master dof), the covered part of D_s, the integral of psi_s (x_s - x_m) and the
+// covered part of the integral of psi_s (the gap's weight, fem/mortar_coupling.h).
 struct MortarIntegrals {
   std::vector<std::array<std::map<global_dof_index, double>, 3>> mortar;
   std::vector<dealii::Tensor<1, 3>> weighted_gap;
-  std::vector<double> covered;
+  std::vector<double> covered;      // integral of phi_s over the covered part
+  std::vector<double> gap_covered;  // integral of psi_s over the covered part
 };
 
 MortarIntegrals integrate_mortar(const ElasticSystem& system, const BoundaryProjector& projector,
@@ -122,6 +138,7 @@ MortarIntegrals integrate_mortar(const ElasticSystem& system, const BoundaryProj
   out.mortar.resize(count);
   out.weighted_gap.assign(count, dealii::Tensor<1, 3>());
   out.covered.assign(count, 0.0);
+  out.gap_covered.assign(count, 0.0);
   MortarSegmentOptions segment_options;
   segment_options.search_radius_mm = settings.search_radius_mm;
   segment_options.tangent_plane_cull = settings.tangent_plane_cull;
@@ -144,6 +161,7 @@ MortarIntegrals integrate_mortar(const ElasticSystem& system, const BoundaryProj
   struct FaceResult {
     std::vector<unsigned int> slave_base;   // base indices of the slave face's nodes
     std::vector<double> covered;            // per slave node
+    std::vector<double> gap_covered;        // per slave node
     std::vector<dealii::Tensor<1, 3>> gap;  // per slave node
     std::vector<Block> blocks;              // one per master face seen, in integration order
   };
@@ -163,11 +181,13 @@ MortarIntegrals integrate_mortar(const ElasticSystem& system, const BoundaryProj
       result.slave_base = face_base_indices(slave.face_no);
       const std::size_t ns = result.slave_base.size();
       result.covered.assign(ns, 0.0);
+      result.gap_covered.assign(ns, 0.0);
       result.gap.assign(ns, dealii::Tensor<1, 3>());
       std::vector<double> slave_values(ns);
-      std::array<std::array<double, 8>, 3> slave_l{}, master_l{};
+      std::array<std::array<double, 8>, 3> slave_l{}, master_l{}, hat_l{};
       for (const MortarPoint& point : segmenter.integrate(slave)) {
         base.at(point.slave_unit_point, slave_l);
+        base.hats_at(point.slave_unit_point, hat_l);
         base.at(point.master_unit_point, master_l);
         if (result.blocks.empty() || result.blocks.back().master != point.master) {
           Block block;
@@ -183,7 +203,9 @@ MortarIntegrals integrate_mortar(const ElasticSystem& system, const BoundaryProj
           slave_values[a] =
               base.value(result.slave_base[a], slave_l) * point.jxw;
           result.covered[a] += slave_values[a];
-          result.gap[a] += slave_values[a] * separation;
+          const double hat = base.value(result.slave_base[a], hat_l) * point.jxw;
+          result.gap_covered[a] += hat;
+          result.gap[a] += hat * separation;
         }
         for (std::size_t b = 0; b < nm; ++b) {
           const double value = base.value(block.master_base[b], master_l);
@@ -202,6 +224,7 @@ MortarIntegrals integrate_mortar(const ElasticSystem& system, const BoundaryProj
     for (std::size_t a = 0; a < local.size(); ++a) {
       local[a] = pair_nodes.node_of_dof.at(dofs[system.system_index(result.slave_base[a], 0)]);
       out.covered[local[a]] += result.covered[a];
+      out.gap_covered[local[a]] += result.gap_covered[a];
       out.weighted_gap[local[a]] += result.gap[a];
     }
     for (const Block& block : result.blocks) {
@@ -329,14 +352,18 @@ std::vector<SlaveNode> collect_slave_nodes(const ElasticSystem& system, const Co
         if (!projection.found) continue;  // nothing opposite: this node cannot touch
         // Barely covered nodes (the master ends just past them) would give an ill-scaled row.
         const double covered = integrals.covered[local];
+        // So are nodes whose own hat sees no master (psi_s's support is the part of phi_s's
+        // nearest the node): the master ends between them and their neighbours.
         if (!(covered > 1e-6 * node.area)) continue;
+        const double gap_covered = integrals.gap_covered[local];
+        if (!(gap_covered > 1e-6 * node.area)) continue;
         node.normal = projection.normal;
         for (unsigned int c = 0; c < 3; ++c) {
           for (const auto& [dof, value] : integrals.mortar[local][c]) {
             if (value != 0.0) node.master[c].emplace_back(dof, value / covered);
           }
         }
-        node.initial_gap = integrals.weighted_gap[local] * node.normal / covered;
+        node.initial_gap = integrals.weighted_gap[local] * node.normal / gap_covered;
       }
       if (choose_constrained_component(node, fixed_dof)) nodes.push_back(node);
     }

@@ -12,6 +12,19 @@
 // interpolation of the master at the slave node would not. The normal n is the master normal at
 // the node's closest master point (fem/boundary_projection.h).
 //
+// The initial gap is weighted by the node's bilinear hat on its faces' sub-grid (psi_s: 1 at the
+// node, 0 at its neighbouring nodes, never negative) instead of phi_s:
+//   g_s = integral psi_s (x_s - x_m) . n / integral psi_s   (over the covered part),
+// a true average of the gap around the node. phi_s of a quadratic element changes sign over
+// its support, so its weighted gap is not: where the gap grows quadratically away from a vertex
+// node (a curved slave face leaving a master it touches) a Q2 vertex's phi-weighted gap is
+// -h^2/60 per h/6 of weight, a penetration where nothing penetrates (the shortcoming for which
+// Puso, Laursen & Solberg 2008, CMAME 197:555, transform the quadratic basis in their mortar
+// contact). On a generated hip such spurious penetrations of 0.06-0.23 mm, at labrum nodes
+// beside the femoral cartilage's thin edge, moved from node to node as the head turned and the
+// nodal peak pressure jumped from step to step (docs/fem-levels.md). The kinematic rows (D_s,
+// M_sj) keep phi_s, so a uniform pressure still passes exactly; zero gaps stay zero.
+//
 // Each kept node names the slave displacement component its contact constraint eliminates (the
 // free component with the largest normal share, fem/contact_constraints.h); nodes that have no
 // such component, see no master, or are barely covered by it are dropped.

@@ -125,5 +125,16 @@ TEST(FemActiveSet, WarmStartFromTheLastConvergedRun) {
   EXPECT_EQ(strategy.initial(nodes, translations, 6), (std::vector<bool>{false, true}));
 }
 
+// A load needs a contact to be carried: with every node open the least open one starts closed
+// (a body under a load with nothing closed has no equilibrium to solve for).
+TEST(FemActiveSet, NeverStartsEmpty) {
+  ActiveSetStrategy strategy;
+  strategy.begin_run({}, 1e-12);
+  const std::vector<SlaveNode> nodes = {node(0, 0, 0.3), node(0, 1, 0.1), node(0, 2, 0.2)};
+  const std::vector<dealii::Tensor<1, 3>> translations = {dealii::Tensor<1, 3>()};
+  EXPECT_EQ(strategy.initial(nodes, translations, 9), (std::vector<bool>{false, true, false}));
+  EXPECT_TRUE(strategy.initial({}, translations, 0).empty());
+}
+
 }  // namespace
 }  // namespace hipfai::fem

@@ -6,6 +6,10 @@
 #include "layer_fixture.h"
 
 #include <deal.II/grid/grid_generator.h>
+#include <deal.II/grid/manifold_lib.h>
+
+#include <algorithm>
+#include <cmath>
 
 #include <gtest/gtest.h>
 
@@ -79,6 +83,72 @@ TEST(FemMortarCoupling, MortarWeightsAgainstANonMatchingMaster) {
     area += node.area;
   }
   EXPECT_NEAR(area, 1.0, 1e-12);
+}
+
+// The upper block's bottom curved into a cylinder about the y axis (radius R) that touches the
+// lower block's flat top along the line x = 1/3, a vertex line of the upper mesh: the true gap is
+// R - sqrt(R^2 - (x - 1/3)^2) >= 0, zero on that line. A node's gap is a weighted average of
+// the true gap around it: with the Q2 shape functions as weights, a vertex node's average is
+// negative (a quadratic gap weighted by (1 - 2t)(1 - t) integrates to -h^2/60 per unit of its
+// weight h/6), i.e. a spurious penetration of a surface that nowhere penetrates.
+TEST(FemMortarCoupling, CurvedSlaveNeverGetsASpuriousPenetration) {
+  ensure_mpi_initialized();
+  constexpr double kRadius = 3.0;  // the gap stays inside the search radius (5 % of the size)
+  constexpr double kTouch = 1.0 / 3.0;
+  ElasticSystem system(MPI_COMM_WORLD, 2, 2);
+  ContactModel model = stacked_blocks(system, 0.05);  // merged apart, then curved
+  auto& triangulation = system.triangulation();
+  std::vector<bool> moved(triangulation.n_vertices(), false);
+  for (const auto& cell : triangulation.active_cell_iterators()) {
+    if (cell->material_id() != 1) continue;
+    for (const unsigned int f : cell->face_indices()) {
+      if (cell->face(f)->boundary_id() != 2) continue;
+      cell->face(f)->set_all_manifold_ids(5);
+      for (const unsigned int v : cell->face(f)->vertex_indices()) {
+        const unsigned int index = cell->face(f)->vertex_index(v);
+        if (moved[index]) continue;
+        moved[index] = true;
+        Point<3>& x = cell->face(f)->vertex(v);
+        x[2] = 1.0 + kRadius - std::sqrt(kRadius * kRadius - (x[0] - kTouch) * (x[0] - kTouch));
+      }
+    }
+  }
+  triangulation.set_manifold(
+      5, dealii::CylindricalManifold<3>(dealii::Tensor<1, 3>({0.0, 1.0, 0.0}),
+                                        Point<3>(kTouch, 0.0, 1.0 + kRadius)));
+  system.setup(model);
+  const std::vector<bool> fixed(system.dof_handler().n_dofs(), false);
+  const std::vector<SlaveNode> nodes = collect_slave_nodes(system, model, fixed);
+  ASSERT_EQ(nodes.size(), 49u);
+  // A half-width a = h / 2 = 1/6 hat about the touching line averages the gap s^2 / (2R) to
+  // a^2 / (12 R): the weights are the bilinear hats of the face's 2 x 2 sub-grid.
+  const double half_width = 1.0 / 6.0;
+  const double on_the_line = half_width * half_width / (12.0 * kRadius);
+  const auto gap_at = [&](double x) {
+    return kRadius - std::sqrt(kRadius * kRadius - (x - kTouch) * (x - kTouch));
+  };
+  unsigned int on_line = 0;
+  for (const SlaveNode& node : nodes) {
+    const double x = node.position[0];
+    EXPECT_GE(node.initial_gap, 0.0) << "node at x = " << x;
+    if (std::abs(x - kTouch) < 1e-9) {
+      ++on_line;
+      EXPECT_NEAR(node.initial_gap, on_the_line, 0.03 * on_the_line);
+    } else {
+      // Between the least and the largest true gap over the node's hat (half a cell either side,
+      // inside the block); the gap is convex in x, so an interior node's average is not below
+      // its own gap either.
+      const double from = std::max(0.0, x - half_width), to = std::min(1.0, x + half_width);
+      const double low = from <= kTouch && kTouch <= to ? 0.0 : std::min(gap_at(from), gap_at(to));
+      const double high = std::max(gap_at(from), gap_at(to));
+      EXPECT_GE(node.initial_gap, low - 1e-4) << "node at x = " << x;
+      EXPECT_LE(node.initial_gap, high + 1e-4) << "node at x = " << x;
+      if (x > from && x < to) {
+        EXPECT_GE(node.initial_gap, gap_at(x) - 1e-4) << "node at x = " << x;
+      }
+    }
+  }
+  EXPECT_EQ(on_line, 7u);
 }
 
 TEST(FemMortarCoupling, RejectsEmptyBoundaries) {
